@@ -1,0 +1,10 @@
+#pragma once
+// Subcommands of the pbd program: each registers its options on the CLI11 app and runs when chosen.
+#include <CLI/CLI.hpp>
+
+namespace pbd::cli {
+
+/// `pbd study`: runs scenes and reports speed with the error reached.
+void add_study_command(CLI::App& app);
+
+}  // namespace pbd::cli

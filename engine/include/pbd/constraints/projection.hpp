@@ -1,0 +1,50 @@
+#pragma once
+/// \file projection.hpp
+/// The one projection every solver calls: PBD/XPBD correction of a single fixed-arity constraint.
+#include "pbd/stiffness.hpp"
+#include "pbd/types.hpp"
+
+namespace pbd {
+
+/// Corrections of one constraint: Δλ = (−k·C − α̃·λ) / (Σ_i w_i|∇_i C|² + α̃) and Δp_i = w_i ∇_i C Δλ.
+/// Returns false (and leaves dp, dlambda untouched) when nothing moves: the gradient is undefined, an inequality
+/// holds (C ≥ 0), or the denominator is not positive (all particles pinned and α̃ = 0).
+template <class Constraint, class Real>
+inline bool correction(const Constraint& c, const Vec3<Real> (&p)[Constraint::kArity],
+                       const Real (&w)[Constraint::kArity], SolveCoefficients<Real> coeff, Real lambda,
+                       Vec3<Real> (&dp)[Constraint::kArity], Real& dlambda) {
+  constexpr int n = Constraint::kArity;
+  Real C;
+  Vec3<Real> grad[n];
+  if (!evaluate(c, p, C, grad)) return false;
+  if constexpr (Constraint::kInequality) {
+    if (!(C < Real(0))) return false;
+  }
+  Real denom = coeff.alpha_tilde;
+  for (int i = 0; i < n; ++i) denom += w[i] * grad[i].squaredNorm();
+  if (!(denom > Real(0))) return false;
+  dlambda = (-coeff.k * C - coeff.alpha_tilde * lambda) / denom;
+  for (int i = 0; i < n; ++i) dp[i] = (w[i] * dlambda) * grad[i];
+  return true;
+}
+
+/// Gauss-Seidel projection of one constraint in place on the predicted positions `p` (3×N, column-major)
+/// with inverse masses `w`; accumulates its λ. Pinned particles (w = 0) are never written.
+template <class Constraint, class Real>
+inline void project(const Constraint& c, Real* p, const Real* w, SolveCoefficients<Real> coeff, Real& lambda) {
+  constexpr int n = Constraint::kArity;
+  Vec3<Real> q[n];
+  Real wi[n];
+  for (int i = 0; i < n; ++i) {
+    q[i] = Eigen::Map<const Vec3<Real>>(p + 3 * std::size_t(c.particles[i]));
+    wi[i] = w[c.particles[i]];
+  }
+  Vec3<Real> dp[n];
+  Real dlambda;
+  if (!correction(c, q, wi, coeff, lambda, dp, dlambda)) return;
+  lambda += dlambda;
+  for (int i = 0; i < n; ++i)
+    if (wi[i] != Real(0)) Eigen::Map<Vec3<Real>>(p + 3 * std::size_t(c.particles[i])) += dp[i];
+}
+
+}  // namespace pbd

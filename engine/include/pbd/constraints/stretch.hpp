@@ -1,0 +1,33 @@
+#pragma once
+/// \file stretch.hpp
+/// Stretch (distance) constraint: C = |p0 − p1| − d.
+#include "pbd/types.hpp"
+
+#include <array>
+
+namespace pbd {
+
+/// Keeps two particles at rest distance `rest`. 16 bytes in float.
+template <class Real> struct StretchConstraint {
+  static constexpr int kArity = 2;             ///< particles per constraint
+  static constexpr bool kInequality = false;   ///< an equality: projected whatever the sign of C
+  std::array<Index, 2> particles;              ///< the two particles
+  Index set;                                   ///< constraint set (stiffness) it belongs to
+  Real rest;                                   ///< rest distance d ≥ 0
+};
+
+/// C = |p0 − p1| − d, ∇0 C = n, ∇1 C = −n with n = (p0 − p1)/|p0 − p1|.
+/// Guard: coincident particles (|p0 − p1|² below tiny_squared) have no direction: returns false, nothing moves.
+template <class Real>
+inline bool evaluate(const StretchConstraint<Real>& c, const Vec3<Real> (&p)[2], Real& C, Vec3<Real> (&grad)[2]) {
+  const Vec3<Real> d = p[0] - p[1];
+  const Real len2 = d.squaredNorm();
+  if (!(len2 > tiny_squared<Real>())) return false;
+  const Real len = std::sqrt(len2);
+  C = len - c.rest;
+  grad[0] = d / len;
+  grad[1] = -grad[0];
+  return true;
+}
+
+}  // namespace pbd

@@ -1,0 +1,26 @@
+#pragma once
+/// \file serial_solver.hpp
+/// The serial reference solver: plain Gauss-Seidel, every constraint in insertion order, one at a time.
+#include "pbd/constraint_arrays.hpp"
+#include "pbd/constraints/collision.hpp"
+#include "pbd/constraints/projection.hpp"
+
+#include <span>
+
+namespace pbd {
+
+/// One Gauss-Seidel sweep over all constraints: type by type (stretch, anchor, then this step's collisions),
+/// each type in insertion order, projecting each constraint in place on `p` (3×N) with inverse masses `w`.
+/// `coeff` holds the coefficients of each constraint set; collisions are hard (k = 1, α = 0).
+template <class Real>
+void sweep_serial(const ConstraintArrays<Real>& c, std::span<const CollisionConstraint<Real>> collisions,
+                  std::span<const SolveCoefficients<Real>> coeff, Real* p, const Real* w, Multipliers<Real>& lambda) {
+  for (std::size_t i = 0; i < c.stretch.size(); ++i)
+    project(c.stretch[i], p, w, coeff[c.stretch[i].set], lambda.stretch[i]);
+  for (std::size_t i = 0; i < c.anchor.size(); ++i)
+    project(c.anchor[i], p, w, coeff[c.anchor[i].set], lambda.anchor[i]);
+  const SolveCoefficients<Real> hard{Real(1), Real(0)};
+  for (std::size_t i = 0; i < collisions.size(); ++i) project(collisions[i], p, w, hard, lambda.collision[i]);
+}
+
+}  // namespace pbd

@@ -1,0 +1,48 @@
+#pragma once
+/// \file stiffness.hpp
+/// How strongly a constraint set acts: PBD stiffness k, its iteration-independent form, or XPBD compliance.
+#include "pbd/types.hpp"
+
+#include <cmath>
+
+namespace pbd {
+
+/// The formulation of one constraint set.
+enum class StiffnessMode : std::uint8_t {
+  pbd,                        ///< each projection is scaled by k (Müller et al. 2006)
+  pbd_iteration_independent,  ///< scaled by k' = 1 − (1 − k)^(1/iterations): k is what a whole step achieves
+  xpbd,                       ///< compliance α ≥ 0, λ accumulated per constraint within a (sub)step (Macklin et al. 2016)
+};
+
+/// Stiffness of one constraint set; every constraint of the set shares it.
+struct Stiffness {
+  StiffnessMode mode = StiffnessMode::pbd;  ///< formulation
+  double k = 1.0;                           ///< PBD stiffness in [0, 1] (pbd modes only)
+  double compliance = 0.0;                  ///< XPBD compliance α ≥ 0, inverse stiffness in SI units (xpbd only)
+
+  static Stiffness pbd_k(double k) { return {StiffnessMode::pbd, k, 0.0}; }                      ///< PBD with k
+  static Stiffness iteration_independent(double k) { return {StiffnessMode::pbd_iteration_independent, k, 0.0}; }  ///< k'
+  static Stiffness xpbd_compliance(double a) { return {StiffnessMode::xpbd, 1.0, a}; }          ///< XPBD with α
+};
+
+/// Per-(sub)step coefficients of one constraint set as the projection uses them:
+/// Δλ = (−k·C − α̃·λ) / (Σ w|∇C|² + α̃), Δp_i = w_i ∇_i C Δλ. PBD: α̃ = 0; XPBD: k = 1, α̃ = α / h².
+template <class Real> struct SolveCoefficients {
+  Real k = 1;            ///< scale of the correction
+  Real alpha_tilde = 0;  ///< time-scaled compliance α / h²
+};
+
+/// The coefficients of `s` for a (sub)step of length h with `iterations` sweeps.
+template <class Real> SolveCoefficients<Real> coefficients(const Stiffness& s, double h, int iterations) {
+  switch (s.mode) {
+    case StiffnessMode::pbd: return {Real(s.k), Real(0)};
+    case StiffnessMode::pbd_iteration_independent: {
+      const double n = iterations > 0 ? iterations : 1;
+      return {Real(1.0 - std::pow(1.0 - s.k, 1.0 / n)), Real(0)};
+    }
+    case StiffnessMode::xpbd: return {Real(1), Real(s.compliance / (h * h))};
+  }
+  return {};
+}
+
+}  // namespace pbd

@@ -1,0 +1,61 @@
+#include "pbd/colliders.hpp"
+
+#include <cmath>
+
+namespace pbd {
+namespace {
+
+// First parameter t in [0, 1] at which the segment x + t·d enters the ball (|y − c| ≤ r), or -1 if it never does.
+// x is outside the ball.
+template <class Real> Real entry_parameter(const Vec3<Real>& x, const Vec3<Real>& d, const Sphere<Real>& s) {
+  const Vec3<Real> m = x - s.center;
+  const Real a = d.squaredNorm();
+  if (!(a > Real(0))) return Real(-1);
+  const Real b = m.dot(d);
+  const Real c = m.squaredNorm() - s.radius * s.radius;
+  const Real disc = b * b - a * c;
+  if (disc < Real(0)) return Real(-1);
+  const Real t = (-b - std::sqrt(disc)) / a;
+  return (t >= Real(0) && t <= Real(1)) ? t : Real(-1);
+}
+
+}  // namespace
+
+template <class Real>
+void generate_collisions(const Colliders<Real>& colliders, const Matrix3X<Real>& x, const Matrix3X<Real>& p,
+                         const VectorX<Real>& w, std::vector<CollisionConstraint<Real>>& out) {
+  const Index n = Index(p.cols());
+  for (Index i = 0; i < n; ++i) {
+    if (w[i] == Real(0)) continue;  // pinned particles never move, so they never collide
+    const Vec3<Real> xi = x.col(i), pi = p.col(i);
+    for (const Plane<Real>& pl : colliders.planes) {
+      // A half-space: a path that ends behind the plane crossed it (or started behind), so this is continuous.
+      if (pl.normal.dot(pi) < pl.offset) out.push_back({{i}, pl.normal, pl.offset});
+    }
+    for (const Sphere<Real>& s : colliders.spheres) {
+      const Real r2 = s.radius * s.radius;
+      if ((xi - s.center).squaredNorm() < r2) {
+        // Started inside: push out along the radius through p (or x, or +z when both sit at the centre).
+        Vec3<Real> dir = pi - s.center;
+        if (!(dir.squaredNorm() > tiny_squared<Real>())) dir = xi - s.center;
+        if (!(dir.squaredNorm() > tiny_squared<Real>())) dir = Vec3<Real>::UnitZ();
+        const Vec3<Real> nrm = dir.normalized();
+        out.push_back({{i}, nrm, nrm.dot(s.center) + s.radius});
+        continue;
+      }
+      // Started outside: the first point where x → p enters the ball gives the tangent plane to stay above.
+      const Real t = entry_parameter(xi, Vec3<Real>(pi - xi), s);
+      if (t < Real(0)) continue;
+      const Vec3<Real> q = xi + t * (pi - xi);
+      const Vec3<Real> nrm = (q - s.center).normalized();
+      out.push_back({{i}, nrm, nrm.dot(q)});
+    }
+  }
+}
+
+template void generate_collisions(const Colliders<float>&, const Matrix3X<float>&, const Matrix3X<float>&,
+                                  const VectorX<float>&, std::vector<CollisionConstraint<float>>&);
+template void generate_collisions(const Colliders<double>&, const Matrix3X<double>&, const Matrix3X<double>&,
+                                  const VectorX<double>&, std::vector<CollisionConstraint<double>>&);
+
+}  // namespace pbd

@@ -1,0 +1,59 @@
+#pragma once
+// Strict reading of a JSON object: typed, range-checked getters whose errors name the file and the key path
+// (JSON Pointer), and a final check that rejects any key nobody asked for. Private to the engine.
+#include "pbd/error.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace pbd::detail {
+
+class JsonObject {
+public:
+  /// Wraps `value` found at `path` in `file`; throws unless it is an object.
+  JsonObject(const nlohmann::json& value, std::string file, std::string path);
+
+  bool has(const std::string& key) const;
+  double number(const std::string& key, double lo, double hi) const;                  ///< required
+  double number(const std::string& key, double lo, double hi, double fallback) const;  ///< optional
+  long integer(const std::string& key, long lo, long hi) const;
+  long integer(const std::string& key, long lo, long hi, long fallback) const;
+  bool boolean(const std::string& key, bool fallback) const;
+  std::string string(const std::string& key) const;
+  std::string string(const std::string& key, const std::string& fallback) const;
+  std::array<double, 3> vec3(const std::string& key) const;
+  std::array<double, 3> vec3(const std::string& key, std::array<double, 3> fallback) const;
+  JsonObject object(const std::string& key) const;
+  /// Elements of an array under `key` (required), each with its own path.
+  std::vector<std::pair<const nlohmann::json*, std::string>> array(const std::string& key) const;
+
+  /// Throws if the object has a key that no getter asked for (typos are errors, not silently ignored).
+  void reject_unknown_keys() const;
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const;  ///< error at path/key
+  const std::string& file() const { return file_; }
+  std::string path(const std::string& key) const { return path_ + "/" + key; }
+
+private:
+  const nlohmann::json& at(const std::string& key) const;
+  const nlohmann::json& value_;
+  std::string file_, path_;
+  mutable std::vector<std::string> used_;
+};
+
+/// Error at an arbitrary path of `file`.
+[[noreturn]] void json_fail(const std::string& file, const std::string& path, const std::string& what);
+/// Reads a number from `v` (at `path`): finite and in [lo, hi].
+double json_number(const nlohmann::json& v, const std::string& file, const std::string& path, double lo, double hi);
+/// Reads an integer from `v` (at `path`) in [lo, hi].
+long json_integer(const nlohmann::json& v, const std::string& file, const std::string& path, long lo, long hi);
+/// Reads a finite 3-vector [x, y, z] from `v` (at `path`).
+std::array<double, 3> json_vec3(const nlohmann::json& v, const std::string& file, const std::string& path);
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
+}  // namespace pbd::detail

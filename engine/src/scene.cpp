@@ -1,0 +1,239 @@
+#include "pbd/scene.hpp"
+
+#include "json_reader.hpp"
+#include "message.hpp"
+#include "pbd/generators.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#ifndef PBD_SOURCE_SCENE_DIR
+#define PBD_SOURCE_SCENE_DIR ""
+#endif
+#ifndef PBD_INSTALL_SCENE_DIR
+#define PBD_INSTALL_SCENE_DIR ""
+#endif
+
+namespace pbd {
+namespace {
+
+using detail::JsonObject;
+using detail::kInf;
+using detail::message;
+
+constexpr std::uintmax_t kMaxSceneBytes = 64u << 20;  // a scene file names generators, not meshes: 64 MiB is plenty
+constexpr long kMaxParticles = 50'000'000;
+
+Eigen::Vector3d vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+
+// {"stiffness": k, "iteration_independent": bool} or {"compliance": α}; empty object = stiffness 1.
+Stiffness read_stiffness(const JsonObject& o) {
+  const bool has_k = o.has("stiffness"), has_a = o.has("compliance");
+  if (has_k && has_a) o.fail("compliance", "give either stiffness (PBD) or compliance (XPBD), not both");
+  if (has_a) {
+    if (o.has("iteration_independent")) o.fail("iteration_independent", "only applies to stiffness, not compliance");
+    return Stiffness::xpbd_compliance(o.number("compliance", 0.0, kInf));
+  }
+  const double k = has_k ? o.number("stiffness", 0.0, 1.0) : 1.0;
+  return o.boolean("iteration_independent", false) ? Stiffness::iteration_independent(k) : Stiffness::pbd_k(k);
+}
+
+// Local particle index of a body at `path`, checked against its particle count.
+Index local_index(const nlohmann::json& v, const std::string& file, const std::string& path, Index count) {
+  return Index(detail::json_integer(v, file, path, 0, long(count) - 1));
+}
+
+// "anchors": {"particles": [local indices], stiffness...}: anchors at the particles' initial positions.
+void read_anchors(const JsonObject& body, World<double>& world, const Body& b) {
+  if (!body.has("anchors")) return;
+  const JsonObject a = body.object("anchors");
+  const Index set = world.add_constraint_set(read_stiffness(a));
+  for (const auto& [v, path] : a.array("particles"))
+    world.add_anchor(b.first_particle + local_index(*v, a.file(), path, b.num_particles), set);
+  a.reject_unknown_keys();
+}
+
+std::optional<Index> read_stretch_set(const JsonObject& body, World<double>& world) {
+  if (!body.has("stretch")) return std::nullopt;
+  const JsonObject s = body.object("stretch");
+  const Index set = world.add_constraint_set(read_stiffness(s));
+  s.reject_unknown_keys();
+  return set;
+}
+
+Body read_cloth(const JsonObject& o, World<double>& world) {
+  ClothOptions c;
+  c.resolution = int(o.integer("resolution", 2, 4096));
+  c.size = o.number("size", 1e-6, 1e6, c.size);
+  c.mass = o.number("mass", 1e-12, 1e12, c.mass);
+  c.origin = o.vec3("origin", c.origin);
+  const std::string pin = o.string("pin", "corners");
+  if (pin == "corners") c.pin = ClothPin::corners;
+  else if (pin == "edge") c.pin = ClothPin::edge;
+  else if (pin == "none") c.pin = ClothPin::none;
+  else o.fail("pin", message("expected \"corners\", \"edge\" or \"none\", got \"", pin, "\""));
+  return add_cloth(world, c, read_stretch_set(o, world));
+}
+
+Body read_rope(const JsonObject& o, World<double>& world) {
+  RopeOptions r;
+  r.particles = int(o.integer("particles", 2, kMaxParticles));
+  r.length = o.number("length", 1e-6, 1e6, r.length);
+  r.mass = o.number("mass", 1e-12, 1e12, r.mass);
+  r.end_mass = o.number("end_mass", 1e-12, 1e15, r.mass);
+  r.origin = o.vec3("origin", r.origin);
+  r.direction = o.vec3("direction", r.direction);
+  if (!(vec(r.direction).norm() > 0.0)) o.fail("direction", "must not be the zero vector");
+  return add_rope(world, r, read_stretch_set(o, world));
+}
+
+// Explicit particles: "positions" (required), "masses" or "mass", optional "velocities", "pinned",
+// "stretch": {"pairs": [[a, b], ...], stiffness...}.
+Body read_particles(const JsonObject& o, World<double>& world) {
+  const auto positions = o.array("positions");
+  if (positions.empty()) o.fail("positions", "needs at least one particle");
+  if (long(positions.size()) > kMaxParticles) o.fail("positions", "too many particles");
+  const Index n = Index(positions.size());
+  Matrix3X<double> x(3, n);
+  for (Index i = 0; i < n; ++i) x.col(i) = vec(detail::json_vec3(*positions[i].first, o.file(), positions[i].second));
+  Eigen::VectorXd m(n);
+  if (o.has("masses")) {
+    if (o.has("mass")) o.fail("mass", "give either mass (each particle) or masses (one per particle), not both");
+    const auto masses = o.array("masses");
+    if (masses.size() != n) o.fail("masses", message("has ", masses.size(), " entries for ", n, " positions"));
+    for (Index i = 0; i < n; ++i) m[i] = detail::json_number(*masses[i].first, o.file(), masses[i].second, 1e-12, 1e15);
+  } else {
+    m.setConstant(o.number("mass", 1e-12, 1e15, 1.0));
+  }
+  if (o.has("pinned"))
+    for (const auto& [v, path] : o.array("pinned")) m[local_index(*v, o.file(), path, n)] = World<double>::kPinned;
+  Matrix3X<double> vel = Matrix3X<double>::Zero(3, n);
+  if (o.has("velocities")) {
+    const auto vs = o.array("velocities");
+    if (vs.size() != n) o.fail("velocities", message("has ", vs.size(), " entries for ", n, " positions"));
+    for (Index i = 0; i < n; ++i) vel.col(i) = vec(detail::json_vec3(*vs[i].first, o.file(), vs[i].second));
+  }
+  Body b;
+  b.first_particle = world.add_particles(x, m);
+  b.num_particles = n;
+  world.velocities().rightCols(n) = vel;
+  if (o.has("stretch")) {
+    const JsonObject s = o.object("stretch");
+    const Index set = world.add_constraint_set(read_stiffness(s));
+    for (const auto& [pair, path] : s.array("pairs")) {
+      if (!pair->is_array() || pair->size() != 2) detail::json_fail(o.file(), path, "expected a pair [a, b]");
+      const Index a = local_index((*pair)[0], o.file(), path + "/0", n);
+      const Index c = local_index((*pair)[1], o.file(), path + "/1", n);
+      if (a == c) detail::json_fail(o.file(), path, message("names particle ", a, " twice"));
+      world.add_stretch(b.first_particle + a, b.first_particle + c, set);
+    }
+    s.reject_unknown_keys();
+  }
+  return b;
+}
+
+void read_collider(const nlohmann::json& v, const std::string& file, const std::string& path, World<double>& world) {
+  const JsonObject c(v, file, path);
+  const std::string type = c.string("type");
+  if (type == "plane") {
+    const Eigen::Vector3d n = vec(c.vec3("normal"));
+    if (!(n.norm() > 0.0)) c.fail("normal", "must not be the zero vector");
+    world.add_plane(n, c.number("offset", -kInf, kInf, 0.0) * n.norm());
+  } else if (type == "sphere") {
+    world.add_sphere(vec(c.vec3("center")), c.number("radius", 1e-9, kInf));
+  } else {
+    c.fail("type", message("unknown collider type \"", type, "\" (expected \"plane\" or \"sphere\")"));
+  }
+  c.reject_unknown_keys();
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& source) {
+  nlohmann::json root;
+  try {
+    root = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    // e.what() carries "parse error at line L, column C: ..."
+    std::string what = e.what();
+    const auto pos = what.find("parse error");
+    throw Error(message(source, ": ", pos == std::string::npos ? what : what.substr(pos)));
+  }
+  const std::string& f = source;
+  const JsonObject o(root, f, "");
+  Scene scene;
+  scene.source = source;
+  scene.name = o.string("name");
+  scene.description = o.string("description", "");
+  scene.steps = int(o.integer("steps", 1, 100'000'000, 100));
+  StepParams<double> p;
+  p.dt = o.number("dt", 1e-9, 10.0);
+  p.substeps = int(o.integer("substeps", 1, 100'000, 1));
+  p.iterations = int(o.integer("iterations", 0, 100'000, 10));
+  p.gravity = vec(o.vec3("gravity", {0.0, 0.0, -9.81}));
+  p.damping = o.number("damping", 0.0, 1e6, 0.0);
+  scene.world.set_params(p);
+  for (const auto& [v, path] : o.array("bodies")) {
+    const JsonObject b(*v, f, path);
+    const std::string type = b.string("type");
+    Body body;
+    if (type == "cloth") body = read_cloth(b, scene.world);
+    else if (type == "rope") body = read_rope(b, scene.world);
+    else if (type == "particles") body = read_particles(b, scene.world);
+    else b.fail("type", message("unknown body type \"", type, "\" (expected \"cloth\", \"rope\" or \"particles\")"));
+    read_anchors(b, scene.world, body);
+    b.reject_unknown_keys();
+    scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());
+    if (scene.world.num_particles() > Index(kMaxParticles))
+      b.fail("type", message("the scene exceeds ", kMaxParticles, " particles"));
+  }
+  if (o.has("colliders"))
+    for (const auto& [v, path] : o.array("colliders")) read_collider(*v, f, path, scene.world);
+  o.reject_unknown_keys();
+  return scene;
+}
+
+Scene load_scene(const std::filesystem::path& file) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(file, ec);
+  if (ec) throw Error(message(file.string(), ": cannot read the scene file (", ec.message(), ")"));
+  if (size > kMaxSceneBytes)
+    throw Error(message(file.string(), ": file is ", size, " bytes, more than the ", kMaxSceneBytes, " a scene may have"));
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(message(file.string(), ": cannot open the scene file"));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scene(text.str(), file.string());
+}
+
+std::filesystem::path builtin_scene_dir() {
+  if (const char* env = std::getenv("PBD_SCENE_DIR"); env && *env) return env;
+  for (const char* dir : {PBD_SOURCE_SCENE_DIR, PBD_INSTALL_SCENE_DIR})
+    if (*dir && std::filesystem::is_directory(dir)) return dir;
+  return "scenes";
+}
+
+std::vector<std::string> builtin_scene_names() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(builtin_scene_dir(), ec))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+Scene load_scene_by_name(const std::string& name) {
+  const std::filesystem::path as_file(name);
+  if (as_file.has_extension() || name.find('/') != std::string::npos) return load_scene(as_file);
+  const auto path = builtin_scene_dir() / (name + ".json");
+  if (!std::filesystem::exists(path)) {
+    std::string known;
+    for (const auto& n : builtin_scene_names()) known += (known.empty() ? "" : ", ") + n;
+    throw Error(message("unknown scene \"", name, "\" (built-in scenes: ", known, "; or give a .json file)"));
+  }
+  return load_scene(path);
+}
+
+}  // namespace pbd
