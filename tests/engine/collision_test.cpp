@@ -1,0 +1,106 @@
+// Collision constraints and their continuous generation against planes and spheres.
+#include "constraint_checks.hpp"
+#include "pbd/colliders.hpp"
+
+namespace pbd {
+namespace {
+
+TEST(Collision, SatisfiedInequalityMovesNothing) {
+  double p[3] = {0.3, -0.2, 0.0};  // exactly on the plane z = 0 counts as satisfied
+  const double w[1] = {1};
+  double lambda = 0;
+  const CollisionConstraint<double> c{{0}, {0, 0, 1}, 0.0};
+  project(c, p, w, SolveCoefficients<double>{1, 0}, lambda);
+  EXPECT_EQ(p[2], 0.0);
+  p[2] = 0.25;
+  project(c, p, w, SolveCoefficients<double>{1, 0}, lambda);
+  EXPECT_EQ(p[2], 0.25);
+  EXPECT_EQ(lambda, 0.0);
+}
+
+TEST(Collision, ViolatedInequalityProjectsOntoTheSurface) {
+  double p[3] = {0.3, -0.2, -0.4};
+  const double w[1] = {3};
+  double lambda = 0;
+  project(CollisionConstraint<double>{{0}, {0, 0, 1}, 0.1}, p, w, SolveCoefficients<double>{1, 0}, lambda);
+  EXPECT_NEAR(p[2], 0.1, 1e-12);
+  EXPECT_EQ(p[0], 0.3);
+}
+
+TEST(Collision, GradientMatchesFiniteDifferences) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 100; ++trial) {
+    const Vec3<double> p[1] = {test::random_point<double>(rng)};
+    EXPECT_TRUE(test::check_gradient(
+        CollisionConstraint<double>{{0}, test::random_point<double>(rng).normalized(), 0.2}, p));
+  }
+}
+
+struct Path {
+  Matrix3X<double> x, p;
+  VectorX<double> w;
+};
+Path one_particle(Vec3<double> from, Vec3<double> to, double w = 1.0) {
+  Path s{Matrix3X<double>(3, 1), Matrix3X<double>(3, 1), VectorX<double>::Constant(1, w)};
+  s.x.col(0) = from;
+  s.p.col(0) = to;
+  return s;
+}
+
+TEST(CollisionGeneration, PlaneCatchesAPathEndingBehindIt) {
+  Colliders<double> c;
+  c.planes.push_back({{0, 0, 1}, 0});
+  std::vector<CollisionConstraint<double>> out;
+  auto s = one_particle({0, 0, 1}, {0, 0, -100});
+  generate_collisions(c, s.x, s.p, s.w, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].offset, 0.0);
+  s = one_particle({0, 0, 1}, {0, 0, 0.5});
+  out.clear();
+  generate_collisions(c, s.x, s.p, s.w, out);
+  EXPECT_TRUE(out.empty());
+}
+
+TEST(CollisionGeneration, SpherePathThatTunnelsThroughIsCaughtAtItsEntry) {
+  Colliders<double> c;
+  c.spheres.push_back({{0, 0, 0}, 0.1});
+  // Starts above, ends far below: both ends outside the ball, the path crosses it.
+  auto s = one_particle({0, 0, 1}, {0, 0, -1});
+  std::vector<CollisionConstraint<double>> out;
+  generate_collisions(c, s.x, s.p, s.w, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_NEAR(out[0].normal.z(), 1.0, 1e-12);
+  EXPECT_NEAR(out[0].offset, 0.1, 1e-12);  // tangent plane at the top of the ball
+}
+
+TEST(CollisionGeneration, SphereMissIsIgnoredAndInsideIsPushedOut) {
+  Colliders<double> c;
+  c.spheres.push_back({{0, 0, 0}, 0.1});
+  auto s = one_particle({1, 0, 1}, {1, 0, -1});  // passes beside the ball
+  std::vector<CollisionConstraint<double>> out;
+  generate_collisions(c, s.x, s.p, s.w, out);
+  EXPECT_TRUE(out.empty());
+  s = one_particle({0.05, 0, 0}, {0.06, 0, 0});  // starts inside: out along the radius through p
+  generate_collisions(c, s.x, s.p, s.w, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_NEAR(out[0].normal.x(), 1.0, 1e-12);
+  EXPECT_NEAR(out[0].offset, 0.1, 1e-12);
+  out.clear();
+  s = one_particle({0, 0, 0}, {0, 0, 0});  // at the centre: a defined direction (+z), no NaN
+  generate_collisions(c, s.x, s.p, s.w, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(out[0].normal.allFinite());
+  EXPECT_NEAR(out[0].normal.norm(), 1.0, 1e-12);
+}
+
+TEST(CollisionGeneration, PinnedParticlesNeverCollide) {
+  Colliders<double> c;
+  c.planes.push_back({{0, 0, 1}, 0});
+  auto s = one_particle({0, 0, -1}, {0, 0, -1}, 0.0);
+  std::vector<CollisionConstraint<double>> out;
+  generate_collisions(c, s.x, s.p, s.w, out);
+  EXPECT_TRUE(out.empty());
+}
+
+}  // namespace
+}  // namespace pbd
