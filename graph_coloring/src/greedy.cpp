@@ -57,7 +57,8 @@ std::uint32_t first_free_overflow(const Hypergraph& g, std::span<const std::uint
 
 template <bool kHasFixed, bool kHasOrder>
 std::uint32_t run(const Hypergraph& g, std::uint32_t wide_threshold, std::span<const std::uint32_t> order,
-                  std::span<std::uint32_t> color) {
+                  std::span<std::uint32_t> color, std::uint32_t& num_wide) {
+  num_wide = 0;
   std::vector<std::uint64_t> mask(g.num_nodes, 0);
   std::unique_ptr<Overflow> overflow;  // only when some item needs a color >= 64
   const std::uint32_t* off = g.offsets.data();
@@ -69,7 +70,23 @@ std::uint32_t run(const Hypergraph& g, std::uint32_t wide_threshold, std::span<c
     const std::uint32_t b = off[i], e = off[i + 1];
     if (e - b > wide_threshold) {
       color[i] = kUncolored;
+      ++num_wide;
       continue;
+    }
+    if (e - b == 2) {  // the common case (distance constraints), without the inner loops
+      const std::uint32_t u = nodes[b], v = nodes[b + 1];
+      std::uint64_t& mu = mask[u];
+      std::uint64_t& mv = mask[v];
+      const std::uint64_t used = (kHasFixed && g.fixed[u] ? 0 : mu) | (kHasFixed && g.fixed[v] ? 0 : mv);
+      if (used != kFull) {
+        const auto c = static_cast<std::uint32_t>(std::countr_one(used));
+        const std::uint64_t bit = std::uint64_t{1} << c;
+        mu |= bit;
+        mv |= bit;
+        color[i] = c;
+        num_colors = std::max(num_colors, c + 1);
+        continue;
+      }
     }
     std::uint64_t used = 0;
     for (std::uint32_t p = b; p < e; ++p)
@@ -94,14 +111,18 @@ std::uint32_t run(const Hypergraph& g, std::uint32_t wide_threshold, std::span<c
 }  // namespace
 
 std::uint32_t first_fit(const Hypergraph& g, std::uint32_t wide_threshold, std::span<const std::uint32_t> order,
-                        std::span<std::uint32_t> color) {
+                        std::span<std::uint32_t> color, std::uint32_t& num_wide) {
   const bool has_fixed = !g.fixed.empty();
   if (order.empty()) {
-    return has_fixed ? run<true, false>(g, wide_threshold, order, color)
-                     : run<false, false>(g, wide_threshold, order, color);
+    return has_fixed ? run<true, false>(g, wide_threshold, order, color, num_wide)
+                     : run<false, false>(g, wide_threshold, order, color, num_wide);
   }
   std::fill(color.begin(), color.end(), kUncolored);  // items outside order (wide ones) stay uncolored
-  return has_fixed ? run<true, true>(g, wide_threshold, order, color) : run<false, true>(g, wide_threshold, order, color);
+  std::uint32_t ordered_wide = 0;
+  const std::uint32_t num_colors = has_fixed ? run<true, true>(g, wide_threshold, order, color, ordered_wide)
+                                             : run<false, true>(g, wide_threshold, order, color, ordered_wide);
+  num_wide = g.num_items() - static_cast<std::uint32_t>(order.size()) + ordered_wide;
+  return num_colors;
 }
 
 }  // namespace pbd::coloring::detail

@@ -44,7 +44,7 @@ std::uint32_t first_free(std::uint64_t used, std::vector<std::uint32_t>& high) {
 }  // namespace
 
 std::uint32_t jones_plassmann(const Hypergraph& g, std::uint32_t wide_threshold, std::uint64_t seed,
-                              const NodeItems& adj, std::span<std::uint32_t> color) {
+                              const NodeItems& adj, std::span<std::uint32_t> color, std::uint32_t& num_wide) {
   const std::uint32_t n = g.num_items();
   std::vector<std::uint32_t> prio(n);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, kGrain), [&](const auto& r) {
@@ -57,6 +57,7 @@ std::uint32_t jones_plassmann(const Hypergraph& g, std::uint32_t wide_threshold,
   remaining.reserve(n);
   for (std::uint32_t i = 0; i < n; ++i)
     if (!is_wide(g, i, wide_threshold)) remaining.push_back(i);
+  num_wide = n - static_cast<std::uint32_t>(remaining.size());
 
   std::vector<std::uint32_t> chosen(remaining.size());
   std::uint32_t num_colors = 0;
