@@ -4,6 +4,8 @@
 #include "pbd/metrics.hpp"
 #include "pbd/scene.hpp"
 
+#include <oneapi/tbb/task_arena.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -17,15 +19,21 @@ struct StudyOptions {
   std::string scene = "cloth";
   int steps = 0;  // 0: the scene's own
   std::string precision = "float";
+  std::string solver = "serial";
+  int threads = 0;  // 0: the arena's default
 };
 
-template <class Real> void run(const Scene& scene, int steps) {
+template <class Real> void run(const Scene& scene, int steps, Solver solver) {
   World<Real> world(scene.world);
+  StepParams<Real> params = world.params();
+  params.solver = solver;
+  world.set_params(params);
   std::printf("# scene %s (%s), %u particles, %zu stretch constraints, precision %s\n", scene.name.c_str(),
               scene.source.c_str(), world.num_particles(), world.constraints().stretch.size(),
               sizeof(Real) == 4 ? "float" : "double");
-  std::printf("# solver serial, dt %.6g s, %d substeps, %d iterations\n", double(world.params().dt),
-              world.params().substeps, world.params().iterations);
+  std::printf("# solver %s on %d threads, dt %.6g s, %d substeps, %d iterations\n", std::string(name(solver)).c_str(),
+              tbb::this_task_arena::max_concurrency(), double(world.params().dt), world.params().substeps,
+              world.params().iterations);
   std::printf("%6s %12s %14s %14s\n", "step", "ms", "rms_stretch", "max_stretch");
   std::vector<double> ms;
   for (int s = 1; s <= steps; ++s) {
@@ -52,11 +60,19 @@ void add_study_command(CLI::App& app) {
   cmd->add_option("--precision", opts->precision, "float or double")
       ->check(CLI::IsMember({"float", "double"}))
       ->capture_default_str();
+  cmd->add_option("--solver", opts->solver, "serial, serial-colored, colored or jacobi")
+      ->check(CLI::IsMember({"serial", "serial-colored", "colored", "jacobi"}))
+      ->capture_default_str();
+  cmd->add_option("--threads", opts->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->callback([opts] {
     const Scene scene = load_scene_by_name(opts->scene);
     const int steps = opts->steps > 0 ? opts->steps : scene.steps;
-    if (opts->precision == "double") run<double>(scene, steps);
-    else run<float>(scene, steps);
+    const Solver solver = *parse_solver(opts->solver);
+    tbb::task_arena arena(opts->threads > 0 ? opts->threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+      if (opts->precision == "double") run<double>(scene, steps, solver);
+      else run<float>(scene, steps, solver);
+    });
   });
 }
 

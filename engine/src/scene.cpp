@@ -174,6 +174,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   p.iterations = int(o.integer("iterations", 0, 100'000, 10));
   p.gravity = vec(o.vec3("gravity", {0.0, 0.0, -9.81}));
   p.damping = o.number("damping", 0.0, 1e6, 0.0);
+  p.collision_margin = o.number("collision_margin", 0.0, 1e6, p.collision_margin);
   scene.world.set_params(p);
   for (const auto& [v, path] : o.array("bodies")) {
     const JsonObject b(*v, f, path);

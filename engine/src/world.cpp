@@ -1,6 +1,7 @@
 #include "pbd/world.hpp"
 
 #include "message.hpp"
+#include "parallel_range.hpp"
 #include "pbd/serial_solver.hpp"
 
 #include <cmath>
@@ -46,6 +47,7 @@ template <class Real> Index World<Real>::add_particle(const Vec& position, Real 
   if (!finite(position)) throw Error(detail::message("add_particle: particle ", i, ": position is not finite"));
   if (!finite(velocity)) throw Error(detail::message("add_particle: particle ", i, ": velocity is not finite"));
   check_mass(mass, detail::message("add_particle: particle ", i));
+  colored_.invalidate();
   x_.conservativeResize(3, i + 1);
   v_.conservativeResize(3, i + 1);
   w_.conservativeResize(i + 1);
@@ -64,6 +66,7 @@ template <class Real> Index World<Real>::add_particles(const Positions& position
       throw Error(detail::message("add_particles: particle ", first + j, ": position is not finite"));
     check_mass(masses[j], detail::message("add_particles: particle ", first + j));
   }
+  colored_.invalidate();
   const Eigen::Index n = first + positions.cols();
   x_.conservativeResize(3, n);
   v_.conservativeResize(3, n);
@@ -77,6 +80,7 @@ template <class Real> Index World<Real>::add_particles(const Positions& position
 template <class Real> void World<Real>::set_mass(Index particle, Real mass) {
   check_particle(particle, "set_mass");
   check_mass(mass, detail::message("set_mass: particle ", particle));
+  if ((w_[particle] == Real(0)) != (inverse_mass(mass) == Real(0))) colored_.invalidate();  // pins changed
   w_[particle] = inverse_mass(mass);
 }
 
@@ -96,6 +100,7 @@ template <class Real> Index World<Real>::add_stretch(Index a, Index b, Index set
   if (!std::isfinite(d) || d < Real(0))
     throw Error(detail::message(what, ": rest distance must be finite and >= 0, got ", d));
   constraints_.stretch.push_back({{a, b}, set, d});
+  colored_.invalidate();
   return Index(constraints_.stretch.size() - 1);
 }
 
@@ -106,6 +111,7 @@ template <class Real> Index World<Real>::add_anchor(Index particle, Index set, s
   const Vec t = target ? *target : Vec(x_.col(particle));
   if (!finite(t)) throw Error(detail::message(what, ": target is not finite"));
   constraints_.anchor.push_back({{particle}, set, t});
+  colored_.invalidate();
   return Index(constraints_.anchor.size() - 1);
 }
 
@@ -133,6 +139,11 @@ template <class Real> void World<Real>::set_params(const StepParams<Real>& p) {
   if (!finite(p.gravity)) throw Error("set_params: gravity is not finite");
   if (!std::isfinite(p.damping) || p.damping < Real(0))
     throw Error(detail::message("set_params: damping must be finite and >= 0, got ", p.damping));
+  if (!std::isfinite(p.collision_margin) || p.collision_margin < Real(0))
+    throw Error(detail::message("set_params: collision_margin must be finite and >= 0, got ", p.collision_margin));
+  if (!(p.jacobi_omega > Real(0) && p.jacobi_omega < Real(2)))
+    throw Error(detail::message("set_params: jacobi_omega must be in (0, 2), got ", p.jacobi_omega));
+  if (name(p.solver) == "?") throw Error("set_params: unknown solver");
   params_ = p;
 }
 
@@ -144,29 +155,69 @@ template <class Real> void World<Real>::step() {
   for (int s = 0; s < params_.substeps; ++s) substep(h);
 }
 
+template <class Real> void World<Real>::set_coloring(const coloring::Options& options) {
+  coloring_ = options;
+  colored_.invalidate();
+}
+
+template <class Real> void World<Real>::ensure_colored() {
+  if (!colored_.built()) colored_.build(constraints_, w_, coloring_);
+}
+
+template <class Real> const ColoredConstraints<Real>& World<Real>::colored_constraints() {
+  ensure_colored();
+  return colored_.constraints();
+}
+
 template <class Real> void World<Real>::substep(Real h) {
-  const Eigen::Index n = x_.cols();
-  // 1. external forces and damping (pinned particles keep v = 0)
+  const Solver solver = params_.solver;
+  const bool parallel = solver == Solver::colored || solver == Solver::jacobi;
+  const Index n = num_particles();
+  Real* x = x_.data();
+  Real* v = v_.data();
+  const Real* w = w_.data();
+  p_.resize(3, n);
+  Real* p = p_.data();
+  // 1.-2. external forces, damping, predict (per particle, so any cut of the range gives the same bits)
   const Real keep = std::max(Real(0), Real(1) - params_.damping * h);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (w_[i] == Real(0)) {
-      v_.col(i).setZero();
-      continue;
+  const bool damp = params_.damping > Real(0);
+  const Vec g = params_.gravity;
+  detail::run_range(0, n, parallel, parallel_, particle_partitioners_[0], [&](Index b, Index e) {
+    for (Index i = b; i < e; ++i) {
+      Real* vi = v + 3 * std::size_t(i);
+      const Real* xi = x + 3 * std::size_t(i);
+      for (int d = 0; d < 3; ++d) {
+        if (w[i] == Real(0)) vi[d] = Real(0);  // pinned particles keep v = 0
+        else {
+          vi[d] += h * g[d];
+          if (damp) vi[d] *= keep;
+        }
+        p[3 * std::size_t(i) + d] = xi[d] + h * vi[d];
+      }
     }
-    v_.col(i) += h * params_.gravity;
-    if (params_.damping > Real(0)) v_.col(i) *= keep;
-  }
-  // 2. predict
-  p_ = x_ + h * v_;
+  });
   // 3. collisions
   collisions_.clear();
-  if (!colliders_.empty()) generate_collisions(colliders_, x_, p_, w_, collisions_);
+  if (!colliders_.empty()) generate_collisions(colliders_, x_, p_, w_, params_.collision_margin, collisions_);
   // 4. solve
-  lambda_.reset(constraints_, collisions_.size());
-  for (int it = 0; it < params_.iterations; ++it)
-    sweep_serial<Real>(constraints_, collisions_, coeff_, p_.data(), w_.data(), lambda_);
-  // 5. update
-  v_ = (p_ - x_) / h;
+  if (solver == Solver::serial) {
+    lambda_.reset(constraints_, collisions_.size());
+    for (int it = 0; it < params_.iterations; ++it)
+      sweep_serial<Real>(constraints_, collisions_, coeff_, p, w, lambda_);
+  } else {
+    ensure_colored();
+    colored_.begin_substep(collisions_);
+    for (int it = 0; it < params_.iterations; ++it) {
+      if (solver == Solver::jacobi)
+        colored_.sweep_jacobi(collisions_, coeff_, p, w, params_.jacobi_omega, parallel, parallel_);
+      else
+        colored_.sweep_gauss_seidel(collisions_, coeff_, p, w, parallel, parallel_);
+    }
+  }
+  // 5. update: v = (p − x)/h, x = p
+  detail::run_range(0, n, parallel, parallel_, particle_partitioners_[1], [&](Index b, Index e) {
+    for (std::size_t k = 3 * std::size_t(b); k < 3 * std::size_t(e); ++k) v[k] = (p[k] - x[k]) / h;
+  });
   x_.swap(p_);
 }
 
@@ -190,7 +241,9 @@ World<Real>::World(const World<Other>& o)
   for (const auto& s : o.colliders_.spheres)
     colliders_.spheres.push_back({s.center.template cast<Real>(), Real(s.radius)});
   params_ = {Real(o.params_.dt), o.params_.substeps, o.params_.iterations, o.params_.gravity.template cast<Real>(),
-             Real(o.params_.damping)};
+             Real(o.params_.damping), Real(o.params_.collision_margin), o.params_.solver, Real(o.params_.jacobi_omega)};
+  coloring_ = o.coloring_;
+  parallel_ = o.parallel_;
 }
 
 template World<float>::World(const World<double>&);

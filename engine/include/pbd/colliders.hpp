@@ -28,10 +28,11 @@ template <class Real> struct Colliders {
 };
 
 /// Appends to `out` one collision constraint per (movable particle, collider) pair whose path x → p enters the
-/// collider or ends inside it (continuous: a path that passes through a sphere is caught at its entry point).
-/// Order: particle by particle, planes before spheres, so the result is deterministic.
+/// collider or ends inside it (continuous: a path that passes through a sphere is caught at its entry point), or
+/// whose p ends within `margin` of it (speculative: the inequality stays idle unless the solve pushes the particle
+/// in). Order: particle by particle, planes before spheres, so the result is deterministic.
 template <class Real>
 void generate_collisions(const Colliders<Real>& colliders, const Matrix3X<Real>& x, const Matrix3X<Real>& p,
-                         const VectorX<Real>& w, std::vector<CollisionConstraint<Real>>& out);
+                         const VectorX<Real>& w, Real margin, std::vector<CollisionConstraint<Real>>& out);
 
 }  // namespace pbd

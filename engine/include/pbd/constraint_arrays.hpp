@@ -9,6 +9,13 @@
 
 namespace pbd {
 
+/// Coefficients of constraint `c`: those of its set, or hard (k = 1, α̃ = 0) for types without a set (collisions).
+template <class Constraint, class Real>
+inline SolveCoefficients<Real> coefficients_of(const Constraint& c, const SolveCoefficients<Real>* coeff) {
+  if constexpr (requires { c.set; }) return coeff[c.set];
+  else return SolveCoefficients<Real>{Real(1), Real(0)};
+}
+
 /// Every persistent constraint of a world, one array per type; a type the scene never uses stays empty.
 template <class Real> struct ConstraintArrays {
   std::vector<Stiffness> sets;                     ///< stiffness of each constraint set, indexed by the constraints' `set`
@@ -17,6 +24,12 @@ template <class Real> struct ConstraintArrays {
 
   /// Total number of persistent constraints of all types.
   std::size_t size() const { return stretch.size() + anchor.size(); }
+
+  /// Calls f(array) for each constraint type's array, in solver order (the one place that lists the types).
+  template <class F> void for_each(F&& f) const {
+    f(stretch);
+    f(anchor);
+  }
 };
 
 /// One XPBD multiplier per constraint, in the same order as the arrays; reset at every (sub)step.
@@ -25,11 +38,17 @@ template <class Real> struct Multipliers {
   std::vector<Real> anchor;     ///< λ of each anchor
   std::vector<Real> collision;  ///< λ of each collision constraint of the current (sub)step
 
-  /// Sizes every array for `c` and the given number of collisions and sets all λ to 0.
-  void reset(const ConstraintArrays<Real>& c, std::size_t collisions) {
+  /// Sizes every array for `c` (ConstraintArrays or ColoredConstraints) and `collisions`, and sets all λ to 0.
+  template <class Arrays> void reset(const Arrays& c, std::size_t collisions) {
     stretch.assign(c.stretch.size(), Real(0));
     anchor.assign(c.anchor.size(), Real(0));
     collision.assign(collisions, Real(0));
+  }
+
+  /// Calls f(array_of_constraints, its_lambdas) for each persistent type of `c` (same order as for_each).
+  template <class Arrays, class F> void zip(const Arrays& c, F&& f) {
+    f(c.stretch, stretch);
+    f(c.anchor, anchor);
   }
 };
 

@@ -15,10 +15,9 @@ namespace pbd {
 template <class Real>
 void sweep_serial(const ConstraintArrays<Real>& c, std::span<const CollisionConstraint<Real>> collisions,
                   std::span<const SolveCoefficients<Real>> coeff, Real* p, const Real* w, Multipliers<Real>& lambda) {
-  for (std::size_t i = 0; i < c.stretch.size(); ++i)
-    project(c.stretch[i], p, w, coeff[c.stretch[i].set], lambda.stretch[i]);
-  for (std::size_t i = 0; i < c.anchor.size(); ++i)
-    project(c.anchor[i], p, w, coeff[c.anchor[i].set], lambda.anchor[i]);
+  lambda.zip(c, [&](const auto& array, std::vector<Real>& lam) {
+    for (std::size_t i = 0; i < array.size(); ++i) project(array[i], p, w, coefficients_of(array[i], coeff.data()), lam[i]);
+  });
   const SolveCoefficients<Real> hard{Real(1), Real(0)};
   for (std::size_t i = 0; i < collisions.size(); ++i) project(collisions[i], p, w, hard, lambda.collision[i]);
 }

@@ -6,8 +6,10 @@
 /// step() as often as needed and read positions()/velocities() (Eigen maps, no copies). Every mutating call
 /// validates its input first and throws pbd::Error naming the offending item, leaving the world unchanged.
 #include "pbd/colliders.hpp"
+#include "pbd/colored_solver.hpp"
 #include "pbd/constraint_arrays.hpp"
 #include "pbd/error.hpp"
+#include "pbd/solver.hpp"
 #include "pbd/types.hpp"
 
 #include <optional>
@@ -22,6 +24,9 @@ template <class Real> struct StepParams {
   int iterations = 10;                       ///< Gauss-Seidel sweeps per sub-step, ≥ 0
   Vec3<Real> gravity{Real(0), Real(0), Real(-9.81)};  ///< acceleration applied to every movable particle
   Real damping = 0;                          ///< velocity damping rate in 1/s, ≥ 0: v ← v·max(0, 1 − damping·h)
+  Real collision_margin = Real(0.01);        ///< contacts are generated for particles ending within this distance, ≥ 0
+  Solver solver = Solver::colored;           ///< which solver step() runs
+  Real jacobi_omega = 1;                     ///< Jacobi over-relaxation factor ω, in (0, 2)
 };
 
 /// Particles, constraints and colliders of one simulation, in precision Real (float or double).
@@ -57,6 +62,14 @@ public:
   /// Adds a solid sphere.
   void add_sphere(const Vec& center, Real radius);
 
+  /// Sets how constraints are colored for the colored and Jacobi solvers (recolors at the next step).
+  void set_coloring(const coloring::Options& options);
+  /// Sets how parallel loops are cut (never changes results).
+  void set_parallel_config(const ParallelConfig& config) { parallel_ = config; }
+  /// The colored constraints (colors them now if needed): each type's array in color order with its ranges
+  /// and the insertion→color-order index map.
+  const ColoredConstraints<Real>& colored_constraints();
+
   /// Sets the step parameters after validating them.
   void set_params(const StepParams<Real>& params);
   /// The current step parameters.
@@ -88,6 +101,7 @@ private:
   void check_particle(Index i, const char* what) const;
   void check_set(Index set, const char* what) const;
   void substep(Real h);
+  void ensure_colored();
 
   // Runtime state.
   Positions x_;      ///< positions
@@ -102,6 +116,11 @@ private:
   std::vector<CollisionConstraint<Real>> collisions_;
   Multipliers<Real> lambda_;
   std::vector<SolveCoefficients<Real>> coeff_;
+  // Colored and Jacobi solvers: the colored copy of the constraints, rebuilt when constraints or pins change.
+  ColoredSolver<Real> colored_;
+  coloring::Options coloring_;
+  ParallelConfig parallel_;
+  PartitionerPool particle_partitioners_;
 };
 
 extern template class World<float>;

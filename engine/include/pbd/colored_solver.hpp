@@ -1,0 +1,86 @@
+#pragma once
+/// \file colored_solver.hpp
+/// The colored Gauss-Seidel solver (serial or parallel over each color) and the Jacobi solver.
+///
+/// Scheduling: a sweep visits the constraint types in solver order, each type's colors in order, and then the
+/// sub-step's collisions (colored by "k-th collision of its particle"). Within a color no two constraints write
+/// the same particle, so its constraints are projected by tbb::parallel_for with no synchronisation, and the result
+/// is bitwise identical to projecting them one after the other: for any thread count. Colors smaller than
+/// ParallelConfig::inline_below run inline; each color keeps its own affinity_partitioner so a thread tends to get
+/// the same slice every sweep. The solver runs in whatever tbb::task_arena the caller runs it in.
+#include "pbd/colored_constraints.hpp"
+#include "pbd/constraints/collision.hpp"
+#include "pbd/solver.hpp"
+
+#include <oneapi/tbb/partitioner.h>
+
+#include <deque>
+#include <span>
+
+namespace pbd {
+
+/// Affinity partitioners, one per color, created on first use. A copy starts with fresh ones: affinity is only a
+/// cache hint, so copying a world never copies it.
+class PartitionerPool {
+public:
+  PartitionerPool() = default;
+  PartitionerPool(const PartitionerPool&) {}                                        ///< fresh partitioners
+  PartitionerPool& operator=(const PartitionerPool&) { pool_.clear(); return *this; }  ///< fresh partitioners
+  /// The partitioner of slot i.
+  tbb::affinity_partitioner& operator[](std::size_t i) {
+    while (pool_.size() <= i) pool_.emplace_back();
+    return pool_[i];
+  }
+  void clear() { pool_.clear(); }  ///< forgets every partitioner
+
+private:
+  std::deque<tbb::affinity_partitioner> pool_;
+};
+
+/// Colored constraints plus the per-step scratch of the colored and Jacobi sweeps.
+template <class Real> class ColoredSolver {
+public:
+  /// Colors and reorders the constraints (call again whenever constraints or pinned particles change).
+  void build(const ConstraintArrays<Real>& constraints, const VectorX<Real>& inverse_masses,
+             const coloring::Options& options);
+  /// True once build() has run.
+  bool built() const { return built_; }
+  /// Drops the coloring (the next step rebuilds it).
+  void invalidate() { built_ = false; }
+
+  /// Starts a sub-step: reorders `collisions` by color in place and sets every λ to 0.
+  void begin_substep(std::vector<CollisionConstraint<Real>>& collisions);
+
+  /// One Gauss-Seidel sweep color by color; `parallel` = false gives the serial color-order bridge.
+  void sweep_gauss_seidel(std::span<const CollisionConstraint<Real>> collisions,
+                          std::span<const SolveCoefficients<Real>> coeff, Real* p, const Real* w, bool parallel,
+                          const ParallelConfig& config);
+
+  /// One Jacobi sweep: all corrections from the same p, averaged per particle over the constraints touching it,
+  /// scaled by omega, then applied.
+  void sweep_jacobi(std::span<const CollisionConstraint<Real>> collisions,
+                    std::span<const SolveCoefficients<Real>> coeff, Real* p, const Real* w, Real omega, bool parallel,
+                    const ParallelConfig& config);
+
+  /// The colored constraints.
+  const ColoredConstraints<Real>& constraints() const { return colored_; }
+  /// Number of colors of the sub-step's collisions.
+  Index collision_colors() const { return collision_offsets_.empty() ? 0 : Index(collision_offsets_.size() - 1); }
+
+private:
+  bool built_ = false;
+  ColoredConstraints<Real> colored_;
+  Multipliers<Real> lambda_;
+  std::vector<Index> collision_offsets_;
+  std::vector<CollisionConstraint<Real>> collision_scratch_;
+  PartitionerPool partitioners_;  // one per color of the persistent types, then collisions, then the Jacobi update
+  Index num_particles_ = 0;
+  std::vector<Index> static_count_;  // Jacobi: persistent constraints touching each particle
+  std::vector<Real> count_inv_;      // Jacobi: 1 / constraints touching each particle this sub-step
+  std::vector<Real> delta_;          // Jacobi: accumulated corrections, 3 per particle
+};
+
+extern template class ColoredSolver<float>;
+extern template class ColoredSolver<double>;
+
+}  // namespace pbd

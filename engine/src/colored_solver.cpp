@@ -1,0 +1,130 @@
+#include "pbd/colored_solver.hpp"
+
+#include "parallel_range.hpp"
+#include "pbd/constraints/projection.hpp"
+
+#include <algorithm>
+
+namespace pbd {
+namespace {
+
+using detail::run_range;
+
+
+// Jacobi: adds the correction of constraint c (computed from the frozen p) to delta; accumulates its λ.
+template <class Constraint, class Real>
+inline void accumulate(const Constraint& c, const Real* p, const Real* w, SolveCoefficients<Real> coeff, Real& lambda,
+                       Real* delta) {
+  constexpr int n = Constraint::kArity;
+  Vec3<Real> q[n];
+  Real wi[n];
+  for (int i = 0; i < n; ++i) {
+    q[i] = Eigen::Map<const Vec3<Real>>(p + 3 * std::size_t(c.particles[i]));
+    wi[i] = w[c.particles[i]];
+  }
+  Vec3<Real> dp[n];
+  Real dlambda;
+  if (!correction(c, q, wi, coeff, lambda, dp, dlambda)) return;
+  lambda += dlambda;
+  for (int i = 0; i < n; ++i)
+    if (wi[i] != Real(0)) Eigen::Map<Vec3<Real>>(delta + 3 * std::size_t(c.particles[i])) += dp[i];
+}
+
+}  // namespace
+
+template <class Real>
+void ColoredSolver<Real>::build(const ConstraintArrays<Real>& constraints, const VectorX<Real>& w,
+                                const coloring::Options& options) {
+  colored_ = color_constraints(constraints, w, options);
+  num_particles_ = Index(w.size());
+  static_count_.assign(num_particles_, 0);
+  colored_.for_each([&](const auto& a) {
+    for (const auto& c : a.items)
+      for (Index k : c.particles) ++static_count_[k];
+  });
+  partitioners_.clear();
+  built_ = true;
+}
+
+template <class Real> void ColoredSolver<Real>::begin_substep(std::vector<CollisionConstraint<Real>>& collisions) {
+  // Collisions arrive particle by particle; the k-th collision of a particle gets color k (stable counting sort).
+  const Index n = Index(collisions.size());
+  collision_offsets_.assign({0, n});
+  if (n > 1) {
+    std::vector<Index> slot(n, 0);
+    Index max_slot = 0;
+    for (Index i = 1; i < n; ++i)
+      if (collisions[i].particles[0] == collisions[i - 1].particles[0]) max_slot = std::max(max_slot, slot[i] = slot[i - 1] + 1);
+    if (max_slot > 0) {
+      collision_offsets_.assign(max_slot + 2, 0);
+      for (Index s : slot) ++collision_offsets_[s + 1];
+      for (Index s = 0; s <= max_slot; ++s) collision_offsets_[s + 1] += collision_offsets_[s];
+      std::vector<Index> next(collision_offsets_.begin(), collision_offsets_.end() - 1);
+      collision_scratch_.resize(n);
+      for (Index i = 0; i < n; ++i) collision_scratch_[next[slot[i]]++] = collisions[i];
+      collisions.swap(collision_scratch_);
+    }
+  }
+  lambda_.reset(colored_, collisions.size());
+}
+
+template <class Real>
+void ColoredSolver<Real>::sweep_gauss_seidel(std::span<const CollisionConstraint<Real>> collisions,
+                                             std::span<const SolveCoefficients<Real>> coeff, Real* p, const Real* w,
+                                             bool parallel, const ParallelConfig& config) {
+  std::size_t part = 0;
+  lambda_.zip(colored_, [&](const auto& array, std::vector<Real>& lam) {
+    for (Index c = 0; c < array.num_colors(); ++c)
+      run_range(array.offsets[c], array.offsets[c + 1], parallel, config, partitioners_[part++], [&](Index b, Index e) {
+        for (Index i = b; i < e; ++i) project(array.items[i], p, w, coefficients_of(array.items[i], coeff.data()), lam[i]);
+      });
+  });
+  const SolveCoefficients<Real> hard{Real(1), Real(0)};
+  for (Index c = 0; c < collision_colors(); ++c)
+    run_range(collision_offsets_[c], collision_offsets_[c + 1], parallel, config, partitioners_[part++],
+              [&](Index b, Index e) {
+                for (Index i = b; i < e; ++i) project(collisions[i], p, w, hard, lambda_.collision[i]);
+              });
+}
+
+template <class Real>
+void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>> collisions,
+                                       std::span<const SolveCoefficients<Real>> coeff, Real* p, const Real* w,
+                                       Real omega, bool parallel, const ParallelConfig& config) {
+  const Index n = num_particles_;
+  if (count_inv_.size() != n || delta_.size() != 3 * std::size_t(n)) {
+    count_inv_.resize(n);
+    delta_.resize(3 * std::size_t(n));
+  }
+  // Constraints touching each particle in this sub-step (persistent ones plus its collisions).
+  std::vector<Index> count(static_count_);
+  for (const auto& c : collisions) ++count[c.particles[0]];
+  for (Index i = 0; i < n; ++i) count_inv_[i] = count[i] ? Real(1) / Real(count[i]) : Real(0);
+  std::fill(delta_.begin(), delta_.end(), Real(0));
+  Real* delta = delta_.data();
+  std::size_t part = 0;
+  lambda_.zip(colored_, [&](const auto& array, std::vector<Real>& lam) {
+    for (Index c = 0; c < array.num_colors(); ++c)
+      run_range(array.offsets[c], array.offsets[c + 1], parallel, config, partitioners_[part++], [&](Index b, Index e) {
+        for (Index i = b; i < e; ++i)
+          accumulate(array.items[i], p, w, coefficients_of(array.items[i], coeff.data()), lam[i], delta);
+      });
+  });
+  const SolveCoefficients<Real> hard{Real(1), Real(0)};
+  for (Index c = 0; c < collision_colors(); ++c)
+    run_range(collision_offsets_[c], collision_offsets_[c + 1], parallel, config, partitioners_[part++],
+              [&](Index b, Index e) {
+                for (Index i = b; i < e; ++i) accumulate(collisions[i], p, w, hard, lambda_.collision[i], delta);
+              });
+  run_range(0, n, parallel, config, partitioners_[part], [&](Index b, Index e) {
+    for (Index i = b; i < e; ++i) {
+      const Real s = omega * count_inv_[i];
+      for (int d = 0; d < 3; ++d) p[3 * std::size_t(i) + d] += s * delta[3 * std::size_t(i) + d];
+    }
+  });
+}
+
+template class ColoredSolver<float>;
+template class ColoredSolver<double>;
+
+}  // namespace pbd

@@ -1,0 +1,21 @@
+#include "pbd/solver.hpp"
+
+namespace pbd {
+
+std::string_view name(Solver solver) {
+  switch (solver) {
+    case Solver::serial: return "serial";
+    case Solver::serial_colored: return "serial-colored";
+    case Solver::colored: return "colored";
+    case Solver::jacobi: return "jacobi";
+  }
+  return "?";
+}
+
+std::optional<Solver> parse_solver(std::string_view n) {
+  for (Solver s : {Solver::serial, Solver::serial_colored, Solver::colored, Solver::jacobi})
+    if (name(s) == n) return s;
+  return std::nullopt;
+}
+
+}  // namespace pbd
