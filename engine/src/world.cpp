@@ -30,16 +30,16 @@ void check_stiffness(const Stiffness& s, const std::string& what) {
 
 }  // namespace
 
-template <class Real> void World<Real>::check_particle(Index i, const char* what) const {
+template <class Real> void World<Real>::check_particle(Index i, const char* item, std::size_t index) const {
   if (i >= num_particles())
-    throw Error(detail::message(what, ": particle index ", i, " out of range (the world has ", num_particles(),
-                                " particles)"));
+    throw Error(detail::message(item, " ", index, ": particle index ", i, " out of range (the world has ",
+                                num_particles(), " particles)"));
 }
 
-template <class Real> void World<Real>::check_set(Index set, const char* what) const {
+template <class Real> void World<Real>::check_set(Index set, const char* item, std::size_t index) const {
   if (set >= constraints_.sets.size())
-    throw Error(detail::message(what, ": constraint set ", set, " does not exist (", constraints_.sets.size(),
-                                " sets)"));
+    throw Error(detail::message(item, " ", index, ": constraint set ", set, " does not exist (",
+                                constraints_.sets.size(), " sets)"));
 }
 
 template <class Real> Index World<Real>::add_particle(const Vec& position, Real mass, const Vec& velocity) {
@@ -78,7 +78,7 @@ template <class Real> Index World<Real>::add_particles(const Positions& position
 }
 
 template <class Real> void World<Real>::set_mass(Index particle, Real mass) {
-  check_particle(particle, "set_mass");
+  check_particle(particle, "set_mass: particle", particle);
   check_mass(mass, detail::message("set_mass: particle ", particle));
   if ((w_[particle] == Real(0)) != (inverse_mass(mass) == Real(0))) colored_.invalidate();  // pins changed
   w_[particle] = inverse_mass(mass);
@@ -91,25 +91,30 @@ template <class Real> Index World<Real>::add_constraint_set(const Stiffness& sti
 }
 
 template <class Real> Index World<Real>::add_stretch(Index a, Index b, Index set, std::optional<Real> rest) {
-  const std::string what = detail::message("add_stretch: stretch constraint ", constraints_.stretch.size());
-  check_particle(a, what.c_str());
-  check_particle(b, what.c_str());
-  check_set(set, what.c_str());
-  if (a == b) throw Error(detail::message(what, ": names particle ", a, " twice"));
+  // Messages are built only when something is wrong: adding must stay cheap for millions of constraints.
+  const char* item = "add_stretch: stretch constraint";
+  const std::size_t index = constraints_.stretch.size();
+  auto what = [&] { return detail::message(item, " ", index); };
+  check_particle(a, item, index);
+  check_particle(b, item, index);
+  check_set(set, item, index);
+  if (a == b) throw Error(detail::message(what(), ": names particle ", a, " twice"));
   const Real d = rest ? *rest : (x_.col(a) - x_.col(b)).norm();
   if (!std::isfinite(d) || d < Real(0))
-    throw Error(detail::message(what, ": rest distance must be finite and >= 0, got ", d));
+    throw Error(detail::message(what(), ": rest distance must be finite and >= 0, got ", d));
   constraints_.stretch.push_back({{a, b}, set, d});
   colored_.invalidate();
   return Index(constraints_.stretch.size() - 1);
 }
 
 template <class Real> Index World<Real>::add_anchor(Index particle, Index set, std::optional<Vec> target) {
-  const std::string what = detail::message("add_anchor: anchor ", constraints_.anchor.size());
-  check_particle(particle, what.c_str());
-  check_set(set, what.c_str());
+  const char* item = "add_anchor: anchor";
+  const std::size_t index = constraints_.anchor.size();
+  auto what = [&] { return detail::message(item, " ", index); };
+  check_particle(particle, item, index);
+  check_set(set, item, index);
   const Vec t = target ? *target : Vec(x_.col(particle));
-  if (!finite(t)) throw Error(detail::message(what, ": target is not finite"));
+  if (!finite(t)) throw Error(detail::message(what(), ": target is not finite"));
   constraints_.anchor.push_back({{particle}, set, t});
   colored_.invalidate();
   return Index(constraints_.anchor.size() - 1);

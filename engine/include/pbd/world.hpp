@@ -98,8 +98,8 @@ public:
 
 private:
   template <class> friend class World;
-  void check_particle(Index i, const char* what) const;
-  void check_set(Index set, const char* what) const;
+  void check_particle(Index i, const char* item, std::size_t index) const;  // throws naming "item index"
+  void check_set(Index set, const char* item, std::size_t index) const;
   void substep(Real h);
   void ensure_colored();
 

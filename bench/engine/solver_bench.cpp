@@ -1,0 +1,88 @@
+// ns per constraint projection per sweep: serial reference, colored Gauss-Seidel and Jacobi on 1 and 2 threads,
+// over the stretch constraints of an N×N hanging cloth (float). Positions are perturbed so every projection works.
+// Counter ns_per_projection = wall time of one sweep / number of constraints (medians: use --benchmark_repetitions).
+#include "pbd/colored_solver.hpp"
+#include "pbd/generators.hpp"
+#include "pbd/serial_solver.hpp"
+
+#include <benchmark/benchmark.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <random>
+
+namespace {
+
+using Real = float;
+
+struct ClothFixture {
+  pbd::World<Real> world;
+  pbd::Matrix3X<Real> p;
+  std::vector<pbd::SolveCoefficients<Real>> coeff;
+
+  explicit ClothFixture(int n) {
+    pbd::ClothOptions o;
+    o.resolution = n;
+    pbd::add_cloth(world, o, world.add_constraint_set(pbd::Stiffness::pbd_k(1.0)));
+    p = world.positions();
+    std::mt19937 rng(42);
+    std::uniform_real_distribution<Real> u(-0.3f, 0.3f);
+    const Real spacing = Real(1.0 / (n - 1));
+    for (Eigen::Index i = 0; i < p.cols(); ++i)
+      if (world.inverse_masses()[i] != 0) p.col(i) += spacing * pbd::Vec3<Real>(u(rng), u(rng), u(rng));
+    coeff = {pbd::coefficients<Real>(world.constraints().sets[0], 1.0 / 60, 10)};
+  }
+  std::size_t constraints() const { return world.constraints().stretch.size(); }
+};
+
+void set_counters(benchmark::State& state, const ClothFixture& f, std::size_t colors) {
+  state.counters["ns_per_projection"] = benchmark::Counter(
+      double(f.constraints()) * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["constraints"] = double(f.constraints());
+  state.counters["colors"] = double(colors);
+}
+
+void BM_SerialSweep(benchmark::State& state) {
+  ClothFixture f(int(state.range(0)));
+  pbd::Multipliers<Real> lambda;
+  lambda.reset(f.world.constraints(), 0);
+  const Real* w = f.world.inverse_masses().data();
+  for (auto _ : state) {
+    pbd::sweep_serial<Real>(f.world.constraints(), {}, f.coeff, f.p.data(), w, lambda);
+    benchmark::ClobberMemory();
+  }
+  set_counters(state, f, 0);
+}
+
+// Colored Gauss-Seidel (jacobi = false) or Jacobi (true) in an arena of `threads` threads.
+void colored_sweep(benchmark::State& state, bool jacobi) {
+  ClothFixture f(int(state.range(0)));
+  const int threads = int(state.range(1));
+  pbd::ColoredSolver<Real> solver;
+  solver.build(f.world.constraints(), pbd::VectorX<Real>(f.world.inverse_masses()), {});
+  std::vector<pbd::CollisionConstraint<Real>> none;
+  solver.begin_substep(none);
+  const Real* w = f.world.inverse_masses().data();
+  const pbd::ParallelConfig config;
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    for (auto _ : state) {
+      if (jacobi) solver.sweep_jacobi(none, f.coeff, f.p.data(), w, Real(1), true, config);
+      else solver.sweep_gauss_seidel(none, f.coeff, f.p.data(), w, true, config);
+      benchmark::ClobberMemory();
+    }
+  });
+  set_counters(state, f, solver.constraints().num_colors());
+  state.counters["threads"] = threads;
+}
+
+void BM_ColoredSweep(benchmark::State& state) { colored_sweep(state, false); }
+void BM_JacobiSweep(benchmark::State& state) { colored_sweep(state, true); }
+
+}  // namespace
+
+BENCHMARK(BM_SerialSweep)->ArgName("n")->Arg(30)->Arg(100)->Arg(300)->Arg(1000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ColoredSweep)->ArgNames({"n", "threads"})->ArgsProduct({{30, 100, 300, 1000}, {1, 2}})
+    ->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_JacobiSweep)->ArgNames({"n", "threads"})->ArgsProduct({{30, 100, 300, 1000}, {1, 2}})
+    ->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK_MAIN();
