@@ -14,9 +14,10 @@ template <class Real> bool finite(const Vec3<Real>& v) { return v.allFinite(); }
 // Inverse mass of a validated mass: 0 for kPinned (infinity).
 template <class Real> Real inverse_mass(Real mass) { return std::isinf(mass) ? Real(0) : Real(1) / mass; }
 
-template <class Real> void check_mass(Real mass, const std::string& what) {
+// Throws "<fn>: particle <index>: mass must be ..." unless mass > 0 (infinity = pinned is allowed).
+template <class Real> void check_mass(Real mass, const char* fn, std::size_t index) {
   if (std::isnan(mass) || !(mass > Real(0)))
-    throw Error(detail::message(what, ": mass must be > 0 (or kPinned), got ", mass));
+    throw Error(detail::message(fn, ": particle ", index, ": mass must be > 0 (or kPinned), got ", mass));
 }
 
 void check_stiffness(const Stiffness& s, const std::string& what) {
@@ -46,7 +47,7 @@ template <class Real> Index World<Real>::add_particle(const Vec& position, Real 
   const Index i = num_particles();
   if (!finite(position)) throw Error(detail::message("add_particle: particle ", i, ": position is not finite"));
   if (!finite(velocity)) throw Error(detail::message("add_particle: particle ", i, ": velocity is not finite"));
-  check_mass(mass, detail::message("add_particle: particle ", i));
+  check_mass(mass, "add_particle", i);
   colored_.invalidate();
   x_.conservativeResize(3, i + 1);
   v_.conservativeResize(3, i + 1);
@@ -64,7 +65,7 @@ template <class Real> Index World<Real>::add_particles(const Positions& position
   for (Eigen::Index j = 0; j < positions.cols(); ++j) {
     if (!finite<Real>(positions.col(j)))
       throw Error(detail::message("add_particles: particle ", first + j, ": position is not finite"));
-    check_mass(masses[j], detail::message("add_particles: particle ", first + j));
+    check_mass(masses[j], "add_particles", first + j);
   }
   colored_.invalidate();
   const Eigen::Index n = first + positions.cols();
@@ -79,7 +80,7 @@ template <class Real> Index World<Real>::add_particles(const Positions& position
 
 template <class Real> void World<Real>::set_mass(Index particle, Real mass) {
   check_particle(particle, "set_mass: particle", particle);
-  check_mass(mass, detail::message("set_mass: particle ", particle));
+  check_mass(mass, "set_mass", particle);
   if ((w_[particle] == Real(0)) != (inverse_mass(mass) == Real(0))) colored_.invalidate();  // pins changed
   w_[particle] = inverse_mass(mass);
 }

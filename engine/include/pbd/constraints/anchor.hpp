@@ -11,6 +11,7 @@ namespace pbd {
 template <class Real> struct AnchorConstraint {
   static constexpr int kArity = 1;            ///< particles per constraint
   static constexpr bool kInequality = false;  ///< an equality
+  static constexpr bool kUnitGradients = true; ///< |∇C| = 1
   std::array<Index, 1> particles;             ///< the anchored particle
   Index set;                                  ///< constraint set (stiffness) it belongs to
   Vec3<Real> target;                          ///< the anchor point p0
@@ -24,7 +25,7 @@ inline bool evaluate(const AnchorConstraint<Real>& c, const Vec3<Real> (&p)[1], 
   const Real len2 = d.squaredNorm();
   if (!(len2 > tiny_squared<Real>())) return false;
   C = std::sqrt(len2);
-  grad[0] = d / C;
+  grad[0] = d * (Real(1) / C);
   return true;
 }
 

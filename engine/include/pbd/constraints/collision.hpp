@@ -12,6 +12,7 @@ namespace pbd {
 template <class Real> struct CollisionConstraint {
   static constexpr int kArity = 1;           ///< particles per constraint
   static constexpr bool kInequality = true;  ///< projected only while C < 0
+  static constexpr bool kUnitGradients = true;  ///< |∇C| = |n| = 1
   std::array<Index, 1> particles;            ///< the colliding particle
   Vec3<Real> normal;                         ///< unit surface normal n at the contact
   Real offset;                               ///< n·q for the contact point q

@@ -6,6 +6,7 @@
 
 namespace pbd {
 
+/// A constraint type may declare `static constexpr bool kUnitGradients = true` when every |∇_i C| is 1.
 /// Corrections of one constraint: Δλ = (−k·C − α̃·λ) / (Σ_i w_i|∇_i C|² + α̃) and Δp_i = w_i ∇_i C Δλ.
 /// Returns false (and leaves dp, dlambda untouched) when nothing moves: the gradient is undefined, an inequality
 /// holds (C ≥ 0), or the denominator is not positive (all particles pinned and α̃ = 0).
@@ -21,7 +22,11 @@ inline bool correction(const Constraint& c, const Vec3<Real> (&p)[Constraint::kA
     if (!(C < Real(0))) return false;
   }
   Real denom = coeff.alpha_tilde;
-  for (int i = 0; i < n; ++i) denom += w[i] * grad[i].squaredNorm();
+  if constexpr (requires { Constraint::kUnitGradients; }) {
+    for (int i = 0; i < n; ++i) denom += w[i];  // every |∇_i C| is 1 by construction
+  } else {
+    for (int i = 0; i < n; ++i) denom += w[i] * grad[i].squaredNorm();
+  }
   if (!(denom > Real(0))) return false;
   dlambda = (-coeff.k * C - coeff.alpha_tilde * lambda) / denom;
   for (int i = 0; i < n; ++i) dp[i] = (w[i] * dlambda) * grad[i];

@@ -11,6 +11,7 @@ namespace pbd {
 template <class Real> struct StretchConstraint {
   static constexpr int kArity = 2;             ///< particles per constraint
   static constexpr bool kInequality = false;   ///< an equality: projected whatever the sign of C
+  static constexpr bool kUnitGradients = true; ///< |∇_i C| = 1 for every particle (saves work in the projection)
   std::array<Index, 2> particles;              ///< the two particles
   Index set;                                   ///< constraint set (stiffness) it belongs to
   Real rest;                                   ///< rest distance d ≥ 0
@@ -25,7 +26,7 @@ inline bool evaluate(const StretchConstraint<Real>& c, const Vec3<Real> (&p)[2],
   if (!(len2 > tiny_squared<Real>())) return false;
   const Real len = std::sqrt(len2);
   C = len - c.rest;
-  grad[0] = d / len;
+  grad[0] = d * (Real(1) / len);
   grad[1] = -grad[0];
   return true;
 }
