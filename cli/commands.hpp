@@ -7,4 +7,7 @@ namespace pbd::cli {
 /// `pbd study`: runs scenes and reports speed with the error reached.
 void add_study_command(CLI::App& app);
 
+/// `pbd color`: prints the coloring statistics of a scene's constraints.
+void add_color_command(CLI::App& app);
+
 }  // namespace pbd::cli

@@ -9,6 +9,7 @@ namespace pbd {
 
 /// Pulls a particle to a fixed point (a soft or hard pin for a particle that keeps its mass).
 template <class Real> struct AnchorConstraint {
+  static constexpr const char* kName = "anchor";  ///< name in reports and on the command line
   static constexpr int kArity = 1;            ///< particles per constraint
   static constexpr bool kInequality = false;  ///< an equality
   static constexpr bool kUnitGradients = true; ///< |∇C| = 1

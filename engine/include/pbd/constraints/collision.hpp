@@ -10,6 +10,7 @@ namespace pbd {
 /// Keeps one particle on the positive side of a plane (a collider's surface at the contact).
 /// Always hard (k = 1, α = 0); skipped while satisfied.
 template <class Real> struct CollisionConstraint {
+  static constexpr const char* kName = "collision";  ///< name in reports and on the command line
   static constexpr int kArity = 1;           ///< particles per constraint
   static constexpr bool kInequality = true;  ///< projected only while C < 0
   static constexpr bool kUnitGradients = true;  ///< |∇C| = |n| = 1

@@ -9,6 +9,7 @@ namespace pbd {
 
 /// Keeps two particles at rest distance `rest`. 16 bytes in float.
 template <class Real> struct StretchConstraint {
+  static constexpr const char* kName = "stretch";  ///< name in reports and on the command line
   static constexpr int kArity = 2;             ///< particles per constraint
   static constexpr bool kInequality = false;   ///< an equality: projected whatever the sign of C
   static constexpr bool kUnitGradients = true; ///< |∇_i C| = 1 for every particle (saves work in the projection)

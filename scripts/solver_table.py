@@ -1,0 +1,35 @@
+"""Turns bench_solvers' JSON (with repetitions) into a Markdown table of median ns per projection and ratios."""
+import json
+import sys
+
+
+def main(path):
+    data = json.load(open(path))
+    med = {}
+    for b in data["benchmarks"]:
+        if b.get("aggregate_name") != "median":
+            continue
+        name = b["run_name"]  # e.g. BM_ColoredSweep/n:300/threads:2/real_time
+        parts = dict(p.split(":") for p in name.split("/")[1:] if ":" in p)
+        kind = name.split("/")[0].replace("BM_", "").replace("Sweep", "").lower()
+        key = (kind, int(parts["n"]), int(parts.get("threads", 1)))
+        med[key] = (b["ns_per_projection"] * 1e9, int(b["constraints"]), int(b["colors"]))
+    ctx = data["context"]
+    print(f"machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, date {ctx.get('date')}")
+    print()
+    print("| cloth | constraints | colors | serial | colored 1T | colored 2T | Jacobi 1T | Jacobi 2T |"
+          " colored 2T vs 1T | colored 2T vs serial |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for n in sorted({k[1] for k in med}):
+        def ns(kind, t):
+            return med.get((kind, n, t), (float("nan"), 0, 0))[0]
+        s, c1, c2, j1, j2 = ns("serial", 1), ns("colored", 1), ns("colored", 2), ns("jacobi", 1), ns("jacobi", 2)
+        cons, colors = med[("colored", n, 1)][1], med[("colored", n, 1)][2]
+        print(f"| {n}² | {cons:,} | {colors} | {s:.2f} | {c1:.2f} | {c2:.2f} | {j1:.2f} | {j2:.2f} |"
+              f" {c1 / c2:.2f}× | {s / c2:.2f}× |")
+    print()
+    print("ns per constraint projection per sweep (median of the repetitions); ratios from the same run.")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
