@@ -53,6 +53,9 @@ ColoredConstraints<Real> color_constraints(const ConstraintArrays<Real>& c, cons
   ColoredConstraints<Real> out;
   out.stretch = reorder(c.stretch, fixed, n, options);
   out.anchor = reorder(c.anchor, fixed, n, options);
+  out.bending = reorder(c.bending, fixed, n, options);
+  out.area = reorder(c.area, fixed, n, options);
+  out.volume = c.volume;
   return out;
 }
 
@@ -67,6 +70,10 @@ PBD_INSTANTIATE_COLOR_ARRAY(StretchConstraint<float>)
 PBD_INSTANTIATE_COLOR_ARRAY(StretchConstraint<double>)
 PBD_INSTANTIATE_COLOR_ARRAY(AnchorConstraint<float>)
 PBD_INSTANTIATE_COLOR_ARRAY(AnchorConstraint<double>)
+PBD_INSTANTIATE_COLOR_ARRAY(BendingConstraint<float>)
+PBD_INSTANTIATE_COLOR_ARRAY(BendingConstraint<double>)
+PBD_INSTANTIATE_COLOR_ARRAY(AreaConstraint<float>)
+PBD_INSTANTIATE_COLOR_ARRAY(AreaConstraint<double>)
 #undef PBD_INSTANTIATE_COLOR_ARRAY
 
 }  // namespace pbd

@@ -2,6 +2,7 @@
 
 #include "parallel_range.hpp"
 #include "pbd/constraints/projection.hpp"
+#include "volume_projection.hpp"
 
 #include <algorithm>
 
@@ -42,11 +43,14 @@ void ColoredSolver<Real>::build(const ConstraintArrays<Real>& constraints, const
     for (const auto& c : a.items)
       for (Index k : c.particles) ++static_count_[k];
   });
+  for (Index k : colored_.volume.particles) ++static_count_[k];
   partitioners_.clear();
   built_ = true;
 }
 
-template <class Real> void ColoredSolver<Real>::begin_substep(std::vector<CollisionConstraint<Real>>& collisions) {
+template <class Real>
+void ColoredSolver<Real>::begin_substep(std::vector<CollisionConstraint<Real>>& collisions, double time) {
+  volume_.set_targets(colored_.volume, time);
   // Collisions arrive particle by particle; the k-th collision of a particle gets color k (stable counting sort).
   const Index n = Index(collisions.size());
   collision_offsets_.assign({0, n});
@@ -79,6 +83,7 @@ void ColoredSolver<Real>::sweep_gauss_seidel(std::span<const CollisionConstraint
         for (Index i = b; i < e; ++i) project(array.items[i], p, w, coefficients_of(array.items[i], coeff.data()), lam[i]);
       });
   });
+  project_volumes(p, p, w, coeff, parallel, config, part);
   const SolveCoefficients<Real> hard{Real(1), Real(0)};
   for (Index c = 0; c < collision_colors(); ++c)
     run_range(collision_offsets_[c], collision_offsets_[c + 1], parallel, config, partitioners_[part++],
@@ -110,6 +115,7 @@ void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>
           accumulate(array.items[i], p, w, coefficients_of(array.items[i], coeff.data()), lam[i], delta);
       });
   });
+  project_volumes(p, delta, w, coeff, parallel, config, part);
   const SolveCoefficients<Real> hard{Real(1), Real(0)};
   for (Index c = 0; c < collision_colors(); ++c)
     run_range(collision_offsets_[c], collision_offsets_[c + 1], parallel, config, partitioners_[part++],
@@ -122,6 +128,22 @@ void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>
       for (int d = 0; d < 3; ++d) p[3 * std::size_t(i) + d] += s * delta[3 * std::size_t(i) + d];
     }
   });
+}
+
+template <class Real>
+void ColoredSolver<Real>::project_volumes(const Real* p, Real* out, const Real* w,
+                                          std::span<const SolveCoefficients<Real>> coeff, bool parallel,
+                                          const ParallelConfig& config, std::size_t& part) {
+  // Each volume constraint is its own color; its blocks are the parallel items (a block is kVolumeBlock rows, so
+  // the inline threshold and grain are scaled down to blocks).
+  const ParallelConfig blocks{std::max<std::size_t>(1, config.inline_below / kVolumeBlock),
+                              std::max<std::size_t>(1, config.min_grain / kVolumeBlock)};
+  const VolumeConstraints<Real>& v = colored_.volume;
+  for (Index i = 0; i < Index(v.size()); ++i) {
+    tbb::affinity_partitioner& ap = partitioners_[part++];
+    auto run = [&](Index b, Index e, const auto& body) { run_range(b, e, parallel, blocks, ap, body); };
+    detail::project_volume(v, i, p, out, w, coeff[v.items[i].set], volume_.target[i], lambda_.volume[i], volume_, run);
+  }
 }
 
 template class ColoredSolver<float>;

@@ -2,6 +2,7 @@
 
 #include "message.hpp"
 #include "parallel_range.hpp"
+#include "pbd/mesh.hpp"
 #include "pbd/serial_solver.hpp"
 
 #include <cmath>
@@ -121,6 +122,83 @@ template <class Real> Index World<Real>::add_anchor(Index particle, Index set, s
   return Index(constraints_.anchor.size() - 1);
 }
 
+template <class Real>
+Index World<Real>::add_bending(Index p1, Index p2, Index p3, Index p4, Index set, std::optional<Real> rest) {
+  const char* item = "add_bending: bending constraint";
+  const std::size_t index = constraints_.bending.size();
+  auto what = [&] { return detail::message(item, " ", index); };
+  const std::array<Index, 4> ids{p1, p2, p3, p4};
+  for (Index i : ids) check_particle(i, item, index);
+  check_set(set, item, index);
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b)
+      if (ids[a] == ids[b]) throw Error(detail::message(what(), ": names particle ", ids[a], " twice"));
+  Real phi;
+  if (rest) {
+    phi = *rest;
+  } else {
+    phi = dihedral_angle<Real>(x_.col(p1), x_.col(p2), x_.col(p3), x_.col(p4));
+    if (phi < Real(0))
+      throw Error(detail::message(what(), ": a triangle is degenerate, so the rest angle is undefined (give it)"));
+  }
+  if (!(phi >= Real(0) && phi <= Real(3.14159265358979323846)))
+    throw Error(detail::message(what(), ": rest angle must be in [0, pi], got ", phi));
+  constraints_.bending.push_back({ids, set, phi});
+  colored_.invalidate();
+  return Index(index);
+}
+
+template <class Real> Index World<Real>::add_area(Index a, Index b, Index c, Index set, std::optional<Real> rest) {
+  const char* item = "add_area: area constraint";
+  const std::size_t index = constraints_.area.size();
+  auto what = [&] { return detail::message(item, " ", index); };
+  for (Index i : {a, b, c}) check_particle(i, item, index);
+  check_set(set, item, index);
+  if (a == b || b == c || a == c) throw Error(detail::message(what(), ": names a particle twice"));
+  const Real area = rest ? *rest : triangle_area<Real>(x_.col(a), x_.col(b), x_.col(c));
+  if (!std::isfinite(area) || area < Real(0))
+    throw Error(detail::message(what(), ": rest area must be finite and >= 0, got ", area));
+  constraints_.area.push_back({{a, b, c}, set, area});
+  colored_.invalidate();
+  return Index(index);
+}
+
+template <class Real>
+Index World<Real>::add_volume(std::span<const std::array<Index, 3>> triangles, Index set,
+                              const PressureSchedule& pressure, std::optional<Real> rest) {
+  const char* item = "add_volume: volume constraint";
+  const std::size_t index = constraints_.volume.size();
+  auto what = [&] { return detail::message(item, " ", index); };
+  check_set(set, item, index);
+  if (const auto defect = closed_mesh_defect(triangles, num_particles())) throw Error(what() + ": " + *defect);
+  if (!std::isfinite(pressure.from) || !std::isfinite(pressure.to) || !(pressure.from > 0.0) ||
+      !(pressure.to > 0.0) || !std::isfinite(pressure.duration) || pressure.duration < 0.0)
+    throw Error(what() + ": pressure from/to must be finite and > 0, duration finite and >= 0");
+  // Flat or inside-out: the enclosed volume must be clearly positive against the mesh's extent (scale-free).
+  Vec lo = x_.col(triangles[0][0]), hi = lo;
+  for (const auto& t : triangles)
+    for (Index i : t) {
+      lo = lo.cwiseMin(Vec(x_.col(i)));
+      hi = hi.cwiseMax(Vec(x_.col(i)));
+    }
+  const Real extent = (hi - lo).norm();
+  const Real six_v = six_volume<Real>(triangles, x_);
+  if (!rest) {
+    if (six_v < Real(0))
+      throw Error(detail::message(what(), ": the mesh encloses a negative volume (", six_v / Real(6),
+                                  "): it is inside out; its triangles must wind counter-clockwise seen from outside"));
+    if (!(six_v > Real(6) * parallel_sine<Real>() * extent * extent * extent))
+      throw Error(detail::message(what(), ": the mesh is flat (volume ", six_v / Real(6), " for an extent of ",
+                                  extent, "): it encloses nothing to keep"));
+  }
+  const Real r = rest ? *rest : six_v;
+  if (!std::isfinite(r) || !(r > Real(0)))
+    throw Error(detail::message(what(), ": rest volume must be finite and > 0, got ", r));
+  constraints_.volume.add(triangles, set, r, pressure);
+  colored_.invalidate();
+  return Index(index);
+}
+
 template <class Real> void World<Real>::add_plane(const Vec& normal, Real offset) {
   const std::string what = detail::message("add_plane: plane ", colliders_.planes.size());
   if (!finite(normal) || !std::isfinite(offset)) throw Error(what + ": normal and offset must be finite");
@@ -158,7 +236,8 @@ template <class Real> void World<Real>::step() {
   coeff_.resize(constraints_.sets.size());
   for (std::size_t s = 0; s < coeff_.size(); ++s)
     coeff_[s] = coefficients<Real>(constraints_.sets[s], double(h), params_.iterations);
-  for (int s = 0; s < params_.substeps; ++s) substep(h);
+  for (int s = 0; s < params_.substeps; ++s) substep(h, time_ + double(h) * double(s + 1));
+  time_ += double(params_.dt);
 }
 
 template <class Real> void World<Real>::set_coloring(const coloring::Options& options) {
@@ -175,7 +254,7 @@ template <class Real> const ColoredConstraints<Real>& World<Real>::colored_const
   return colored_.constraints();
 }
 
-template <class Real> void World<Real>::substep(Real h) {
+template <class Real> void World<Real>::substep(Real h, double time) {
   const Solver solver = params_.solver;
   const bool parallel = solver == Solver::colored || solver == Solver::jacobi;
   const Index n = num_particles();
@@ -208,11 +287,12 @@ template <class Real> void World<Real>::substep(Real h) {
   // 4. solve
   if (solver == Solver::serial) {
     lambda_.reset(constraints_, collisions_.size());
+    volume_scratch_.set_targets(constraints_.volume, time);
     for (int it = 0; it < params_.iterations; ++it)
-      sweep_serial<Real>(constraints_, collisions_, coeff_, p, w, lambda_);
+      sweep_serial<Real>(constraints_, collisions_, coeff_, p, w, lambda_, &volume_scratch_);
   } else {
     ensure_colored();
-    colored_.begin_substep(collisions_);
+    colored_.begin_substep(collisions_, time);
     for (int it = 0; it < params_.iterations; ++it) {
       if (solver == Solver::jacobi)
         colored_.sweep_jacobi(collisions_, coeff_, p, w, params_.jacobi_omega, parallel, parallel_);
@@ -242,6 +322,17 @@ World<Real>::World(const World<Other>& o)
   for (const auto& c : o.constraints_.stretch) constraints_.stretch.push_back({c.particles, c.set, Real(c.rest)});
   for (const auto& c : o.constraints_.anchor)
     constraints_.anchor.push_back({c.particles, c.set, c.target.template cast<Real>()});
+  for (const auto& c : o.constraints_.bending) constraints_.bending.push_back({c.particles, c.set, Real(c.rest)});
+  for (const auto& c : o.constraints_.area) constraints_.area.push_back({c.particles, c.set, Real(c.rest)});
+  const auto& ov = o.constraints_.volume;
+  auto& v = constraints_.volume;
+  v.triangles = ov.triangles;
+  v.particles = ov.particles;
+  v.ring_offsets = ov.ring_offsets;
+  v.ring = ov.ring;
+  for (const auto& c : ov.items)
+    v.items.push_back({c.set, c.triangle_begin, c.triangle_end, c.row_begin, c.row_end, Real(c.rest), c.pressure});
+  time_ = o.time_;
   for (const auto& pl : o.colliders_.planes)
     colliders_.planes.push_back({pl.normal.template cast<Real>(), Real(pl.offset)});
   for (const auto& s : o.colliders_.spheres)

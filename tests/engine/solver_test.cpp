@@ -1,6 +1,8 @@
 // The colored and Jacobi solvers: proper colors, the index map, determinism for any thread count, and agreement
 // with the serial reference.
 #include "pbd/generators.hpp"
+#include "pbd/mesh_body.hpp"
+#include "pbd/mesh_generators.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
 
@@ -59,6 +61,29 @@ template <class Real> World<Real> random_world(unsigned seed) {
   return w;
 }
 
+// Two inflating balls (stretch, bending, area, volume; 642 particles each, so several reduction blocks) and a cloth
+// with bending and area, over a plane.
+template <class Real> World<Real> mesh_world() {
+  World<Real> w;
+  MeshConstraintSets sets;
+  sets.stretch = w.add_constraint_set(Stiffness::xpbd_compliance(1e-4));
+  sets.bending = w.add_constraint_set(Stiffness::pbd_k(0.2));
+  sets.area = w.add_constraint_set(Stiffness::pbd_k(0.5));
+  sets.volume = w.add_constraint_set(Stiffness::xpbd_compliance(1e-7));
+  sets.pressure = {1.0, 2.0, 0.2};
+  MeshBodyOptions o;
+  o.origin = {0.0, 0.0, 0.5};
+  add_mesh(w, icosphere_mesh(3, 0.3), o, sets);
+  o.origin = {0.7, 0.1, 0.6};
+  o.pinned = {0, 5};
+  add_mesh(w, icosphere_mesh(3, 0.25), o, sets);
+  sets.volume.reset();
+  o.origin = {-1.0, -0.5, 1.0};
+  add_mesh(w, grid_mesh(12, 1.0), o, sets);
+  w.add_plane(Vec3<Real>(0, 0, 1), Real(0.1));
+  return w;
+}
+
 template <class Real> std::vector<Real> run(World<Real> w, Solver solver, int threads, int steps) {
   StepParams<Real> p = w.params();
   p.solver = solver;
@@ -87,7 +112,7 @@ TYPED_TEST(SolverTest, ColoredIsBitwiseIdenticalForAnyThreadCountAndToSerialColo
   using Real = TypeParam;
   const std::vector<std::pair<const char*, World<Real>>> scenes = {
       {"cloth", cloth_world<Real>(16)}, {"rope", rope_world<Real>()}, {"random 1", random_world<Real>(1)},
-      {"random 2", random_world<Real>(2)}};
+      {"random 2", random_world<Real>(2)}, {"meshes", mesh_world<Real>()}};
   for (const auto& [name, world] : scenes) {
     const auto reference = run(world, Solver::serial_colored, 1, 30);
     for (Real v : reference) ASSERT_TRUE(std::isfinite(v)) << name;
@@ -98,7 +123,7 @@ TYPED_TEST(SolverTest, ColoredIsBitwiseIdenticalForAnyThreadCountAndToSerialColo
 
 TYPED_TEST(SolverTest, JacobiIsBitwiseIdenticalForAnyThreadCount) {
   using Real = TypeParam;
-  for (const World<Real>& world : {cloth_world<Real>(16), random_world<Real>(3)}) {
+  for (const World<Real>& world : {cloth_world<Real>(16), random_world<Real>(3), mesh_world<Real>()}) {
     const auto reference = run(world, Solver::jacobi, 1, 30);
     for (int threads : {2, 3, 4}) EXPECT_TRUE(bitwise_equal(reference, run(world, Solver::jacobi, threads, 30))) << threads;
   }

@@ -25,15 +25,20 @@ template <class Constraint> struct ColoredArray {
 template <class Real> struct ColoredConstraints {
   ColoredArray<StretchConstraint<Real>> stretch;  ///< stretch constraints by color
   ColoredArray<AnchorConstraint<Real>> anchor;    ///< anchors by color
+  ColoredArray<BendingConstraint<Real>> bending;  ///< bending constraints by color
+  ColoredArray<AreaConstraint<Real>> area;        ///< area constraints by color
+  VolumeConstraints<Real> volume;                 ///< volume constraints, insertion order: each is its own color
 
-  /// Calls f(colored_array) for each type, in solver order.
+  /// Calls f(colored_array) for each fixed-arity type, in solver order (volume comes after them).
   template <class F> void for_each(F&& f) const {
     f(stretch);
     f(anchor);
+    f(bending);
+    f(area);
   }
-  /// Total number of colors over all types.
+  /// Total number of colors over all types (one per volume constraint).
   Index num_colors() const {
-    Index n = 0;
+    Index n = Index(volume.size());
     for_each([&](const auto& a) { n += a.num_colors(); });
     return n;
   }

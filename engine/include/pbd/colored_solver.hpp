@@ -2,8 +2,10 @@
 /// \file colored_solver.hpp
 /// The colored Gauss-Seidel solver (serial or parallel over each color) and the Jacobi solver.
 ///
-/// Scheduling: a sweep visits the constraint types in solver order, each type's colors in order, and then the
-/// sub-step's collisions (colored by "k-th collision of its particle"). Within a color no two constraints write
+/// Scheduling: a sweep visits the constraint types in solver order, each type's colors in order, then the volume
+/// constraints one after another (each spans a whole mesh, so each is its own color, projected with a fixed-shape
+/// parallel reduction inside it: see constraints/volume.hpp), and then the sub-step's collisions (colored by "k-th
+/// collision of its particle"). Within a color no two constraints write
 /// the same particle, so its constraints are projected by tbb::parallel_for with no synchronisation, and the result
 /// is bitwise identical to projecting them one after the other: for any thread count. Colors smaller than
 /// ParallelConfig::inline_below run inline; each color keeps its own affinity_partitioner so a thread tends to get
@@ -48,8 +50,9 @@ public:
   /// Drops the coloring (the next step rebuilds it).
   void invalidate() { built_ = false; }
 
-  /// Starts a sub-step: reorders `collisions` by color in place and sets every λ to 0.
-  void begin_substep(std::vector<CollisionConstraint<Real>>& collisions);
+  /// Starts a sub-step: reorders `collisions` by color in place, sets every λ to 0 and the volume targets to their
+  /// schedule's value at `time` (seconds).
+  void begin_substep(std::vector<CollisionConstraint<Real>>& collisions, double time = 0.0);
 
   /// One Gauss-Seidel sweep color by color; `parallel` = false gives the serial color-order bridge.
   void sweep_gauss_seidel(std::span<const CollisionConstraint<Real>> collisions,
@@ -68,6 +71,8 @@ public:
   Index collision_colors() const { return collision_offsets_.empty() ? 0 : Index(collision_offsets_.size() - 1); }
 
 private:
+  void project_volumes(const Real* p, Real* out, const Real* w, std::span<const SolveCoefficients<Real>> coeff,
+                       bool parallel, const ParallelConfig& config, std::size_t& part);
   bool built_ = false;
   ColoredConstraints<Real> colored_;
   Multipliers<Real> lambda_;
@@ -78,6 +83,7 @@ private:
   std::vector<Index> static_count_;  // Jacobi: persistent constraints touching each particle
   std::vector<Real> count_inv_;      // Jacobi: 1 / constraints touching each particle this sub-step
   std::vector<Real> delta_;          // Jacobi: accumulated corrections, 3 per particle
+  VolumeScratch<Real> volume_;       // volume targets, gradients and block sums
 };
 
 extern template class ColoredSolver<float>;

@@ -13,6 +13,7 @@
 #include "pbd/types.hpp"
 
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace pbd {
@@ -56,6 +57,17 @@ public:
   Index add_stretch(Index a, Index b, Index set, std::optional<Real> rest = std::nullopt);
   /// Adds an anchor pulling `particle` to `target` (default: its current position).
   Index add_anchor(Index particle, Index set, std::optional<Vec> target = std::nullopt);
+  /// Adds a dihedral bending constraint on triangles (p1, p2, p3) and (p1, p2, p4) sharing edge p1–p2; the rest
+  /// angle defaults to the current one (an error if a triangle is degenerate there).
+  Index add_bending(Index p1, Index p2, Index p3, Index p4, Index set, std::optional<Real> rest = std::nullopt);
+  /// Adds a triangle area constraint; the rest area defaults to the current one.
+  Index add_area(Index a, Index b, Index c, Index set, std::optional<Real> rest = std::nullopt);
+  /// Adds a volume constraint on a closed, consistently oriented mesh (counter-clockwise seen from outside); the
+  /// target is pressure.at(time()) × rest, rest in the 6V unit of constraints/volume.hpp (default: the current one).
+  /// Throws naming the first bad edge if the mesh is open, non-manifold or inconsistently oriented, and rejects a
+  /// flat or inside-out mesh.
+  Index add_volume(std::span<const std::array<Index, 3>> triangles, Index set, const PressureSchedule& pressure = {},
+                   std::optional<Real> rest = std::nullopt);
 
   /// Adds an infinite plane n·x ≥ offset (n is normalized).
   void add_plane(const Vec& normal, Real offset);
@@ -77,6 +89,9 @@ public:
 
   /// Advances the world by params().dt: substeps × (forces, predict, collisions, sweeps, velocity update).
   void step();
+
+  /// Simulated time in seconds: params().dt per step() (drives volume pressure schedules).
+  double time() const { return time_; }
 
   /// Number of particles.
   Index num_particles() const { return Index(x_.cols()); }
@@ -100,7 +115,7 @@ private:
   template <class> friend class World;
   void check_particle(Index i, const char* item, std::size_t index) const;  // throws naming "item index"
   void check_set(Index set, const char* item, std::size_t index) const;
-  void substep(Real h);
+  void substep(Real h, double time);
   void ensure_colored();
 
   // Runtime state.
@@ -111,10 +126,12 @@ private:
   ConstraintArrays<Real> constraints_;
   Colliders<Real> colliders_;
   StepParams<Real> params_;
+  double time_ = 0.0;  ///< simulated time
   // Per-step scratch, kept to avoid reallocation.
   Positions p_;      ///< predicted positions
   std::vector<CollisionConstraint<Real>> collisions_;
   Multipliers<Real> lambda_;
+  VolumeScratch<Real> volume_scratch_;  ///< serial solver: volume targets and gradients
   std::vector<SolveCoefficients<Real>> coeff_;
   // Colored and Jacobi solvers: the colored copy of the constraints, rebuilt when constraints or pins change.
   ColoredSolver<Real> colored_;

@@ -10,6 +10,7 @@ namespace pbd {
 
 /// Keeps a triangle's area at its rest area A0 (the triangle may shear and bend freely).
 template <class Real> struct AreaConstraint {
+  static constexpr const char* kName = "area";  ///< name in reports and on the command line
   static constexpr int kArity = 3;            ///< particles per constraint
   static constexpr bool kInequality = false;  ///< an equality
   std::array<Index, 3> particles;             ///< the triangle's corners p1, p2, p3

@@ -19,6 +19,7 @@ namespace pbd {
 
 /// Keeps the dihedral angle between triangles (p1, p2, p3) and (p1, p2, p4) at its rest value φ0.
 template <class Real> struct BendingConstraint {
+  static constexpr const char* kName = "bending";  ///< name in reports and on the command line
   static constexpr int kArity = 4;            ///< particles per constraint
   static constexpr bool kInequality = false;  ///< an equality
   std::array<Index, 4> particles;             ///< p1, p2 (the shared edge), p3, p4 (the opposite corners)

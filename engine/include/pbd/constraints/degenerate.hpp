@@ -3,6 +3,7 @@
 /// The scale-free test shared by the triangle-based constraints: when are two directions parallel?
 #include "pbd/types.hpp"
 
+#include <Eigen/Geometry>
 #include <limits>
 
 namespace pbd {

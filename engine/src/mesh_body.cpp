@@ -1,0 +1,58 @@
+#include "pbd/mesh_body.hpp"
+
+#include "message.hpp"
+
+#include <cmath>
+
+namespace pbd {
+
+template <class Real>
+void add_mesh_constraints(World<Real>& world, std::span<const std::array<Index, 3>> triangles,
+                          const MeshConstraintSets& sets) {
+  if (sets.stretch)
+    for (const auto& e : mesh_edges(triangles)) world.add_stretch(e[0], e[1], *sets.stretch);
+  if (sets.bending)
+    for (const auto& b : mesh_bending_pairs(triangles)) {
+      // A pair that is degenerate at rest (collinear corners) has no rest angle: it gets no bending constraint.
+      const auto x = world.positions();
+      if (dihedral_angle<Real>(x.col(b[0]), x.col(b[1]), x.col(b[2]), x.col(b[3])) < Real(0)) continue;
+      world.add_bending(b[0], b[1], b[2], b[3], *sets.bending);
+    }
+  if (sets.area)
+    for (const auto& t : triangles) world.add_area(t[0], t[1], t[2], *sets.area);
+  if (sets.volume) world.add_volume(triangles, *sets.volume, sets.pressure);
+}
+
+template <class Real>
+Body add_mesh(World<Real>& world, const TriangleMesh& mesh, const MeshBodyOptions& o, const MeshConstraintSets& sets) {
+  const Index n = mesh.num_vertices();
+  if (n == 0) throw Error("add_mesh: the mesh has no vertices");
+  if (!(o.scale > 0.0) || !std::isfinite(o.scale)) throw Error("add_mesh: scale must be finite and > 0");
+  if (!(o.mass > 0.0) || !std::isfinite(o.mass)) throw Error("add_mesh: mass must be finite and > 0");
+  for (const auto& t : mesh.triangles)
+    for (Index i : t)
+      if (i >= n) throw Error(detail::message("add_mesh: vertex index ", i, " out of range (", n, " vertices)"));
+  if (sets.volume)
+    if (const auto defect = closed_mesh_defect(mesh.triangles, n)) throw Error("add_mesh: volume: " + *defect);
+  for (Index i : o.pinned)
+    if (i >= n) throw Error(detail::message("add_mesh: pinned vertex ", i, " out of range (", n, " vertices)"));
+  const Eigen::Vector3d origin(o.origin[0], o.origin[1], o.origin[2]);
+  Matrix3X<Real> x = ((mesh.positions * o.scale).colwise() + origin).template cast<Real>();
+  VectorX<Real> mass = VectorX<Real>::Constant(n, Real(o.mass / double(n)));
+  for (Index i : o.pinned) mass[i] = World<Real>::kPinned;
+  Body body;
+  body.first_particle = world.add_particles(x, mass);
+  body.num_particles = n;
+  body.triangles.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    body.triangles.push_back({t[0] + body.first_particle, t[1] + body.first_particle, t[2] + body.first_particle});
+  add_mesh_constraints(world, body.triangles, sets);
+  return body;
+}
+
+template void add_mesh_constraints(World<float>&, std::span<const std::array<Index, 3>>, const MeshConstraintSets&);
+template void add_mesh_constraints(World<double>&, std::span<const std::array<Index, 3>>, const MeshConstraintSets&);
+template Body add_mesh(World<float>&, const TriangleMesh&, const MeshBodyOptions&, const MeshConstraintSets&);
+template Body add_mesh(World<double>&, const TriangleMesh&, const MeshBodyOptions&, const MeshConstraintSets&);
+
+}  // namespace pbd

@@ -1,0 +1,77 @@
+#pragma once
+// The volume projection shared by every solver (private). One constraint at a time, in two parallel phases over
+// fixed blocks of kVolumeBlock rows:
+//   A. per row: ∇_i C = Σ_ring (p_j − o) × (p_k − o) (stored), and per block the partial sums
+//      Σ (p_i − o)·∇_i C (= 3 · 6V), Σ w_i|∇_i C|², Σ w_i|p_i − o|⁴ (for the collapse guard);
+//   then, on one thread, the block sums in block order, C = Σ(p − o)·∇C / 3 − target and Δλ;
+//   B. per row: out_i += w_i ∇_i C Δλ (pinned rows never written).
+// o is the constraint's first particle, read before any write. `run(begin, end, body)` runs body over a block
+// range, serially or in parallel: the arithmetic per block and the order of the final sum do not depend on it.
+#include "pbd/constraints/degenerate.hpp"
+#include "pbd/constraints/volume.hpp"
+
+namespace pbd::detail {
+
+template <class Real, class Run>
+void project_volume(const VolumeConstraints<Real>& v, Index index, const Real* p, Real* out, const Real* w,
+                    SolveCoefficients<Real> coeff, Real target, Real& lambda, VolumeScratch<Real>& s, Run&& run) {
+  const VolumeConstraint<Real>& c = v.items[index];
+  const Index r0 = c.row_begin, rows = c.row_end - c.row_begin;
+  if (rows == 0) return;
+  const Index blocks = (rows + kVolumeBlock - 1) / kVolumeBlock;
+  if (s.grad.size() < 3 * std::size_t(rows)) s.grad.resize(3 * std::size_t(rows));
+  if (s.partial.size() < 3 * std::size_t(blocks)) s.partial.resize(3 * std::size_t(blocks));
+  using V = Vec3<Real>;
+  auto at = [p](Index i) { return Eigen::Map<const V>(p + 3 * std::size_t(i)); };
+  const V o = at(v.particles[r0]);
+  Real* grad = s.grad.data();
+  Real* partial = s.partial.data();
+  run(Index(0), blocks, [&](Index b0, Index b1) {
+    for (Index b = b0; b < b1; ++b) {
+      Real pg = 0, wgg = 0, wr4 = 0;
+      const Index end = std::min<Index>(rows, (b + 1) * kVolumeBlock);
+      for (Index r = b * kVolumeBlock; r < end; ++r) {
+        const Index row = r0 + r;
+        V g = V::Zero();
+        for (Index k = v.ring_offsets[row]; k < v.ring_offsets[row + 1]; ++k)
+          g += V(at(v.ring[k][0]) - o).cross(V(at(v.ring[k][1]) - o));
+        Eigen::Map<V>(grad + 3 * std::size_t(r)) = g;
+        const Index i = v.particles[row];
+        const V d = at(i) - o;
+        const Real d2 = d.squaredNorm();
+        pg += d.dot(g);
+        wgg += w[i] * g.squaredNorm();
+        wr4 += w[i] * d2 * d2;
+      }
+      partial[3 * b] = pg;
+      partial[3 * b + 1] = wgg;
+      partial[3 * b + 2] = wr4;
+    }
+  });
+  Real pg = 0, wgg = 0, wr4 = 0;
+  for (Index b = 0; b < blocks; ++b) {
+    pg += partial[3 * b];
+    wgg += partial[3 * b + 1];
+    wr4 += partial[3 * b + 2];
+  }
+  // Guards: all pinned (both sums 0) or collapsed to a line or a point (gradients vanish against the mesh's size).
+  const Real sine = parallel_sine<Real>();
+  if (!(wgg > sine * sine * wr4)) return;
+  const Real denom = wgg + coeff.alpha_tilde;
+  const Real C = pg / Real(3) - target;
+  const Real dlambda = (-coeff.k * C - coeff.alpha_tilde * lambda) / denom;
+  if (!std::isfinite(dlambda)) return;
+  lambda += dlambda;
+  run(Index(0), blocks, [&](Index b0, Index b1) {
+    for (Index b = b0; b < b1; ++b) {
+      const Index end = std::min<Index>(rows, (b + 1) * kVolumeBlock);
+      for (Index r = b * kVolumeBlock; r < end; ++r) {
+        const Index i = v.particles[r0 + r];
+        if (w[i] == Real(0)) continue;
+        Eigen::Map<V>(out + 3 * std::size_t(i)) += (w[i] * dlambda) * Eigen::Map<const V>(grad + 3 * std::size_t(r));
+      }
+    }
+  });
+}
+
+}  // namespace pbd::detail

@@ -1,0 +1,152 @@
+// Meshes: generators (closed where they should be, counts), topology (edges, bending pairs), the mesh body, and
+// OBJ loading with its errors.
+#include "pbd/mesh_body.hpp"
+#include "pbd/mesh_generators.hpp"
+#include "pbd/obj_loader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace pbd {
+namespace {
+
+TEST(MeshGenerators, ClosedSolidsAreClosedAndOutwardOriented) {
+  for (const TriangleMesh& m : {dodecahedron_mesh(1.0), icosphere_mesh(0, 1.0), icosphere_mesh(3, 2.0),
+                                tube_mesh(12, 5, 0.3, 2.0, true)}) {
+    EXPECT_FALSE(closed_mesh_defect(m.triangles, m.num_vertices()).has_value())
+        << *closed_mesh_defect(m.triangles, m.num_vertices());
+    for (const auto& t : m.triangles) {  // each triangle faces away from the centre (all are convex or star-shaped)
+      const Eigen::Vector3d a = m.positions.col(t[0]), b = m.positions.col(t[1]), c = m.positions.col(t[2]);
+      EXPECT_GT((b - a).cross(c - a).dot(a + b + c), 0.0);
+    }
+  }
+  EXPECT_EQ(dodecahedron_mesh(1.0).num_vertices(), 32u);
+  EXPECT_EQ(dodecahedron_mesh(1.0).triangles.size(), 60u);
+  EXPECT_EQ(icosphere_mesh(2, 1.0).num_vertices(), 162u);
+  EXPECT_EQ(icosphere_mesh(2, 1.0).triangles.size(), 320u);
+}
+
+TEST(MeshGenerators, OpenMeshesAreOpen) {
+  const TriangleMesh g = grid_mesh(4, 1.0), t = tube_mesh(8, 3, 1.0, 1.0, false);
+  EXPECT_NE(closed_mesh_defect(g.triangles, g.num_vertices())->find("open"), std::string::npos);
+  EXPECT_NE(closed_mesh_defect(t.triangles, t.num_vertices())->find("open"), std::string::npos);
+  EXPECT_THROW(grid_mesh(1, 1.0), Error);
+  EXPECT_THROW(icosphere_mesh(9, 1.0), Error);
+  EXPECT_THROW(tube_mesh(2, 3, 1.0, 1.0, true), Error);
+}
+
+TEST(MeshTopology, EdgesAndBendingPairsOfAGrid) {
+  const TriangleMesh g = grid_mesh(3, 1.0);  // 8 triangles
+  EXPECT_EQ(mesh_edges(g.triangles).size(), 16u);  // 6 rows + 6 columns + 4 diagonals
+  const auto pairs = mesh_bending_pairs(g.triangles);
+  EXPECT_EQ(pairs.size(), 8u);  // interior edges: 16 − 8 on the boundary
+  for (const auto& p : pairs) {
+    EXPECT_NE(p[2], p[3]);
+    for (int k = 0; k < 2; ++k) EXPECT_TRUE(p[2 + k] != p[0] && p[2 + k] != p[1]);
+  }
+  const TriangleMesh s = icosphere_mesh(1, 1.0);
+  EXPECT_EQ(mesh_bending_pairs(s.triangles).size(), mesh_edges(s.triangles).size());  // closed: every edge interior
+}
+
+TEST(MeshBody, GeneratesOnlyTheRequestedSets) {
+  World<double> w;
+  MeshConstraintSets sets;
+  sets.bending = w.add_constraint_set(Stiffness::pbd_k(0.5));
+  sets.area = w.add_constraint_set(Stiffness::pbd_k(1.0));
+  MeshBodyOptions o;
+  o.origin = {0, 0, 2};
+  o.mass = 4.0;
+  o.pinned = {0};
+  const Body b = add_mesh(w, icosphere_mesh(1, 1.0), o, sets);
+  EXPECT_EQ(b.num_particles, 42u);
+  EXPECT_TRUE(w.constraints().stretch.empty());
+  EXPECT_EQ(w.constraints().bending.size(), 120u);
+  EXPECT_EQ(w.constraints().area.size(), 80u);
+  EXPECT_TRUE(w.constraints().volume.empty());
+  EXPECT_EQ(w.inverse_masses()[0], 0.0);
+  EXPECT_DOUBLE_EQ(w.inverse_masses()[1], 42.0 / 4.0);
+  EXPECT_NEAR(w.positions().row(2).mean(), 2.0, 1e-9);
+  // A volume on an open mesh adds nothing at all.
+  MeshConstraintSets vol;
+  vol.volume = sets.area;
+  const Index before = w.num_particles();
+  EXPECT_THROW(add_mesh(w, grid_mesh(3, 1.0), {}, vol), Error);
+  EXPECT_EQ(w.num_particles(), before);
+}
+
+class ObjFiles : public ::testing::Test {
+protected:
+  std::filesystem::path write(const std::string& name, const std::string& text) {
+    const auto dir = std::filesystem::temp_directory_path() / "pbd_obj_test";
+    std::filesystem::create_directories(dir);
+    const auto path = dir / name;
+    std::ofstream(path) << text;
+    return path;
+  }
+  // Expects load_obj(file) to throw naming the file and containing `what`.
+  void expect_error(const std::filesystem::path& file, const std::string& what) {
+    try {
+      load_obj(file);
+      ADD_FAILURE() << "accepted " << file;
+    } catch (const Error& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(file.filename().string()), std::string::npos) << msg;
+      EXPECT_NE(msg.find(what), std::string::npos) << msg;
+    }
+  }
+};
+
+const char* kTetra = "# tetrahedron\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+TEST_F(ObjFiles, ClosedTetrahedronLoadsAndTakesAVolume) {
+  const TriangleMesh m = load_obj(write("tetra.obj", kTetra));
+  EXPECT_EQ(m.num_vertices(), 4u);
+  ASSERT_EQ(m.triangles.size(), 4u);
+  EXPECT_FALSE(closed_mesh_defect(m.triangles, 4).has_value());
+  World<double> w;
+  MeshConstraintSets sets;
+  sets.volume = w.add_constraint_set(Stiffness::pbd_k(1.0));
+  add_mesh(w, m, {}, sets);
+  EXPECT_NEAR(w.constraints().volume.items[0].rest, 1.0, 1e-12);  // 6 × 1/6
+}
+
+TEST_F(ObjFiles, QuadsAreTriangulatedAndNegativeIndicesAreRelative) {
+  const TriangleMesh m = load_obj(write("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3 -2 -1\n"));
+  ASSERT_EQ(m.triangles.size(), 2u);
+  EXPECT_EQ(m.triangles[0], (std::array<Index, 3>{0, 1, 2}));
+  EXPECT_EQ(m.triangles[1], (std::array<Index, 3>{0, 2, 3}));
+}
+
+TEST_F(ObjFiles, OpenAndNonManifoldMeshesNameTheEdgeWhenAVolumeIsAsked) {
+  const TriangleMesh open = load_obj(write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n"));
+  EXPECT_NE(closed_mesh_defect(open.triangles, 4)->find("edge ("), std::string::npos);
+  World<double> w;
+  MeshConstraintSets sets;
+  sets.volume = w.add_constraint_set(Stiffness::pbd_k(1.0));
+  try {
+    add_mesh(w, open, {}, sets);
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("open"), std::string::npos) << e.what();
+  }
+  const TriangleMesh fin = load_obj(write("fin.obj", std::string(kTetra) + "v 2 2 2\nf 2 3 5\n"));
+  EXPECT_NE(closed_mesh_defect(fin.triangles, 5)->find("manifold"), std::string::npos);
+}
+
+TEST_F(ObjFiles, BadFilesNameTheFileAndLine) {
+  expect_error(write("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"), "range.obj:4");
+  expect_error(write("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"), "out of range");
+  expect_error(write("negative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n"), "out of range");
+  expect_error(write("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), "line 4");
+  expect_error(write("short.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n"), "short.obj:3");
+  expect_error(write("nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n"), "nan.obj:2");
+  expect_error(write("inf.obj", "v 0 0 0\nv 1 1e999 0\nv 0 1 0\nf 1 2 3\n"), "not a finite number");
+  expect_error(write("word.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nf 1 2 3\n"), "word.obj:2");
+  expect_error(write("twod.obj", "v 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\n"), "3 coordinates");
+  expect_error(write("empty.obj", "# nothing\nv 0 0 0\n"), "no faces");
+  expect_error("/nonexistent/missing.obj", "cannot read");
+}
+
+}  // namespace
+}  // namespace pbd
