@@ -11,6 +11,7 @@ namespace pbd {
 
 /// One constraint type's array in color order: color c is items[offsets[c], offsets[c + 1]).
 template <class Constraint> struct ColoredArray {
+  using value_type = Constraint;  ///< the constraint type
   std::vector<Constraint> items;  ///< the constraints, color by color, by insertion index within a color
   std::vector<Index> offsets;     ///< num_colors() + 1 entries
   std::vector<Index> new_index;   ///< insertion index → position in items (the old→new map)
