@@ -3,6 +3,9 @@
 #include "json_reader.hpp"
 #include "message.hpp"
 #include "pbd/generators.hpp"
+#include "pbd/mesh_body.hpp"
+#include "pbd/mesh_generators.hpp"
+#include "pbd/obj_loader.hpp"
 
 #include <algorithm>
 #include <cstdlib>
@@ -63,6 +66,94 @@ std::optional<Index> read_stretch_set(const JsonObject& body, World<double>& wor
   return set;
 }
 
+// Optional constraint-set object `key` (a stiffness object): a new set, or nothing.
+std::optional<Index> read_set(const JsonObject& body, const std::string& key, World<double>& world) {
+  if (!body.has(key)) return std::nullopt;
+  const JsonObject s = body.object(key);
+  const Index set = world.add_constraint_set(read_stiffness(s));
+  s.reject_unknown_keys();
+  return set;
+}
+
+// "bending", "area" and (if allowed) "volume": {stiffness..., "pressure": {"from", "to", "duration"}}.
+MeshConstraintSets read_surface_sets(const JsonObject& body, World<double>& world, bool allow_volume) {
+  MeshConstraintSets sets;
+  sets.bending = read_set(body, "bending", world);
+  sets.area = read_set(body, "area", world);
+  if (allow_volume && body.has("volume")) {
+    const JsonObject v = body.object("volume");
+    sets.volume = world.add_constraint_set(read_stiffness(v));
+    if (v.has("pressure")) {
+      const JsonObject p = v.object("pressure");
+      sets.pressure.from = p.number("from", 1e-6, 1e6, 1.0);
+      sets.pressure.to = p.number("to", 1e-6, 1e6, sets.pressure.from);
+      sets.pressure.duration = p.number("duration", 0.0, 1e9, 0.0);
+      p.reject_unknown_keys();
+    }
+    v.reject_unknown_keys();
+  }
+  return sets;
+}
+
+// "generator": {"type": "grid" | "dodecahedron" | "icosphere" | "tube", parameters...}.
+TriangleMesh read_generator(const JsonObject& g) {
+  const std::string type = g.string("type");
+  TriangleMesh m;
+  if (type == "grid") {
+    m = grid_mesh(int(g.integer("resolution", 2, 4096)), g.number("size", 1e-6, 1e6, 1.0));
+  } else if (type == "dodecahedron") {
+    m = dodecahedron_mesh(g.number("radius", 1e-6, 1e6, 1.0));
+  } else if (type == "icosphere") {
+    const int level = int(g.integer("level", 0, 8, 2));
+    m = icosphere_mesh(level, g.number("radius", 1e-6, 1e6, 1.0));
+  } else if (type == "tube") {
+    const int segments = int(g.integer("segments", 3, 100000, 16));
+    const int rings = int(g.integer("rings", 2, 100000, 8));
+    const double radius = g.number("radius", 1e-6, 1e6, 0.1);
+    const double length = g.number("length", 1e-6, 1e6, 1.0);
+    m = tube_mesh(segments, rings, radius, length, g.boolean("capped", false));
+  } else {
+    g.fail("type", message("unknown generator \"", type, "\" (expected \"grid\", \"dodecahedron\", \"icosphere\" or \"tube\")"));
+  }
+  g.reject_unknown_keys();
+  return m;
+}
+
+// A triangle mesh from a generator or an OBJ file (relative to the scene file), placed, with the constraint sets
+// it asks for.
+Body read_mesh(const JsonObject& o, World<double>& world) {
+  if (o.has("generator") == o.has("obj")) o.fail("generator", "give exactly one of \"generator\" and \"obj\"");
+  TriangleMesh mesh;
+  if (o.has("obj")) {
+    const std::filesystem::path file = std::filesystem::path(o.file()).parent_path() / o.string("obj");
+    try {
+      mesh = load_obj(file);
+    } catch (const Error& e) {
+      o.fail("obj", e.what());
+    }
+  } else {
+    mesh = read_generator(o.object("generator"));
+  }
+  MeshBodyOptions opts;
+  opts.scale = o.number("scale", 1e-9, 1e9, 1.0);
+  opts.origin = o.vec3("origin", opts.origin);
+  opts.mass = o.number("mass", 1e-12, 1e12, 1.0);
+  if (o.has("pinned"))
+    for (const auto& [v, path] : o.array("pinned")) opts.pinned.push_back(local_index(*v, o.file(), path, mesh.num_vertices()));
+  MeshConstraintSets sets;
+  sets.stretch = read_set(o, "stretch", world);
+  const MeshConstraintSets surface = read_surface_sets(o, world, true);
+  sets.bending = surface.bending;
+  sets.area = surface.area;
+  sets.volume = surface.volume;
+  sets.pressure = surface.pressure;
+  try {
+    return add_mesh(world, mesh, opts, sets);
+  } catch (const Error& e) {
+    o.fail(o.has("obj") ? "obj" : "generator", e.what());
+  }
+}
+
 Body read_cloth(const JsonObject& o, World<double>& world) {
   ClothOptions c;
   c.resolution = int(o.integer("resolution", 2, 4096));
@@ -74,7 +165,11 @@ Body read_cloth(const JsonObject& o, World<double>& world) {
   else if (pin == "edge") c.pin = ClothPin::edge;
   else if (pin == "none") c.pin = ClothPin::none;
   else o.fail("pin", message("expected \"corners\", \"edge\" or \"none\", got \"", pin, "\""));
-  return add_cloth(world, c, read_stretch_set(o, world));
+  const std::optional<Index> stretch = read_stretch_set(o, world);
+  const MeshConstraintSets sets = read_surface_sets(o, world, false);
+  Body body = add_cloth(world, c, stretch);
+  add_mesh_constraints(world, body.triangles, sets);
+  return body;
 }
 
 Body read_rope(const JsonObject& o, World<double>& world) {
@@ -183,7 +278,8 @@ Scene parse_scene(const std::string& text, const std::string& source) {
     if (type == "cloth") body = read_cloth(b, scene.world);
     else if (type == "rope") body = read_rope(b, scene.world);
     else if (type == "particles") body = read_particles(b, scene.world);
-    else b.fail("type", message("unknown body type \"", type, "\" (expected \"cloth\", \"rope\" or \"particles\")"));
+    else if (type == "mesh") body = read_mesh(b, scene.world);
+    else b.fail("type", message("unknown body type \"", type, "\" (expected \"cloth\", \"rope\", \"particles\" or \"mesh\")"));
     read_anchors(b, scene.world, body);
     b.reject_unknown_keys();
     scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());

@@ -4,19 +4,27 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace pbd {
 namespace {
 
-TEST(Scene, EveryBuiltInSceneLoadsAndSteps) {
+TEST(Scene, EveryBuiltInSceneLoadsAndStepsUnderEverySolver) {
   const auto names = builtin_scene_names();
-  ASSERT_GE(names.size(), 2u);
+  for (const char* expected : {"balls", "cloth", "inflate", "inflate-mesh", "rope"})
+    EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   for (const auto& name : names) {
     const Scene s = load_scene_by_name(name);
     EXPECT_EQ(s.name, name) << "a built-in scene's name should match its file name";
     EXPECT_GT(s.world.num_particles(), 0u) << name;
-    World<float> w(s.world);
-    for (int i = 0; i < 5; ++i) w.step();
-    EXPECT_TRUE(w.positions().allFinite()) << name;
+    for (Solver solver : {Solver::serial, Solver::colored, Solver::jacobi}) {
+      World<float> w(s.world);
+      StepParams<float> p = w.params();
+      p.solver = solver;
+      w.set_params(p);
+      for (int i = 0; i < 5; ++i) w.step();
+      EXPECT_TRUE(w.positions().allFinite()) << name << " " << pbd::name(solver);
+    }
   }
 }
 
@@ -24,9 +32,54 @@ TEST(Scene, ClothSceneHasWhatItAsksForAndNothingElse) {
   const Scene s = load_scene_by_name("cloth");
   EXPECT_EQ(s.world.num_particles(), 900u);
   EXPECT_EQ(s.world.constraints().stretch.size(), std::size_t(2 * 30 * 29 + 29 * 29));
+  EXPECT_EQ(s.world.constraints().bending.size(), std::size_t(3 * 29 * 29 - 2 * 29));  // interior edges
   EXPECT_TRUE(s.world.constraints().anchor.empty());
-  EXPECT_TRUE(s.world.colliders().empty());
+  EXPECT_TRUE(s.world.constraints().area.empty());
+  EXPECT_TRUE(s.world.constraints().volume.empty());
+  EXPECT_EQ(s.world.colliders().spheres.size(), 1u);
+  EXPECT_EQ(s.world.colliders().planes.size(), 1u);
   EXPECT_EQ(s.triangles.size(), std::size_t(2 * 29 * 29));
+}
+
+TEST(Scene, MeshScenesHaveTheirVolumesAndTriangles) {
+  const Scene inflate = load_scene_by_name("inflate");
+  ASSERT_EQ(inflate.world.constraints().volume.size(), 1u);
+  EXPECT_DOUBLE_EQ(inflate.world.constraints().volume.items[0].pressure.to, 3.0);
+  EXPECT_EQ(inflate.triangles.size(), 60u);
+  const Scene pig = load_scene_by_name("inflate-mesh");
+  EXPECT_EQ(pig.world.constraints().volume.size(), 1u);
+  EXPECT_EQ(pig.triangles.size(), pig.world.constraints().volume.triangles.size());
+  const Scene balls = load_scene_by_name("balls");
+  EXPECT_EQ(balls.world.constraints().volume.size(), 5u);
+  EXPECT_EQ(balls.triangles.size(), 5u * 320u);
+  const Scene rope = load_scene_by_name("rope");
+  const auto w = rope.world.inverse_masses();
+  EXPECT_NEAR(w[1] / w[rope.world.num_particles() - 1], 1000.0, 1e-9) << "the rope keeps its 1000:1 end mass";
+}
+
+const char* kMesh = R"({"name": "m", "dt": 0.01, "bodies": [
+  {"type": "mesh", "generator": {"type": "icosphere", "level": 1, "radius": 0.5}, "origin": [0, 0, 1], "scale": 2,
+   "mass": 3, "pinned": [0], "stretch": {"compliance": 1e-6}, "bending": {"stiffness": 0.5}, "area": {},
+   "volume": {"stiffness": 1, "pressure": {"from": 1, "to": 2, "duration": 3}}},
+  {"type": "mesh", "generator": {"type": "tube", "segments": 8, "rings": 3, "radius": 0.1, "length": 1, "capped": true},
+   "volume": {}},
+  {"type": "mesh", "generator": {"type": "grid", "resolution": 4, "size": 1}, "bending": {}},
+  {"type": "mesh", "generator": {"type": "dodecahedron", "radius": 0.2}},
+  {"type": "cloth", "resolution": 3, "bending": {"stiffness": 0.1}, "area": {"compliance": 0}}
+]})";
+
+TEST(Scene, ParsesMeshBodies) {
+  const Scene s = parse_scene(kMesh, "mesh.json");
+  const auto& c = s.world.constraints();
+  EXPECT_EQ(s.world.num_particles(), 42u + 26u + 16u + 32u + 9u);
+  EXPECT_EQ(c.volume.size(), 2u);
+  EXPECT_DOUBLE_EQ(c.volume.items[0].pressure.at(1.5), 1.5);
+  EXPECT_EQ(c.stretch.size(), 120u);
+  EXPECT_EQ(c.area.size(), 80u + 8u);
+  EXPECT_EQ(c.bending.size(), 120u + 21u + 8u);  // sphere edges, 4x4 grid interior edges, 3x3 cloth interior edges
+  EXPECT_EQ(s.world.inverse_masses()[0], 0.0);
+  EXPECT_NEAR(s.world.positions().col(1).norm(), 0.0, 3.0);
+  EXPECT_EQ(s.triangles.size(), 80u + 48u + 18u + 60u + 8u);
 }
 
 const char* kMinimal = R"({
@@ -122,6 +175,20 @@ TEST(SceneErrors, MalformedAndTruncatedJsonNamesTheLine) {
   expect_error(text.substr(0, text.size() / 2), {"line"});
   expect_error(replaced(kMinimal, "\"steps\": 7", "\"steps\": 7,,"), {"line 2"});
   expect_error("", {"parse error"});
+}
+
+TEST(SceneErrors, MeshBodies) {
+  expect_error(replaced(kMesh, "\"level\": 1", "\"level\": 9"), {"/bodies/0/generator/level", "out of range"});
+  expect_error(replaced(kMesh, "\"type\": \"icosphere\"", "\"type\": \"torus\""), {"/bodies/0/generator/type", "torus"});
+  expect_error(replaced(kMesh, "\"duration\": 3", "\"duraton\": 3"), {"/bodies/0/volume/pressure/duraton"});
+  expect_error(replaced(kMesh, "\"pinned\": [0]", "\"pinned\": [42]"), {"/bodies/0/pinned/0"});
+  expect_error(replaced(kMesh, "\"bending\": {}}", "\"volume\": {}}"), {"/bodies/2/generator", "open"});
+  expect_error(replaced(kMesh, "\"generator\": {\"type\": \"grid\"", "\"obj\": \"x.obj\", \"generator\": {\"type\": \"grid\""),
+               {"/bodies/2/generator", "exactly one"});
+  expect_error(replaced(kMesh, "\"generator\": {\"type\": \"grid\", \"resolution\": 4, \"size\": 1}",
+                        "\"obj\": \"no/such.obj\""),
+               {"/bodies/2/obj", "no/such.obj"});
+  expect_error(replaced(kMesh, "\"area\": {\"compliance\": 0}", "\"volume\": {}"), {"/bodies/4/volume", "unknown key"});
 }
 
 TEST(SceneErrors, MissingFileAndUnknownBuiltInName) {
