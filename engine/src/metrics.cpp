@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace pbd {
 namespace {
@@ -17,16 +18,38 @@ struct Accumulator {
   Violation result() const { return {count ? std::sqrt(sum2 / double(count)) : 0.0, max, count}; }
 };
 
+template <class Real> Eigen::Vector3d col(const PositionsView<Real>& x, Index i) {
+  return x.col(Eigen::Index(i)).template cast<double>();
+}
+
+double relative(double value, double rest) { return rest > 0.0 ? std::abs(value - rest) / rest : std::abs(value); }
+
 }  // namespace
+
+template <class Real> double violation(const StretchConstraint<Real>& c, const PositionsView<Real>& x) {
+  return relative((col<Real>(x, c.particles[0]) - col<Real>(x, c.particles[1])).norm(), double(c.rest));
+}
+
+template <class Real> double violation(const AnchorConstraint<Real>& c, const PositionsView<Real>& x) {
+  return (col<Real>(x, c.particles[0]) - c.target.template cast<double>()).norm();
+}
+
+template <class Real> double violation(const BendingConstraint<Real>& c, const PositionsView<Real>& x) {
+  const double phi = dihedral_angle<double>(col<Real>(x, c.particles[0]), col<Real>(x, c.particles[1]),
+                                            col<Real>(x, c.particles[2]), col<Real>(x, c.particles[3]));
+  return phi < 0.0 ? -1.0 : std::abs(phi - double(c.rest));
+}
+
+template <class Real> double violation(const AreaConstraint<Real>& c, const PositionsView<Real>& x) {
+  return relative(triangle_area<double>(col<Real>(x, c.particles[0]), col<Real>(x, c.particles[1]),
+                                        col<Real>(x, c.particles[2])),
+                  double(c.rest));
+}
 
 template <class Real> Violation stretch_violation(const World<Real>& world) {
   const auto x = world.positions();
   Accumulator acc;
-  for (const auto& c : world.constraints().stretch) {
-    const double len = double((x.col(c.particles[0]) - x.col(c.particles[1])).norm());
-    const double d = double(c.rest);
-    acc.add(d > 0.0 ? std::abs(len - d) / d : len);
-  }
+  for (const auto& c : world.constraints().stretch) acc.add(violation(c, x));
   return acc.result();
 }
 
@@ -45,9 +68,114 @@ template <class Real> Violation penetration(const World<Real>& world) {
   return acc.result();
 }
 
-template Violation stretch_violation(const World<float>&);
-template Violation stretch_violation(const World<double>&);
-template Violation penetration(const World<float>&);
-template Violation penetration(const World<double>&);
+template <class Real> Violation volume_violation(const World<Real>& world) {
+  const auto& v = world.constraints().volume;
+  Accumulator acc;
+  if (v.empty()) return acc.result();
+  const Matrix3X<double> x = world.positions().template cast<double>();
+  for (const auto& c : v.items) {
+    const std::span<const std::array<Index, 3>> tris(v.triangles.data() + c.triangle_begin,
+                                                     c.triangle_end - c.triangle_begin);
+    acc.add(relative(six_volume<double>(tris, x), double(c.rest) * c.pressure.at(world.time())));
+  }
+  return acc.result();
+}
+
+template <class Real> std::vector<NamedViolation> constraint_violations(const World<Real>& world) {
+  std::vector<NamedViolation> out;
+  const auto x = world.positions();
+  world.constraints().for_each([&](const auto& array) {
+    using Constraint = typename std::decay_t<decltype(array)>::value_type;
+    if (array.empty()) return;
+    Accumulator acc;
+    for (const Constraint& c : array) {
+      const double e = violation(c, x);
+      if (e >= 0.0) acc.add(e);  // negative: not measurable (degenerate), left out
+    }
+    out.push_back({Constraint::kName, acc.result()});
+  });
+  if (!world.constraints().volume.empty()) out.push_back({"volume", volume_violation(world)});
+  if (!world.colliders().empty()) out.push_back({CollisionConstraint<Real>::kName, penetration(world)});
+  return out;
+}
+
+Violation pooled(const std::vector<NamedViolation>& v) {
+  double sum2 = 0.0, max = 0.0;
+  std::size_t count = 0;
+  for (const auto& t : v) {
+    sum2 += t.value.rms * t.value.rms * double(t.value.count);
+    max = std::max(max, t.value.max);
+    count += t.value.count;
+  }
+  return {count ? std::sqrt(sum2 / double(count)) : 0.0, max, count};
+}
+
+template <class Real> Energy energy(const World<Real>& world) {
+  const auto x = world.positions();
+  const auto v = world.velocities();
+  const auto w = world.inverse_masses();
+  const Eigen::Vector3d g = world.params().gravity.template cast<double>();
+  Energy e;
+  for (Index i = 0; i < world.num_particles(); ++i) {
+    if (w[i] == Real(0)) continue;
+    const double m = 1.0 / double(w[i]);
+    e.kinetic += 0.5 * m * v.col(i).template cast<double>().squaredNorm();
+    e.potential -= m * g.dot(x.col(i).template cast<double>());
+  }
+  return e;
+}
+
+template <class Real> double movable_mass(const World<Real>& world) {
+  const auto w = world.inverse_masses();
+  double m = 0.0;
+  for (Eigen::Index i = 0; i < w.size(); ++i)
+    if (w[i] != Real(0)) m += 1.0 / double(w[i]);
+  return m;
+}
+
+template <class Real> Violation position_distance(const World<Real>& world, const Matrix3X<double>& ref) {
+  if (ref.cols() != Eigen::Index(world.num_particles()))
+    throw Error("position_distance: the reference has " + std::to_string(ref.cols()) + " particles, the world " +
+                std::to_string(world.num_particles()));
+  const auto x = world.positions();
+  Accumulator acc;
+  for (Eigen::Index i = 0; i < ref.cols(); ++i) acc.add((x.col(i).template cast<double>() - ref.col(i)).norm());
+  return acc.result();
+}
+
+template <class Real> double bounding_diagonal(const World<Real>& world) {
+  if (world.num_particles() == 0) return 0.0;
+  const Matrix3X<double> x = world.positions().template cast<double>();
+  return (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).norm();
+}
+
+template <class Real> std::uint64_t position_hash(const World<Real>& world) {
+  const auto x = world.positions();
+  const auto* bytes = reinterpret_cast<const unsigned char*>(x.data());
+  std::uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a offset basis
+  for (std::size_t k = 0; k < std::size_t(x.size()) * sizeof(Real); ++k) {
+    h ^= bytes[k];
+    h *= 0x100000001b3ull;  // FNV prime
+  }
+  return h;
+}
+
+#define PBD_METRICS_INSTANTIATE(Real)                                                             \
+  template double violation(const StretchConstraint<Real>&, const PositionsView<Real>&);          \
+  template double violation(const AnchorConstraint<Real>&, const PositionsView<Real>&);           \
+  template double violation(const BendingConstraint<Real>&, const PositionsView<Real>&);          \
+  template double violation(const AreaConstraint<Real>&, const PositionsView<Real>&);             \
+  template Violation stretch_violation(const World<Real>&);                                       \
+  template Violation penetration(const World<Real>&);                                             \
+  template Violation volume_violation(const World<Real>&);                                        \
+  template std::vector<NamedViolation> constraint_violations(const World<Real>&);                 \
+  template Energy energy(const World<Real>&);                                                     \
+  template double movable_mass(const World<Real>&);                                               \
+  template Violation position_distance(const World<Real>&, const Matrix3X<double>&);              \
+  template double bounding_diagonal(const World<Real>&);                                          \
+  template std::uint64_t position_hash(const World<Real>&);
+PBD_METRICS_INSTANTIATE(float)
+PBD_METRICS_INSTANTIATE(double)
+#undef PBD_METRICS_INSTANTIATE
 
 }  // namespace pbd
