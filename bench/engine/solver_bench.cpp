@@ -58,16 +58,17 @@ void colored_sweep(benchmark::State& state, bool jacobi) {
   ClothFixture f(int(state.range(0)));
   const int threads = int(state.range(1));
   pbd::ColoredSolver<Real> solver;
-  solver.build(f.world.constraints(), pbd::VectorX<Real>(f.world.inverse_masses()), {});
+  pbd::CustomTypes<Real> custom;
+  solver.build(f.world.constraints(), pbd::VectorX<Real>(f.world.inverse_masses()), {}, custom);
   std::vector<pbd::CollisionConstraint<Real>> none;
-  solver.begin_substep(none);
+  solver.begin_substep(none, 0.0, custom);
   const Real* w = f.world.inverse_masses().data();
   const pbd::ParallelConfig config;
   tbb::task_arena arena(threads);
   arena.execute([&] {
     for (auto _ : state) {
-      if (jacobi) solver.sweep_jacobi(none, f.coeff, f.p.data(), w, Real(1), true, config);
-      else solver.sweep_gauss_seidel(none, f.coeff, f.p.data(), w, true, config);
+      if (jacobi) solver.sweep_jacobi(none, f.coeff, f.p.data(), w, Real(1), true, config, custom);
+      else solver.sweep_gauss_seidel(none, f.coeff, f.p.data(), w, true, config, custom);
       benchmark::ClobberMemory();
     }
   });

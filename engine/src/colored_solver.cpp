@@ -12,44 +12,63 @@ namespace {
 using detail::run_range;
 
 
-// Jacobi: adds the correction of constraint c (computed from the frozen p) to delta; accumulates its λ.
-template <class Constraint, class Real>
-inline void accumulate(const Constraint& c, const Real* p, const Real* w, SolveCoefficients<Real> coeff, Real& lambda,
-                       Real* delta) {
-  constexpr int n = Constraint::kArity;
-  Vec3<Real> q[n];
-  Real wi[n];
-  for (int i = 0; i < n; ++i) {
-    q[i] = Eigen::Map<const Vec3<Real>>(p + 3 * std::size_t(c.particles[i]));
-    wi[i] = w[c.particles[i]];
-  }
-  Vec3<Real> dp[n];
-  Real dlambda;
-  if (!correction(c, q, wi, coeff, lambda, dp, dlambda)) return;
-  lambda += dlambda;
-  for (int i = 0; i < n; ++i)
-    if (wi[i] != Real(0)) Eigen::Map<Vec3<Real>>(delta + 3 * std::size_t(c.particles[i])) += dp[i];
-}
-
 }  // namespace
 
 template <class Real>
 void ColoredSolver<Real>::build(const ConstraintArrays<Real>& constraints, const VectorX<Real>& w,
-                                const coloring::Options& options) {
+                                const coloring::Options& options, CustomTypes<Real>& custom) {
   colored_ = color_constraints(constraints, w, options);
+  const auto fixed = pinned_flags(w);
+  for (const auto& t : custom.types()) t->color(fixed, options);
   num_particles_ = Index(w.size());
+  count_static(custom);
+  partitioners_.clear();
+  built_ = true;
+}
+
+template <class Real>
+bool ColoredSolver<Real>::up_to_date(const ConstraintArrays<Real>& constraints, const CustomTypes<Real>& custom,
+                                     Index num_particles) const {
+  if (!built_ || num_particles != num_particles_ || constraints.volume.size() != colored_.volume.size()) return false;
+  bool same = true;
+  const_cast<ColoredConstraints<Real>&>(colored_).zip(constraints, [&](const auto& items, const auto& arr) {
+    same = same && arr.color.size() == items.size();
+  });
+  for (const auto& t : custom.types()) same = same && t->colored_up_to_date();
+  return same;
+}
+
+template <class Real>
+void ColoredSolver<Real>::update(const ConstraintArrays<Real>& constraints, const VectorX<Real>& w,
+                                 const coloring::Options& options, CustomTypes<Real>& custom) {
+  if (!built_) return build(constraints, w, options, custom);
+  const auto fixed = pinned_flags(w);
+  bool ok = true;
+  colored_.zip(constraints, [&](const auto& items, auto& arr) {
+    if (ok && arr.color.size() != items.size()) ok = color_appended(arr, items, fixed);
+  });
+  for (const auto& t : custom.types())
+    if (ok && !t->colored_up_to_date()) ok = t->color_appended(fixed);
+  if (!ok) return build(constraints, w, options, custom);
+  colored_.volume = constraints.volume;  // each volume constraint is its own color: nothing to color
+  num_particles_ = Index(w.size());
+  count_static(custom);
+}
+
+template <class Real> void ColoredSolver<Real>::count_static(const CustomTypes<Real>& custom) {
   static_count_.assign(num_particles_, 0);
   colored_.for_each([&](const auto& a) {
     for (const auto& c : a.items)
       for (Index k : c.particles) ++static_count_[k];
   });
   for (Index k : colored_.volume.particles) ++static_count_[k];
-  partitioners_.clear();
-  built_ = true;
+  for (const auto& t : custom.types()) t->count_particles(static_count_);
 }
 
 template <class Real>
-void ColoredSolver<Real>::begin_substep(std::vector<CollisionConstraint<Real>>& collisions, double time) {
+void ColoredSolver<Real>::begin_substep(std::vector<CollisionConstraint<Real>>& collisions, double time,
+                                        CustomTypes<Real>& custom) {
+  for (const auto& t : custom.types()) t->reset_lambda();
   volume_.set_targets(colored_.volume, time);
   // Collisions arrive particle by particle; the k-th collision of a particle gets color k (stable counting sort).
   const Index n = Index(collisions.size());
@@ -75,7 +94,8 @@ void ColoredSolver<Real>::begin_substep(std::vector<CollisionConstraint<Real>>& 
 template <class Real>
 void ColoredSolver<Real>::sweep_gauss_seidel(std::span<const CollisionConstraint<Real>> collisions,
                                              std::span<const SolveCoefficients<Real>> coeff, Real* p, const Real* w,
-                                             bool parallel, const ParallelConfig& config) {
+                                             bool parallel, const ParallelConfig& config,
+                                             CustomTypes<Real>& custom) {
   std::size_t part = 0;
   lambda_.zip(colored_, [&](const auto& array, std::vector<Real>& lam) {
     for (Index c = 0; c < array.num_colors(); ++c)
@@ -83,6 +103,10 @@ void ColoredSolver<Real>::sweep_gauss_seidel(std::span<const CollisionConstraint
         for (Index i = b; i < e; ++i) project(array.items[i], p, w, coefficients_of(array.items[i], coeff.data()), lam[i]);
       });
   });
+  for (const auto& t : custom.types())  // one virtual call per color range, never per constraint
+    for (Index c = 0; c < t->num_colors(); ++c)
+      run_range(t->color_begin(c), t->color_begin(c + 1), parallel, config, partitioners_[part++],
+                [&](Index b, Index e) { t->project_colored(b, e, p, w, coeff.data()); });
   project_volumes(p, p, w, coeff, parallel, config, part);
   const SolveCoefficients<Real> hard{Real(1), Real(0)};
   for (Index c = 0; c < collision_colors(); ++c)
@@ -95,16 +119,17 @@ void ColoredSolver<Real>::sweep_gauss_seidel(std::span<const CollisionConstraint
 template <class Real>
 void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>> collisions,
                                        std::span<const SolveCoefficients<Real>> coeff, Real* p, const Real* w,
-                                       Real omega, bool parallel, const ParallelConfig& config) {
+                                       Real omega, bool parallel, const ParallelConfig& config,
+                                       CustomTypes<Real>& custom) {
   const Index n = num_particles_;
   if (count_inv_.size() != n || delta_.size() != 3 * std::size_t(n)) {
     count_inv_.resize(n);
     delta_.resize(3 * std::size_t(n));
   }
   // Constraints touching each particle in this sub-step (persistent ones plus its collisions).
-  std::vector<Index> count(static_count_);
-  for (const auto& c : collisions) ++count[c.particles[0]];
-  for (Index i = 0; i < n; ++i) count_inv_[i] = count[i] ? Real(1) / Real(count[i]) : Real(0);
+  count_.assign(static_count_.begin(), static_count_.end());
+  for (const auto& c : collisions) ++count_[c.particles[0]];
+  for (Index i = 0; i < n; ++i) count_inv_[i] = count_[i] ? Real(1) / Real(count_[i]) : Real(0);
   std::fill(delta_.begin(), delta_.end(), Real(0));
   Real* delta = delta_.data();
   std::size_t part = 0;
@@ -115,6 +140,10 @@ void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>
           accumulate(array.items[i], p, w, coefficients_of(array.items[i], coeff.data()), lam[i], delta);
       });
   });
+  for (const auto& t : custom.types())
+    for (Index c = 0; c < t->num_colors(); ++c)
+      run_range(t->color_begin(c), t->color_begin(c + 1), parallel, config, partitioners_[part++],
+                [&](Index b, Index e) { t->accumulate_colored(b, e, p, w, coeff.data(), delta); });
   project_volumes(p, delta, w, coeff, parallel, config, part);
   const SolveCoefficients<Real> hard{Real(1), Real(0)};
   for (Index c = 0; c < collision_colors(); ++c)

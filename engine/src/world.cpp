@@ -5,6 +5,7 @@
 #include "pbd/mesh.hpp"
 #include "pbd/serial_solver.hpp"
 
+#include <chrono>
 #include <cmath>
 
 namespace pbd {
@@ -49,7 +50,6 @@ template <class Real> Index World<Real>::add_particle(const Vec& position, Real 
   if (!finite(position)) throw Error(detail::message("add_particle: particle ", i, ": position is not finite"));
   if (!finite(velocity)) throw Error(detail::message("add_particle: particle ", i, ": velocity is not finite"));
   check_mass(mass, "add_particle", i);
-  colored_.invalidate();
   x_.conservativeResize(3, i + 1);
   v_.conservativeResize(3, i + 1);
   w_.conservativeResize(i + 1);
@@ -68,7 +68,6 @@ template <class Real> Index World<Real>::add_particles(const Positions& position
       throw Error(detail::message("add_particles: particle ", first + j, ": position is not finite"));
     check_mass(masses[j], "add_particles", first + j);
   }
-  colored_.invalidate();
   const Eigen::Index n = first + positions.cols();
   x_.conservativeResize(3, n);
   v_.conservativeResize(3, n);
@@ -105,7 +104,6 @@ template <class Real> Index World<Real>::add_stretch(Index a, Index b, Index set
   if (!std::isfinite(d) || d < Real(0))
     throw Error(detail::message(what(), ": rest distance must be finite and >= 0, got ", d));
   constraints_.stretch.push_back({{a, b}, set, d});
-  colored_.invalidate();
   return Index(constraints_.stretch.size() - 1);
 }
 
@@ -118,7 +116,6 @@ template <class Real> Index World<Real>::add_anchor(Index particle, Index set, s
   const Vec t = target ? *target : Vec(x_.col(particle));
   if (!finite(t)) throw Error(detail::message(what(), ": target is not finite"));
   constraints_.anchor.push_back({{particle}, set, t});
-  colored_.invalidate();
   return Index(constraints_.anchor.size() - 1);
 }
 
@@ -144,7 +141,6 @@ Index World<Real>::add_bending(Index p1, Index p2, Index p3, Index p4, Index set
   if (!(phi >= Real(0) && phi <= Real(3.14159265358979323846)))
     throw Error(detail::message(what(), ": rest angle must be in [0, pi], got ", phi));
   constraints_.bending.push_back({ids, set, phi});
-  colored_.invalidate();
   return Index(index);
 }
 
@@ -159,7 +155,6 @@ template <class Real> Index World<Real>::add_area(Index a, Index b, Index c, Ind
   if (!std::isfinite(area) || area < Real(0))
     throw Error(detail::message(what(), ": rest area must be finite and >= 0, got ", area));
   constraints_.area.push_back({{a, b, c}, set, area});
-  colored_.invalidate();
   return Index(index);
 }
 
@@ -195,7 +190,6 @@ Index World<Real>::add_volume(std::span<const std::array<Index, 3>> triangles, I
   if (!std::isfinite(r) || !(r > Real(0)))
     throw Error(detail::message(what(), ": rest volume must be finite and > 0, got ", r));
   constraints_.volume.add(triangles, set, r, pressure);
-  colored_.invalidate();
   return Index(index);
 }
 
@@ -231,13 +225,50 @@ template <class Real> void World<Real>::set_params(const StepParams<Real>& p) {
   params_ = p;
 }
 
-template <class Real> void World<Real>::step() {
+template <class Real> void World<Real>::step() { advance(nullptr); }
+
+template <class Real> void World<Real>::step(Eigen::Ref<const Positions> forces) {
+  if (forces.rows() != 3 || forces.cols() != x_.cols())
+    throw Error(detail::message("step: forces must be 3 x ", x_.cols(), ", got ", forces.rows(), " x ", forces.cols()));
+  for (Eigen::Index i = 0; i < forces.cols(); ++i)
+    if (!forces.col(i).allFinite()) throw Error(detail::message("step: force on particle ", i, " is not finite"));
+  if (forces.outerStride() == 3) return advance(forces.data());
+  const Positions copy = forces;  // a strided view: make it contiguous once
+  advance(copy.data());
+}
+
+template <class Real> void World<Real>::advance(const Real* forces) {
+  using clock = std::chrono::steady_clock;
+  const auto t0 = clock::now();
+  stats_ = StepStats{};
   const Real h = params_.dt / Real(params_.substeps);
   coeff_.resize(constraints_.sets.size());
   for (std::size_t s = 0; s < coeff_.size(); ++s)
     coeff_[s] = coefficients<Real>(constraints_.sets[s], double(h), params_.iterations);
-  for (int s = 0; s < params_.substeps; ++s) substep(h, time_ + double(h) * double(s + 1));
+  if (params_.solver != Solver::serial) {
+    const auto c0 = clock::now();
+    ensure_colored();
+    stats_.seconds_coloring = std::chrono::duration<double>(clock::now() - c0).count();
+    stats_.colors = colored_.num_colors(custom_);
+  }
+  for (int s = 0; s < params_.substeps; ++s) {
+    const double t = time_ + double(h) * double(s + 1);
+    const Real* f = forces;
+    if (force_callback_) {
+      callback_forces_.setZero(3, x_.cols());
+      force_callback_(t, x_, callback_forces_);
+      if (!callback_forces_.allFinite()) throw Error("step: the force callback returned a non-finite force");
+      if (forces) callback_forces_ += Eigen::Map<const Positions>(forces, 3, x_.cols());
+      f = callback_forces_.data();
+    }
+    substep(h, t, f);
+  }
   time_ += double(params_.dt);
+  stats_.substeps = params_.substeps;
+  stats_.sweeps = params_.substeps * params_.iterations;
+  stats_.collisions = collisions_.size();
+  if (measure_violation_) measure_violation();
+  stats_.seconds = std::chrono::duration<double>(clock::now() - t0).count();
 }
 
 template <class Real> void World<Real>::set_coloring(const coloring::Options& options) {
@@ -246,7 +277,8 @@ template <class Real> void World<Real>::set_coloring(const coloring::Options& op
 }
 
 template <class Real> void World<Real>::ensure_colored() {
-  if (!colored_.built()) colored_.build(constraints_, w_, coloring_);
+  if (!colored_.built()) colored_.build(constraints_, w_, coloring_, custom_);
+  else if (!colored_.up_to_date(constraints_, custom_, num_particles())) colored_.update(constraints_, w_, coloring_, custom_);
 }
 
 template <class Real> const ColoredConstraints<Real>& World<Real>::colored_constraints() {
@@ -254,7 +286,9 @@ template <class Real> const ColoredConstraints<Real>& World<Real>::colored_const
   return colored_.constraints();
 }
 
-template <class Real> void World<Real>::substep(Real h, double time) {
+template <class Real> void World<Real>::substep(Real h, double time, const Real* f) {
+  using clock = std::chrono::steady_clock;
+  const auto t0 = clock::now();
   const Solver solver = params_.solver;
   const bool parallel = solver == Solver::colored || solver == Solver::jacobi;
   const Index n = num_particles();
@@ -275,36 +309,148 @@ template <class Real> void World<Real>::substep(Real h, double time) {
         if (w[i] == Real(0)) vi[d] = Real(0);  // pinned particles keep v = 0
         else {
           vi[d] += h * g[d];
+          if (f) vi[d] += h * (w[i] * f[3 * std::size_t(i) + d]);  // external force: a = w·f
           if (damp) vi[d] *= keep;
         }
         p[3 * std::size_t(i) + d] = xi[d] + h * vi[d];
       }
     }
   });
+  const auto t1 = clock::now();
   // 3. collisions
   collisions_.clear();
   if (!colliders_.empty()) generate_collisions(colliders_, x_, p_, w_, params_.collision_margin, collisions_);
+  const auto t2 = clock::now();
   // 4. solve
   if (solver == Solver::serial) {
     lambda_.reset(constraints_, collisions_.size());
+    for (const auto& t : custom_.types()) t->reset_lambda();
     volume_scratch_.set_targets(constraints_.volume, time);
     for (int it = 0; it < params_.iterations; ++it)
-      sweep_serial<Real>(constraints_, collisions_, coeff_, p, w, lambda_, &volume_scratch_);
+      sweep_serial<Real>(constraints_, collisions_, coeff_, p, w, lambda_, &volume_scratch_, &custom_);
   } else {
-    ensure_colored();
-    colored_.begin_substep(collisions_, time);
+    colored_.begin_substep(collisions_, time, custom_);
     for (int it = 0; it < params_.iterations; ++it) {
       if (solver == Solver::jacobi)
-        colored_.sweep_jacobi(collisions_, coeff_, p, w, params_.jacobi_omega, parallel, parallel_);
+        colored_.sweep_jacobi(collisions_, coeff_, p, w, params_.jacobi_omega, parallel, parallel_, custom_);
       else
-        colored_.sweep_gauss_seidel(collisions_, coeff_, p, w, parallel, parallel_);
+        colored_.sweep_gauss_seidel(collisions_, coeff_, p, w, parallel, parallel_, custom_);
     }
   }
+  const auto t3 = clock::now();
   // 5. update: v = (p − x)/h, x = p
   detail::run_range(0, n, parallel, parallel_, particle_partitioners_[1], [&](Index b, Index e) {
     for (std::size_t k = 3 * std::size_t(b); k < 3 * std::size_t(e); ++k) v[k] = (p[k] - x[k]) / h;
   });
   x_.swap(p_);
+  const auto t4 = clock::now();
+  using seconds = std::chrono::duration<double>;
+  stats_.seconds_integrate += seconds(t1 - t0).count() + seconds(t4 - t3).count();
+  stats_.seconds_collisions += seconds(t2 - t1).count();
+  stats_.seconds_solve += seconds(t3 - t2).count();
+}
+
+namespace {
+
+// Adds |C| of each constraint of `items` to a TypeViolation (inequalities count only when violated).
+template <class Constraint, class Real>
+TypeViolation violation_of(const char* name, const Constraint* items, std::size_t n, const Real* x) {
+  TypeViolation v{name, 0, 0.0, 0.0};
+  double sum2 = 0.0;
+  constexpr int k = Constraint::kArity;
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3<Real> q[k], grad[k];
+    for (int j = 0; j < k; ++j) q[j] = Eigen::Map<const Vec3<Real>>(x + 3 * std::size_t(items[i].particles[j]));
+    Real C = 0;
+    if (!evaluate(items[i], q, C, grad)) C = 0;
+    double e = std::abs(double(C));
+    if constexpr (Constraint::kInequality) e = C < Real(0) ? e : 0.0;
+    sum2 += e * e;
+    v.max = std::max(v.max, e);
+    ++v.count;
+  }
+  v.rms = v.count ? std::sqrt(sum2 / double(v.count)) : 0.0;
+  return v;
+}
+
+}  // namespace
+
+template <class Real> void World<Real>::measure_violation() {
+  const Real* x = x_.data();
+  constraints_.for_each([&](const auto& a) {
+    using C = typename std::decay_t<decltype(a)>::value_type;
+    if (!a.empty()) stats_.violation.push_back(violation_of(C::kName, a.data(), a.size(), x));
+  });
+  if (!collisions_.empty())
+    stats_.violation.push_back(violation_of("collision", collisions_.data(), collisions_.size(), x));
+}
+
+template <class Real>
+template <class C>
+void World<Real>::erase(std::vector<C>& items, ColoredArray<C>& colored, std::span<const Index> indices,
+                        const char* what) {
+  std::vector<std::uint8_t> drop(items.size(), 0);
+  for (Index i : indices) {
+    if (i >= items.size())
+      throw Error(detail::message(what, ": constraint index ", i, " out of range (", items.size(), " constraints)"));
+    if (drop[i]) throw Error(detail::message(what, ": constraint index ", i, " given twice"));
+    drop[i] = 1;
+  }
+  const bool colored_matches = colored_.built() && colored.color.size() == items.size();
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < items.size(); ++i)
+    if (!drop[i]) {
+      items[kept] = items[i];
+      if (colored_matches) colored.color[kept] = colored.color[i];
+      ++kept;
+    }
+  items.resize(kept);
+  if (colored_matches) {  // the others keep their colors: lay the array out again, color nothing
+    colored.color.resize(kept);
+    layout_by_color(colored, items);
+    colored_.count_static(custom_);
+  } else {
+    colored_.invalidate();
+  }
+}
+
+template <class Real> void World<Real>::remove_stretch(std::span<const Index> indices) {
+  erase(constraints_.stretch, colored_.colored_.stretch, indices, "remove_stretch");
+}
+template <class Real> void World<Real>::remove_anchor(std::span<const Index> indices) {
+  erase(constraints_.anchor, colored_.colored_.anchor, indices, "remove_anchor");
+}
+template <class Real> void World<Real>::remove_bending(std::span<const Index> indices) {
+  erase(constraints_.bending, colored_.colored_.bending, indices, "remove_bending");
+}
+template <class Real> void World<Real>::remove_area(std::span<const Index> indices) {
+  erase(constraints_.area, colored_.colored_.area, indices, "remove_area");
+}
+
+template <class Real> void World<Real>::remove_particle(Index particle) {
+  check_particle(particle, "remove_particle: particle", particle);
+  for (Index p : constraints_.volume.particles)
+    if (p == particle)
+      throw Error(detail::message("remove_particle: particle ", particle,
+                                  " belongs to a volume constraint; volume meshes cannot lose particles"));
+  auto touching = [&](const auto& items) {
+    std::vector<Index> out;
+    for (std::size_t i = 0; i < items.size(); ++i)
+      for (Index p : items[i].particles)
+        if (p == particle) {
+          out.push_back(Index(i));
+          break;
+        }
+    return out;
+  };
+  remove_stretch(touching(constraints_.stretch));
+  remove_anchor(touching(constraints_.anchor));
+  remove_bending(touching(constraints_.bending));
+  remove_area(touching(constraints_.area));
+  for (const auto& t : custom_.types()) t->erase_touching(particle);
+  w_[particle] = Real(0);  // pinned: never moves, never collides
+  v_.col(particle).setZero();
+  colored_.invalidate();   // a particle became pinned: conflicts changed
 }
 
 template class World<float>;
@@ -318,6 +464,8 @@ template <class Real>
 template <class Other>
 World<Real>::World(const World<Other>& o)
     : x_(o.x_.template cast<Real>()), v_(o.v_.template cast<Real>()), w_(o.w_.template cast<Real>()) {
+  if (!o.custom_.empty())
+    throw Error("World: a world with user-defined constraint types cannot be converted to another precision");
   constraints_.sets = o.constraints_.sets;
   for (const auto& c : o.constraints_.stretch) constraints_.stretch.push_back({c.particles, c.set, Real(c.rest)});
   for (const auto& c : o.constraints_.anchor)

@@ -2,9 +2,14 @@
 /// \file colored_constraints.hpp
 /// Constraints reordered by color: within one color no two constraints move the same particle.
 #include "pbd/constraint_arrays.hpp"
+#include "pbd/constraint_graph.hpp"
+#include "pbd/error.hpp"
 
 #include <pbd/graph_coloring/color.hpp>
+#include <pbd/graph_coloring/error.hpp>
 
+#include <algorithm>
+#include <bit>
 #include <vector>
 
 namespace pbd {
@@ -15,6 +20,7 @@ template <class Constraint> struct ColoredArray {
   std::vector<Constraint> items;  ///< the constraints, color by color, by insertion index within a color
   std::vector<Index> offsets;     ///< num_colors() + 1 entries
   std::vector<Index> new_index;   ///< insertion index → position in items (the old→new map)
+  std::vector<Index> color;       ///< insertion index → its color
 
   /// Number of constraints.
   std::size_t size() const { return items.size(); }
@@ -37,6 +43,13 @@ template <class Real> struct ColoredConstraints {
     f(bending);
     f(area);
   }
+  /// Calls f(insertion_array, colored_array) for each fixed-arity type of `c`, in solver order.
+  template <class F> void zip(const ConstraintArrays<Real>& c, F&& f) {
+    f(c.stretch, stretch);
+    f(c.anchor, anchor);
+    f(c.bending, bending);
+    f(c.area, area);
+  }
   /// Total number of colors over all types (one per volume constraint).
   Index num_colors() const {
     Index n = Index(volume.size());
@@ -51,9 +64,78 @@ template <class Real>
 ColoredConstraints<Real> color_constraints(const ConstraintArrays<Real>& c, const VectorX<Real>& inverse_masses,
                                            const coloring::Options& options);
 
-/// The coloring of one array of fixed-arity constraints (for statistics and for color_constraints).
+/// Lays `items` out by the colors in a.color (one per item, insertion order): items grouped by color, by
+/// insertion index within a color; colors left empty are dropped and the others renumbered in order.
+template <class Constraint> void layout_by_color(ColoredArray<Constraint>& a, const std::vector<Constraint>& items) {
+  const Index n = Index(items.size());
+  Index colors = 0;
+  for (Index c : a.color) colors = std::max(colors, c + 1);
+  std::vector<Index> count(colors, 0), renumber(colors, 0);
+  for (Index c : a.color) ++count[c];
+  Index used = 0;
+  for (Index c = 0; c < colors; ++c) renumber[c] = count[c] ? used++ : 0;
+  a.offsets.assign(std::size_t(used) + 1, 0);
+  for (Index& c : a.color) {
+    c = renumber[c];
+    ++a.offsets[c + 1];
+  }
+  for (Index c = 0; c < used; ++c) a.offsets[c + 1] += a.offsets[c];
+  std::vector<Index> next(a.offsets.begin(), a.offsets.end() - 1);
+  a.items.resize(n);
+  a.new_index.resize(n);
+  for (Index i = 0; i < n; ++i) {
+    const Index at = next[a.color[i]]++;
+    a.new_index[i] = at;
+    a.items[at] = items[i];
+  }
+  if (n == 0) a.offsets.clear();
+}
+
+/// Colors an array of fixed-arity constraints with graph_coloring and lays it out by color.
 template <class Constraint>
-coloring::Coloring color_array(const std::vector<Constraint>& items, const std::vector<std::uint8_t>& fixed,
-                               Index num_particles, const coloring::Options& options);
+ColoredArray<Constraint> color_array(const std::vector<Constraint>& items, const std::vector<std::uint8_t>& fixed,
+                                     const coloring::Options& options) {
+  ColoredArray<Constraint> out;
+  if (items.empty()) return out;
+  const ConstraintGraph graph = constraint_graph(items, fixed);
+  coloring::Coloring col;
+  try {
+    col = coloring::color(graph.view(), options);
+  } catch (const coloring::Error& e) {
+    throw Error(std::string("coloring ") + Constraint::kName + " constraints: " + e.what());
+  }
+  out.color.assign(col.color.begin(), col.color.end());
+  layout_by_color(out, items);
+  return out;
+}
+
+/// Colors items[first, end) appended since `a` was laid out, first-fit against the colors already used at their
+/// particles (nothing else is recolored), then lays the array out again. Returns false, leaving `a` unchanged,
+/// if an item would need a color beyond the 64th: the caller then colors everything anew.
+template <class Constraint>
+bool color_appended(ColoredArray<Constraint>& a, const std::vector<Constraint>& items,
+                    const std::vector<std::uint8_t>& fixed) {
+  const std::size_t first = a.color.size();
+  std::vector<std::uint64_t> used(fixed.size(), 0);  // colors present at each particle
+  for (std::size_t i = 0; i < first; ++i) {
+    if (a.color[i] >= 64) return false;
+    for (Index p : items[i].particles)
+      if (!fixed[p]) used[p] |= std::uint64_t(1) << a.color[i];
+  }
+  std::vector<Index> colors(a.color);
+  for (std::size_t i = first; i < items.size(); ++i) {
+    std::uint64_t taken = 0;
+    for (Index p : items[i].particles)
+      if (!fixed[p]) taken |= used[p];
+    if (taken == ~std::uint64_t(0)) return false;
+    const Index c = Index(std::countr_one(taken));
+    for (Index p : items[i].particles)
+      if (!fixed[p]) used[p] |= std::uint64_t(1) << c;
+    colors.push_back(c);
+  }
+  a.color.swap(colors);
+  layout_by_color(a, items);
+  return true;
+}
 
 }  // namespace pbd

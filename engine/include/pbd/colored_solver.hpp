@@ -12,6 +12,7 @@
 /// the same slice every sweep. The solver runs in whatever tbb::task_arena the caller runs it in.
 #include "pbd/colored_constraints.hpp"
 #include "pbd/constraints/collision.hpp"
+#include "pbd/custom_constraints.hpp"
 #include "pbd/solver.hpp"
 
 #include <oneapi/tbb/partitioner.h>
@@ -42,9 +43,16 @@ private:
 /// Colored constraints plus the per-step scratch of the colored and Jacobi sweeps.
 template <class Real> class ColoredSolver {
 public:
-  /// Colors and reorders the constraints (call again whenever constraints or pinned particles change).
+  /// Colors and reorders every constraint (built-in and user-defined) from scratch.
   void build(const ConstraintArrays<Real>& constraints, const VectorX<Real>& inverse_masses,
-             const coloring::Options& options);
+             const coloring::Options& options, CustomTypes<Real>& custom);
+  /// True when the colored copy covers exactly these constraints and particles.
+  bool up_to_date(const ConstraintArrays<Real>& constraints, const CustomTypes<Real>& custom,
+                  Index num_particles) const;
+  /// Brings the colored copy up to date after constraints or particles were added: only the new constraints are
+  /// colored (first fit against the colors at their particles); falls back to build() past 64 colors.
+  void update(const ConstraintArrays<Real>& constraints, const VectorX<Real>& inverse_masses,
+              const coloring::Options& options, CustomTypes<Real>& custom);
   /// True once build() has run.
   bool built() const { return built_; }
   /// Drops the coloring (the next step rebuilds it).
@@ -52,25 +60,33 @@ public:
 
   /// Starts a sub-step: reorders `collisions` by color in place, sets every λ to 0 and the volume targets to their
   /// schedule's value at `time` (seconds).
-  void begin_substep(std::vector<CollisionConstraint<Real>>& collisions, double time = 0.0);
+  void begin_substep(std::vector<CollisionConstraint<Real>>& collisions, double time, CustomTypes<Real>& custom);
 
   /// One Gauss-Seidel sweep color by color; `parallel` = false gives the serial color-order bridge.
   void sweep_gauss_seidel(std::span<const CollisionConstraint<Real>> collisions,
                           std::span<const SolveCoefficients<Real>> coeff, Real* p, const Real* w, bool parallel,
-                          const ParallelConfig& config);
+                          const ParallelConfig& config, CustomTypes<Real>& custom);
 
   /// One Jacobi sweep: all corrections from the same p, averaged per particle over the constraints touching it,
   /// scaled by omega, then applied.
   void sweep_jacobi(std::span<const CollisionConstraint<Real>> collisions,
                     std::span<const SolveCoefficients<Real>> coeff, Real* p, const Real* w, Real omega, bool parallel,
-                    const ParallelConfig& config);
+                    const ParallelConfig& config, CustomTypes<Real>& custom);
 
   /// The colored constraints.
   const ColoredConstraints<Real>& constraints() const { return colored_; }
+  /// Colors of the persistent constraints, user-defined types included.
+  Index num_colors(const CustomTypes<Real>& custom) const {
+    Index n = colored_.num_colors();
+    for (const auto& t : custom.types()) n += t->num_colors();
+    return n;
+  }
   /// Number of colors of the sub-step's collisions.
   Index collision_colors() const { return collision_offsets_.empty() ? 0 : Index(collision_offsets_.size() - 1); }
 
 private:
+  template <class> friend class World;  // erases constraints in place (World::remove_*)
+  void count_static(const CustomTypes<Real>& custom);
   void project_volumes(const Real* p, Real* out, const Real* w, std::span<const SolveCoefficients<Real>> coeff,
                        bool parallel, const ParallelConfig& config, std::size_t& part);
   bool built_ = false;
@@ -81,6 +97,7 @@ private:
   PartitionerPool partitioners_;  // one per color of the persistent types, then collisions, then the Jacobi update
   Index num_particles_ = 0;
   std::vector<Index> static_count_;  // Jacobi: persistent constraints touching each particle
+  std::vector<Index> count_;         // Jacobi: constraints touching each particle this sub-step (scratch)
   std::vector<Real> count_inv_;      // Jacobi: 1 / constraints touching each particle this sub-step
   std::vector<Real> delta_;          // Jacobi: accumulated corrections, 3 per particle
   VolumeScratch<Real> volume_;       // volume targets, gradients and block sums

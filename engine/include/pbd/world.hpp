@@ -12,8 +12,10 @@
 #include "pbd/solver.hpp"
 #include "pbd/types.hpp"
 
+#include <functional>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace pbd {
@@ -28,6 +30,28 @@ template <class Real> struct StepParams {
   Real collision_margin = Real(0.01);        ///< contacts are generated for particles ending within this distance, ≥ 0
   Solver solver = Solver::colored;           ///< which solver step() runs
   Real jacobi_omega = 1;                     ///< Jacobi over-relaxation factor ω, in (0, 2)
+};
+
+/// Violation of one constraint type after a step: |C| in the type's own unit (inequalities: only when violated).
+struct TypeViolation {
+  std::string name;        ///< the constraint type (kName), "volume" or "collision"
+  std::size_t count = 0;   ///< constraints measured
+  double rms = 0.0;        ///< root mean square of |C|
+  double max = 0.0;        ///< maximum |C|
+};
+
+/// What the last step() did and how long each phase took (wall-clock seconds, summed over sub-steps).
+struct StepStats {
+  double seconds = 0.0;             ///< the whole step
+  double seconds_integrate = 0.0;   ///< forces, damping, prediction and velocity update
+  double seconds_collisions = 0.0;  ///< generating (and coloring) collision constraints
+  double seconds_coloring = 0.0;    ///< coloring persistent constraints (only when they changed)
+  double seconds_solve = 0.0;       ///< the sweeps
+  int substeps = 0;                 ///< sub-steps taken
+  int sweeps = 0;                   ///< sweeps taken (substeps × iterations)
+  Index colors = 0;                 ///< colors of the persistent constraints (0 for the serial solver)
+  std::size_t collisions = 0;       ///< collision constraints of the last sub-step
+  std::vector<TypeViolation> violation;  ///< per type, at the end of the step (only with measure_violation on)
 };
 
 /// Particles, constraints and colliders of one simulation, in precision Real (float or double).
@@ -69,6 +93,25 @@ public:
   Index add_volume(std::span<const std::array<Index, 3>> triangles, Index set, const PressureSchedule& pressure = {},
                    std::optional<Real> rest = std::nullopt);
 
+  /// Adds a constraint of a user-defined type C (see custom_constraints.hpp for what C provides); it is colored and
+  /// projected like the built-in types. Returns its index among the constraints of type C.
+  template <class C> Index add_custom(const C& constraint);
+  /// The constraints of user-defined type C, in insertion order (empty if none).
+  template <class C> std::span<const C> custom() const {
+    const auto* t = custom_.template find<C>();
+    return t ? std::span<const C>(t->items) : std::span<const C>();
+  }
+
+  /// Removes stretch constraints by index (each at most once; later indices move down, as with std::vector::erase).
+  /// The colors of the remaining constraints are kept: nothing is recolored.
+  void remove_stretch(std::span<const Index> indices);
+  void remove_anchor(std::span<const Index> indices);   ///< as remove_stretch, for anchors
+  void remove_bending(std::span<const Index> indices);  ///< as remove_stretch, for bending constraints
+  void remove_area(std::span<const Index> indices);     ///< as remove_stretch, for area constraints
+  /// Removes a particle from the simulation: every constraint on it is removed, it is pinned where it is and never
+  /// moves or collides again. Its index stays valid (indices never shift). An error if a volume constraint uses it.
+  void remove_particle(Index particle);
+
   /// Adds an infinite plane n·x ≥ offset (n is normalized).
   void add_plane(const Vec& normal, Real offset);
   /// Adds a solid sphere.
@@ -89,6 +132,17 @@ public:
 
   /// Advances the world by params().dt: substeps × (forces, predict, collisions, sweeps, velocity update).
   void step();
+  /// step() with external forces (N, 3×N, one column per particle) applied during the whole step: v += h·w·f.
+  void step(Eigen::Ref<const Positions> forces);
+  /// Called at every sub-step with the time and positions; fills `forces` (3×N, zeroed before each call).
+  using ForceCallback = std::function<void(double time, Eigen::Ref<const Positions> x, Eigen::Ref<Positions> forces)>;
+  /// Sets (or with an empty function clears) the force callback used by step().
+  void set_force_callback(ForceCallback callback) { force_callback_ = std::move(callback); }
+
+  /// Statistics of the last step().
+  const StepStats& last_step_stats() const { return stats_; }
+  /// Whether step() measures the per-type violation at its end (one extra pass over the constraints; off by default).
+  void set_measure_violation(bool on) { measure_violation_ = on; }
 
   /// Simulated time in seconds: params().dt per step() (drives volume pressure schedules).
   double time() const { return time_; }
@@ -115,8 +169,12 @@ private:
   template <class> friend class World;
   void check_particle(Index i, const char* item, std::size_t index) const;  // throws naming "item index"
   void check_set(Index set, const char* item, std::size_t index) const;
-  void substep(Real h, double time);
+  void substep(Real h, double time, const Real* forces);
   void ensure_colored();
+  void advance(const Real* forces);
+  void measure_violation();
+  template <class C> void erase(std::vector<C>& items, ColoredArray<C>& colored, std::span<const Index> indices,
+                                const char* what);
 
   // Runtime state.
   Positions x_;      ///< positions
@@ -135,10 +193,31 @@ private:
   std::vector<SolveCoefficients<Real>> coeff_;
   // Colored and Jacobi solvers: the colored copy of the constraints, rebuilt when constraints or pins change.
   ColoredSolver<Real> colored_;
+  CustomTypes<Real> custom_;  ///< user-defined constraint types
+  ForceCallback force_callback_;
+  Positions callback_forces_;  ///< scratch filled by the force callback
+  StepStats stats_;
+  bool measure_violation_ = false;
   coloring::Options coloring_;
   ParallelConfig parallel_;
   PartitionerPool particle_partitioners_;
 };
+
+template <class Real> template <class C> Index World<Real>::add_custom(const C& c) {
+  static_assert(C::kArity >= 1, "a user-defined constraint type needs kArity >= 1");
+  const std::size_t index = custom_.template find<C>() ? custom_.template find<C>()->items.size() : 0;
+  const char* item = "add_custom: constraint";
+  for (int i = 0; i < C::kArity; ++i) {
+    check_particle(c.particles[i], item, index);
+    for (int j = 0; j < i; ++j)
+      if (c.particles[i] == c.particles[j])
+        throw Error(std::string("add_custom: ") + C::kName + " constraint " + std::to_string(index) + ": names particle " +
+                    std::to_string(c.particles[i]) + " twice");
+  }
+  check_set(c.set, item, index);
+  custom_.template of<C>().items.push_back(c);
+  return Index(index);
+}
 
 extern template class World<float>;
 extern template class World<double>;

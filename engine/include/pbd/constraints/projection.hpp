@@ -52,4 +52,24 @@ inline void project(const Constraint& c, Real* p, const Real* w, SolveCoefficien
     if (wi[i] != Real(0)) Eigen::Map<Vec3<Real>>(p + 3 * std::size_t(c.particles[i])) += dp[i];
 }
 
+/// Jacobi: adds the correction of constraint c, computed from the unchanged `p`, to `delta` (3 per particle) and
+/// accumulates its λ. Pinned particles get nothing.
+template <class Constraint, class Real>
+inline void accumulate(const Constraint& c, const Real* p, const Real* w, SolveCoefficients<Real> coeff, Real& lambda,
+                       Real* delta) {
+  constexpr int n = Constraint::kArity;
+  Vec3<Real> q[n];
+  Real wi[n];
+  for (int i = 0; i < n; ++i) {
+    q[i] = Eigen::Map<const Vec3<Real>>(p + 3 * std::size_t(c.particles[i]));
+    wi[i] = w[c.particles[i]];
+  }
+  Vec3<Real> dp[n];
+  Real dlambda;
+  if (!correction(c, q, wi, coeff, lambda, dp, dlambda)) return;
+  lambda += dlambda;
+  for (int i = 0; i < n; ++i)
+    if (wi[i] != Real(0)) Eigen::Map<Vec3<Real>>(delta + 3 * std::size_t(c.particles[i])) += dp[i];
+}
+
 }  // namespace pbd

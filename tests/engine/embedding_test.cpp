@@ -1,0 +1,320 @@
+// What a host simulator relies on: external forces, a force callback, adding and removing constraints and particles
+// between steps with limited recoloring, user-defined constraint types, running in the host's task_arena, and
+// per-step statistics.
+#include "constraint_checks.hpp"
+#include "pbd/generators.hpp"
+#include "pbd/world.hpp"
+
+#include <gtest/gtest.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <atomic>
+#include <cstring>
+#include <random>
+#include <set>
+
+namespace host {
+
+// A user-defined constraint type, as a host would write it: keeps a particle at height `z` (C = p.z − z), and
+// records the largest arena it was evaluated in (to show the solver runs in the caller's arena).
+template <class Real> struct HeightConstraint {
+  static constexpr const char* kName = "height";
+  static constexpr int kArity = 1;
+  static constexpr bool kInequality = false;
+  std::array<pbd::Index, 1> particles;
+  pbd::Index set;
+  Real z;
+};
+inline std::atomic<int> widest_arena{0};
+template <class Real>
+bool evaluate(const HeightConstraint<Real>& c, const pbd::Vec3<Real> (&p)[1], Real& C, pbd::Vec3<Real> (&grad)[1]) {
+  int seen = widest_arena.load();
+  const int now = tbb::this_task_arena::max_concurrency();
+  while (now > seen && !widest_arena.compare_exchange_weak(seen, now)) {}
+  C = p[0].z() - c.z;
+  grad[0] = pbd::Vec3<Real>::UnitZ();
+  return true;
+}
+
+// A host's own distance constraint: the same maths as the built-in stretch constraint (including the optional
+// kUnitGradients promise, so the projection takes the same arithmetic path).
+template <class Real> struct Distance {
+  static constexpr const char* kName = "distance";
+  static constexpr int kArity = 2;
+  static constexpr bool kInequality = false;
+  static constexpr bool kUnitGradients = true;
+  std::array<pbd::Index, 2> particles;
+  pbd::Index set;
+  Real rest;
+};
+template <class Real>
+bool evaluate(const Distance<Real>& c, const pbd::Vec3<Real> (&p)[2], Real& C, pbd::Vec3<Real> (&grad)[2]) {
+  return evaluate(pbd::StretchConstraint<Real>{c.particles, c.set, c.rest}, p, C, grad);
+}
+
+}  // namespace host
+
+namespace pbd {
+namespace {
+
+World<double> cloth(int n, Solver solver = Solver::colored) {
+  World<double> w;
+  ClothOptions o;
+  o.resolution = n;
+  add_cloth(w, o, w.add_constraint_set(Stiffness::pbd_k(1.0)));
+  StepParams<double> p;
+  p.solver = solver;
+  w.set_params(p);
+  w.set_parallel_config({1, 1});  // fork even for tiny colors, so the tests exercise real parallel loops
+  return w;
+}
+
+std::vector<double> state(const World<double>& w) {
+  std::vector<double> s(w.positions().data(), w.positions().data() + w.positions().size());
+  s.insert(s.end(), w.velocities().data(), w.velocities().data() + w.velocities().size());
+  return s;
+}
+
+// Every color of every type of `w` holds constraints on distinct movable particles.
+void expect_proper(World<double>& w) {
+  const auto& c = w.colored_constraints();
+  const auto inv = w.inverse_masses();
+  c.for_each([&](const auto& a) {
+    for (Index col = 0; col < a.num_colors(); ++col) {
+      std::set<Index> seen;
+      for (Index i = a.offsets[col]; i < a.offsets[col + 1]; ++i)
+        for (Index p : a.items[i].particles)
+          if (inv[p] != 0) {
+            EXPECT_TRUE(seen.insert(p).second) << "particle " << p << " twice in color " << col;
+          }
+    }
+  });
+}
+
+TEST(ExternalForces, ConstantForceOnAFreeParticleFollowsTheClosedForm) {
+  World<double> w;
+  w.add_particle({0, 0, 0}, 2.0);
+  w.add_particle({5, 0, 0}, World<double>::kPinned);
+  StepParams<double> p;
+  p.gravity.setZero();
+  p.substeps = 4;
+  p.dt = 0.01;
+  w.set_params(p);
+  Matrix3X<double> f = Matrix3X<double>::Zero(3, 2);
+  f.col(0) = Vec3<double>(1.0, 0, -4.0);
+  f.col(1) = Vec3<double>(100.0, 0, 0);  // on a pinned particle: ignored
+  for (int s = 0; s < 10; ++s) w.step(f);
+  const Vec3<double> a = f.col(0) / 2.0;  // a = w·f
+  const double n = 40, h = 0.0025;
+  EXPECT_LT((w.positions().col(0) - a * h * h * n * (n + 1) / 2).norm(), 1e-12);
+  EXPECT_LT((w.velocities().col(0) - a * h * n).norm(), 1e-12);
+  EXPECT_EQ(w.positions().col(1), Vec3<double>(5, 0, 0));
+}
+
+TEST(ExternalForces, BadForcesAreRejectedAndTheWorldIsUnchanged) {
+  World<double> w = cloth(4);
+  const auto before = state(w);
+  Matrix3X<double> f = Matrix3X<double>::Zero(3, 16);
+  f(1, 7) = std::nan("");
+  try {
+    w.step(f);
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("particle 7"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(w.step(Matrix3X<double>::Zero(3, 15)), Error);
+  EXPECT_EQ(state(w), before);
+  EXPECT_EQ(w.time(), 0.0);
+}
+
+TEST(ExternalForces, CallbackIsCalledEverySubstepWithTheTime) {
+  World<double> w;
+  w.add_particle({1, 0, 0}, 1.0);
+  StepParams<double> p;
+  p.gravity.setZero();
+  p.substeps = 3;
+  p.dt = 0.03;
+  w.set_params(p);
+  std::vector<double> times;
+  w.set_force_callback([&](double t, Eigen::Ref<const Matrix3X<double>> x, Eigen::Ref<Matrix3X<double>> f) {
+    times.push_back(t);
+    f = -10.0 * x;  // a spring to the origin
+  });
+  w.step();
+  w.step();
+  ASSERT_EQ(times.size(), 6u);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(times[i], 0.01 * (i + 1), 1e-12);
+  EXPECT_LT(w.positions()(0, 0), 1.0);  // pulled towards the origin
+  w.set_force_callback({});
+  const double v = w.velocities()(0, 0);
+  w.step();
+  EXPECT_DOUBLE_EQ(w.velocities()(0, 0), v);  // no force any more, no gravity: constant velocity
+}
+
+TEST(Incremental, AddingConstraintsColorsOnlyTheNewOnesAndStaysDeterministic) {
+  World<double> w = cloth(20);
+  w.step();
+  const Index colors = w.colored_constraints().stretch.num_colors();
+  const auto colors_before = w.colored_constraints().stretch.color;
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<Index> pick(0, 399);
+  for (int k = 0; k < 40; ++k) {  // ~4% more constraints, random pairs
+    const Index a = pick(rng), b = pick(rng);
+    if (a != b) w.add_stretch(a, b, 0);
+  }
+  expect_proper(w);
+  const auto& after = w.colored_constraints().stretch;
+  for (std::size_t i = 0; i < colors_before.size(); ++i) ASSERT_EQ(after.color[i], colors_before[i]) << "recolored " << i;
+  EXPECT_GE(after.num_colors(), colors);
+  // The incrementally colored world still gives the same bits on 1 and 2 threads and in serial color order.
+  World<double> serial = w;
+  StepParams<double> p = serial.params();
+  p.solver = Solver::serial_colored;
+  serial.set_params(p);
+  World<double> two = w;
+  for (int s = 0; s < 20; ++s) serial.step();
+  tbb::task_arena(2).execute([&] {
+    for (int s = 0; s < 20; ++s) two.step();
+  });
+  EXPECT_EQ(state(serial), state(two));
+}
+
+TEST(Incremental, RemovingConstraintsKeepsTheOthersColors) {
+  World<double> w = cloth(10);
+  w.step();
+  const auto colors = w.colored_constraints().stretch.color;
+  const std::vector<Index> gone = {3, 0, 17};
+  w.remove_stretch(gone);
+  EXPECT_EQ(w.constraints().stretch.size(), colors.size() - 3);
+  const auto& after = w.colored_constraints().stretch.color;
+  std::vector<Index> expected;
+  for (std::size_t i = 0; i < colors.size(); ++i)
+    if (i != 0 && i != 3 && i != 17) expected.push_back(colors[i]);
+  // The same colors up to renumbering of emptied colors (none empties here): equal.
+  EXPECT_EQ(after, expected);
+  expect_proper(w);
+  w.step();
+  EXPECT_TRUE(w.positions().allFinite());
+}
+
+TEST(Incremental, BadRemovalsAreRejectedAndChangeNothing) {
+  World<double> w = cloth(5);
+  const std::size_t n = w.constraints().stretch.size();
+  const std::vector<Index> out_of_range = {1, Index(n)}, twice = {2, 2};
+  EXPECT_THROW(w.remove_stretch(out_of_range), Error);
+  EXPECT_THROW(w.remove_stretch(twice), Error);
+  EXPECT_EQ(w.constraints().stretch.size(), n);
+}
+
+TEST(Incremental, RemovedParticleLosesItsConstraintsAndNeverMovesAgain) {
+  World<double> w = cloth(6);
+  const Index p = 14;
+  const Vec3<double> x = w.positions().col(p);
+  w.remove_particle(p);
+  for (const auto& c : w.constraints().stretch) EXPECT_TRUE(c.particles[0] != p && c.particles[1] != p);
+  for (int s = 0; s < 10; ++s) w.step();
+  EXPECT_EQ(w.positions().col(p), x);
+  EXPECT_EQ(w.num_particles(), 36u);  // indices do not shift
+  expect_proper(w);
+}
+
+TEST(Incremental, AddingParticlesDoesNotRecolor) {
+  World<double> w = cloth(6);
+  w.step();
+  const auto colors = w.colored_constraints().stretch.color;
+  const Index q = w.add_particle({3, 3, 3}, 1.0);
+  w.add_stretch(q, 0, 0);
+  const auto& after = w.colored_constraints().stretch.color;
+  for (std::size_t i = 0; i < colors.size(); ++i) EXPECT_EQ(after[i], colors[i]);
+  w.step();
+  EXPECT_TRUE(w.positions().allFinite());
+}
+
+TEST(CustomConstraints, HostTypeMatchesTheBuiltInStretchBitForBit) {
+  for (Solver s : {Solver::serial, Solver::serial_colored, Solver::colored, Solver::jacobi}) {
+    World<double> builtin = cloth(8, s);
+    World<double> hosted;
+    hosted.add_particles(builtin.positions(), Eigen::VectorXd::Ones(64));
+    for (Index i : {Index(56), Index(63)}) hosted.set_mass(i, World<double>::kPinned);
+    const Index set = hosted.add_constraint_set(Stiffness::pbd_k(1.0));
+    for (const auto& c : builtin.constraints().stretch) hosted.add_custom(host::Distance<double>{c.particles, set, c.rest});
+    hosted.set_params(builtin.params());
+    for (int k = 0; k < 30; ++k) {
+      builtin.step();
+      hosted.step();
+    }
+    EXPECT_EQ(state(builtin), state(hosted)) << name(s);
+    EXPECT_EQ(hosted.custom<host::Distance<double>>().size(), builtin.constraints().stretch.size());
+  }
+}
+
+TEST(CustomConstraints, GradientOfTheHostTypeChecksOut) {
+  std::mt19937 rng(9);
+  for (int k = 0; k < 50; ++k) {
+    const Vec3<double> p[1] = {test::random_point<double>(rng)};
+    EXPECT_TRUE(test::check_gradient(host::HeightConstraint<double>{{0}, 0, 0.3}, p));
+  }
+}
+
+TEST(CustomConstraints, BadHostConstraintsAreRejected) {
+  World<double> w = cloth(3);
+  EXPECT_THROW(w.add_custom(host::Distance<double>{{0, 9}, 0, 1.0}), Error);
+  EXPECT_THROW(w.add_custom(host::Distance<double>{{2, 2}, 0, 1.0}), Error);
+  EXPECT_THROW(w.add_custom(host::Distance<double>{{0, 1}, 5, 1.0}), Error);
+  EXPECT_TRUE(w.custom<host::Distance<double>>().empty());
+  w.add_custom(host::Distance<double>{{0, 1}, 0, 1.0});
+  EXPECT_THROW(World<float>{w}, Error) << "a host type cannot be converted to another precision";
+}
+
+TEST(HostArena, RunsInsideTheCallersArenaAndGivesTheSameBitsOnOneAndTwoThreads) {
+  auto make = [] {
+    World<double> w = cloth(12);
+    const Index set = w.add_constraint_set(Stiffness::pbd_k(0.5));
+    for (Index i = 0; i < 144; i += 5) w.add_custom(host::HeightConstraint<double>{{i}, set, 0.8});
+    return w;
+  };
+  World<double> one = make(), two = make();
+  host::widest_arena = 0;
+  tbb::task_arena(1).execute([&] {
+    for (int s = 0; s < 20; ++s) one.step();
+  });
+  EXPECT_EQ(host::widest_arena.load(), 1) << "the solver left the host's one-thread arena";
+  host::widest_arena = 0;
+  tbb::task_arena(2).execute([&] {
+    for (int s = 0; s < 20; ++s) two.step();
+  });
+  EXPECT_EQ(host::widest_arena.load(), 2);
+  EXPECT_EQ(state(one), state(two));
+}
+
+TEST(StepStatistics, PhasesSweepsColorsAndViolation) {
+  World<double> w = cloth(10);
+  StepParams<double> p = w.params();
+  p.substeps = 2;
+  p.iterations = 7;
+  w.set_params(p);
+  w.add_plane({0, 0, 1}, 0.5);
+  w.set_measure_violation(true);
+  for (int s = 0; s < 30; ++s) w.step();
+  const StepStats& st = w.last_step_stats();
+  EXPECT_EQ(st.substeps, 2);
+  EXPECT_EQ(st.sweeps, 14);
+  EXPECT_EQ(st.colors, w.colored_constraints().num_colors());
+  EXPECT_GT(st.colors, 0u);
+  EXPECT_GT(st.collisions, 0u);
+  EXPECT_GE(st.seconds, st.seconds_solve);
+  EXPECT_GE(st.seconds_solve, 0.0);
+  ASSERT_EQ(st.violation.size(), 2u);
+  EXPECT_EQ(st.violation[0].name, "stretch");
+  EXPECT_EQ(st.violation[0].count, w.constraints().stretch.size());
+  EXPECT_GT(st.violation[0].max, 0.0);
+  EXPECT_GE(st.violation[0].max, st.violation[0].rms);
+  EXPECT_EQ(st.violation[1].name, "collision");
+  EXPECT_LT(st.violation[1].max, 1e-9);
+  w.set_measure_violation(false);
+  w.step();
+  EXPECT_TRUE(w.last_step_stats().violation.empty());
+}
+
+}  // namespace
+}  // namespace pbd
