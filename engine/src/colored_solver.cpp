@@ -18,8 +18,8 @@ template <class Real>
 void ColoredSolver<Real>::build(const ConstraintArrays<Real>& constraints, const VectorX<Real>& w,
                                 const coloring::Options& options, CustomTypes<Real>& custom) {
   colored_ = color_constraints(constraints, w, options);
-  const auto fixed = pinned_flags(w);
-  for (const auto& t : custom.types()) t->color(fixed, options);
+  fixed_ = pinned_flags(w);
+  for (const auto& t : custom.types()) t->color(fixed_, options);
   num_particles_ = Index(w.size());
   count_static(custom);
   partitioners_.clear();
@@ -42,17 +42,30 @@ template <class Real>
 void ColoredSolver<Real>::update(const ConstraintArrays<Real>& constraints, const VectorX<Real>& w,
                                  const coloring::Options& options, CustomTypes<Real>& custom) {
   if (!built_) return build(constraints, w, options, custom);
-  const auto fixed = pinned_flags(w);
+  for (Index i = num_particles_; i < Index(w.size()); ++i) fixed_.push_back(w[i] == Real(0));  // added particles
+  const auto& fixed = fixed_;
+  num_particles_ = Index(w.size());
+  static_count_.resize(num_particles_, 0);  // particles added since: nothing touches them yet
   bool ok = true;
   colored_.zip(constraints, [&](const auto& items, auto& arr) {
-    if (ok && arr.color.size() != items.size()) ok = color_appended(arr, items, fixed);
+    const std::size_t first = arr.color.size();
+    if (!ok || first == items.size()) return;
+    ok = color_appended(arr, items, fixed);
+    for (std::size_t i = first; ok && i < items.size(); ++i)
+      for (Index k : items[i].particles) ++static_count_[k];
   });
+  bool custom_changed = false;
   for (const auto& t : custom.types())
-    if (ok && !t->colored_up_to_date()) ok = t->color_appended(fixed);
+    if (ok && !t->colored_up_to_date()) {
+      ok = t->color_appended(fixed);
+      custom_changed = true;
+    }
   if (!ok) return build(constraints, w, options, custom);
-  colored_.volume = constraints.volume;  // each volume constraint is its own color: nothing to color
-  num_particles_ = Index(w.size());
-  count_static(custom);
+  if (colored_.volume.size() != constraints.volume.size()) {
+    colored_.volume = constraints.volume;  // each volume constraint is its own color: nothing to color
+    custom_changed = true;
+  }
+  if (custom_changed) count_static(custom);
 }
 
 template <class Real> void ColoredSolver<Real>::count_static(const CustomTypes<Real>& custom) {

@@ -179,6 +179,25 @@ TEST(Incremental, AddingConstraintsColorsOnlyTheNewOnesAndStaysDeterministic) {
   EXPECT_EQ(state(serial), state(two));
 }
 
+TEST(Incremental, RepeatedAndLargeAdditionsStayProper) {
+  World<double> w = cloth(16);
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<Index> pick(0, 255);
+  for (int round = 0; round < 6; ++round) {  // small rounds fill the tail colors, a big one forces a full recolor
+    const int count = round == 4 ? 400 : 10;
+    for (int k = 0; k < count; ++k) {
+      const Index a = pick(rng), b = pick(rng);
+      if (a != b) w.add_stretch(a, b, 0);
+    }
+    expect_proper(w);
+    const auto& c = w.colored_constraints().stretch;
+    ASSERT_EQ(c.items.size(), w.constraints().stretch.size());
+    for (std::size_t i = 0; i < c.new_index.size(); ++i)
+      ASSERT_EQ(c.items[c.new_index[i]].particles, w.constraints().stretch[i].particles) << i;
+    w.step();
+  }
+}
+
 TEST(Incremental, RemovingConstraintsKeepsTheOthersColors) {
   World<double> w = cloth(10);
   w.step();

@@ -21,6 +21,13 @@ template <class Constraint> struct ColoredArray {
   std::vector<Index> offsets;     ///< num_colors() + 1 entries
   std::vector<Index> new_index;   ///< insertion index → position in items (the old→new map)
   std::vector<Index> color;       ///< insertion index → its color
+  /// Constraints appended after the last full coloring live in "tail" colors after the others (color_appended):
+  /// tail_color is the first of them (kNoTail: none), tail_item the first appended insertion index, tail_used the
+  /// tail colors present at each particle (bit c = tail color tail_color + c).
+  static constexpr Index kNoTail = ~Index(0);
+  Index tail_color = kNoTail;               ///< first tail color
+  Index tail_item = 0;                      ///< first insertion index in the tail
+  std::vector<std::uint64_t> tail_used;     ///< per particle, tail colors in use
 
   /// Number of constraints.
   std::size_t size() const { return items.size(); }
@@ -81,6 +88,11 @@ template <class Constraint> void layout_by_color(ColoredArray<Constraint>& a, co
   }
   for (Index c = 0; c < used; ++c) a.offsets[c + 1] += a.offsets[c];
   std::vector<Index> next(a.offsets.begin(), a.offsets.end() - 1);
+  // Room for the tail that color_appended may add (at most 10%) without moving the arrays.
+  const std::size_t room = std::size_t(n) + n / 10 + 16;
+  a.items.reserve(room);
+  a.new_index.reserve(room);
+  a.color.reserve(room);
   a.items.resize(n);
   a.new_index.resize(n);
   for (Index i = 0; i < n; ++i) {
@@ -89,6 +101,8 @@ template <class Constraint> void layout_by_color(ColoredArray<Constraint>& a, co
     a.items[at] = items[i];
   }
   if (n == 0) a.offsets.clear();
+  a.tail_color = ColoredArray<Constraint>::kNoTail;  // everything is laid out as one: no tail any more
+  a.tail_used.clear();
 }
 
 /// Colors an array of fixed-arity constraints with graph_coloring and lays it out by color.
@@ -109,32 +123,50 @@ ColoredArray<Constraint> color_array(const std::vector<Constraint>& items, const
   return out;
 }
 
-/// Colors items[first, end) appended since `a` was laid out, first-fit against the colors already used at their
-/// particles (nothing else is recolored), then lays the array out again. Returns false, leaving `a` unchanged,
-/// if an item would need a color beyond the 64th: the caller then colors everything anew.
+/// Colors items[first, end) appended since `a` was last laid out, without touching the others: appended
+/// constraints go into "tail" colors after the existing ones, first fit among those tail colors only (different
+/// colors run one after the other, so a tail constraint may share particles with any earlier color). Work is
+/// proportional to the number of appended constraints (plus one per-particle table the first time). Returns false
+/// when the tail grows past 8 colors or 10% of the constraints: the caller then colors everything anew, which keeps
+/// the color count low.
 template <class Constraint>
 bool color_appended(ColoredArray<Constraint>& a, const std::vector<Constraint>& items,
                     const std::vector<std::uint8_t>& fixed) {
-  const std::size_t first = a.color.size();
-  std::vector<std::uint64_t> used(fixed.size(), 0);  // colors present at each particle
-  for (std::size_t i = 0; i < first; ++i) {
-    if (a.color[i] >= 64) return false;
-    for (Index p : items[i].particles)
-      if (!fixed[p]) used[p] |= std::uint64_t(1) << a.color[i];
+  constexpr Index kMaxTailColors = 8;
+  const Index first = Index(a.color.size()), n = Index(items.size());
+  if (a.tail_color == ColoredArray<Constraint>::kNoTail) {
+    a.tail_color = a.num_colors();
+    a.tail_item = first;
+    a.tail_used.assign(fixed.size(), 0);
   }
-  std::vector<Index> colors(a.color);
-  for (std::size_t i = first; i < items.size(); ++i) {
+  a.tail_used.resize(fixed.size(), 0);
+  if (std::size_t(n - a.tail_item) * 10 > std::size_t(n)) return false;
+  Index tail_colors = a.num_colors() - a.tail_color;
+  for (Index i = first; i < n; ++i) {
     std::uint64_t taken = 0;
     for (Index p : items[i].particles)
-      if (!fixed[p]) taken |= used[p];
-    if (taken == ~std::uint64_t(0)) return false;
+      if (!fixed[p]) taken |= a.tail_used[p];
     const Index c = Index(std::countr_one(taken));
+    if (c >= kMaxTailColors) return false;
     for (Index p : items[i].particles)
-      if (!fixed[p]) used[p] |= std::uint64_t(1) << c;
-    colors.push_back(c);
+      if (!fixed[p]) a.tail_used[p] |= std::uint64_t(1) << c;
+    a.color.push_back(a.tail_color + c);
+    tail_colors = std::max(tail_colors, c + 1);
   }
-  a.color.swap(colors);
-  layout_by_color(a, items);
+  // Lay out the tail only: its items by color, then insertion index, after the untouched colors.
+  a.offsets.resize(std::size_t(a.tail_color) + tail_colors + 1, 0);
+  if (a.tail_color == 0) a.offsets[0] = 0;
+  std::vector<Index> count(tail_colors, 0);
+  for (Index i = a.tail_item; i < n; ++i) ++count[a.color[i] - a.tail_color];
+  for (Index c = 0; c < tail_colors; ++c) a.offsets[a.tail_color + c + 1] = a.offsets[a.tail_color + c] + count[c];
+  std::vector<Index> next(a.offsets.begin() + a.tail_color, a.offsets.end() - 1);
+  a.items.resize(n);
+  a.new_index.resize(n);
+  for (Index i = a.tail_item; i < n; ++i) {
+    const Index at = next[a.color[i] - a.tail_color]++;
+    a.new_index[i] = at;
+    a.items[at] = items[i];
+  }
   return true;
 }
 

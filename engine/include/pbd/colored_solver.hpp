@@ -96,6 +96,7 @@ private:
   std::vector<CollisionConstraint<Real>> collision_scratch_;
   PartitionerPool partitioners_;  // one per color of the persistent types, then collisions, then the Jacobi update
   Index num_particles_ = 0;
+  std::vector<std::uint8_t> fixed_;  // pinned flags the coloring was made with (pins changing = full rebuild)
   std::vector<Index> static_count_;  // Jacobi: persistent constraints touching each particle
   std::vector<Index> count_;         // Jacobi: constraints touching each particle this sub-step (scratch)
   std::vector<Real> count_inv_;      // Jacobi: 1 / constraints touching each particle this sub-step
