@@ -1,0 +1,26 @@
+# Installs headers, libraries, the pbd program, the built-in scenes and a relocatable CMake package
+# (find_package(pbd) → pbd::engine, pbd::graph_coloring, with Eigen3 and TBB found for the consumer).
+include(GNUInstallDirs)
+include(CMakePackageConfigHelpers)
+
+set_target_properties(pbd_engine PROPERTIES EXPORT_NAME engine)
+set_target_properties(pbd_graph_coloring PROPERTIES EXPORT_NAME graph_coloring)
+install(TARGETS pbd_engine pbd_graph_coloring EXPORT pbdTargets
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
+  INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine/include/ ${PROJECT_SOURCE_DIR}/graph_coloring/include/
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/pbd/scenes)
+if(TARGET pbd)
+  install(TARGETS pbd RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endif()
+
+set(config_dir ${CMAKE_INSTALL_LIBDIR}/cmake/pbd)
+install(EXPORT pbdTargets NAMESPACE pbd:: DESTINATION ${config_dir})
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/pbdConfig.cmake.in
+  ${PROJECT_BINARY_DIR}/pbdConfig.cmake INSTALL_DESTINATION ${config_dir})
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/pbdConfigVersion.cmake COMPATIBILITY SameMinorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/pbdConfig.cmake ${PROJECT_BINARY_DIR}/pbdConfigVersion.cmake
+  DESTINATION ${config_dir})
