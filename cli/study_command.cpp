@@ -1,78 +1,150 @@
-// `pbd study`: for now, runs one scene with the serial reference solver and prints, per step, the wall time and
-// the stretch error reached (the full speed-vs-error study is issue 6).
+// `pbd study`: the speed-vs-error study. Runs scenes × substeps × iterations × solvers × threads; for each
+// combination measures the wall time per step (median and minimum of repeated runs after a warm-up) and the error
+// reached (constraint violations, distance from a converged reference, energy drift), and reports them as a table
+// on stdout, a JSON file and plots. Progress, with the estimated time left, goes to stderr.
 #include "commands.hpp"
-#include "pbd/metrics.hpp"
-#include "pbd/scene.hpp"
+#include "pbd/error.hpp"
+#include "study_environment.hpp"
+#include "study_options.hpp"
+#include "study_report.hpp"
+#include "study_runner.hpp"
+#include "study_scenes.hpp"
 
-#include <oneapi/tbb/task_arena.h>
-
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
 #include <memory>
-#include <vector>
 
 namespace pbd::cli {
 namespace {
 
-struct StudyOptions {
-  std::string scene = "cloth";
-  int steps = 0;  // 0: the scene's own
-  std::string precision = "float";
-  std::string solver = "serial";
-  int threads = 0;  // 0: the arena's default
+std::string clock_text(double seconds) {
+  const long s = long(seconds + 0.5);
+  char out[32];
+  if (s >= 3600) std::snprintf(out, sizeof out, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+  else std::snprintf(out, sizeof out, "%ld:%02ld", s / 60, s % 60);
+  return out;
+}
+
+// One unit of work: a reference or a combination of one scene.
+struct Task {
+  std::size_t scene = 0;
+  bool reference = false;
+  Combination combination;
+  double cost = 0.0;
 };
 
-template <class Real> void run(const Scene& scene, int steps, Solver solver) {
-  World<Real> world(scene.world);
-  StepParams<Real> params = world.params();
-  params.solver = solver;
-  world.set_params(params);
-  std::printf("# scene %s (%s), %u particles, %zu stretch constraints, precision %s\n", scene.name.c_str(),
-              scene.source.c_str(), world.num_particles(), world.constraints().stretch.size(),
-              sizeof(Real) == 4 ? "float" : "double");
-  std::printf("# solver %s on %d threads, dt %.6g s, %d substeps, %d iterations\n", std::string(name(solver)).c_str(),
-              tbb::this_task_arena::max_concurrency(), double(world.params().dt), world.params().substeps,
-              world.params().iterations);
-  std::printf("%6s %12s %14s %14s\n", "step", "ms", "rms_stretch", "max_stretch");
-  std::vector<double> ms;
-  for (int s = 1; s <= steps; ++s) {
-    const auto t0 = std::chrono::steady_clock::now();
-    world.step();
-    const auto t1 = std::chrono::steady_clock::now();
-    ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-    const Violation v = stretch_violation(world);
-    std::printf("%6d %12.4f %14.6e %14.6e\n", s, ms.back(), v.rms, v.max);
+std::vector<Task> plan_tasks(const StudyPlan& plan, const std::vector<Scene>& scenes) {
+  std::vector<Task> tasks;
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    const Scene& scene = scenes[i];
+    const int steps = plan.steps > 0 ? plan.steps : scene.steps;
+    for (int sub : plan.substeps) {
+      Task ref{i, true, Combination{plan.solvers.front(), 1, plan.reference_iterations, sub, steps, true}, 0.0};
+      ref.cost = estimated_reference_cost(scene, sub, steps, plan.reference_iterations);
+      tasks.push_back(ref);
+      for (int it : plan.iterations)
+        for (const StudySolver& solver : plan.solvers)
+          for (int t : plan.threads) {
+            if (!solver.threaded && t != plan.threads.front()) continue;  // one-thread solvers: once
+            Task task{i, false, Combination{solver, t, it, sub, steps, plan.double_precision}, 0.0};
+            task.cost = estimated_cost(scene, task.combination, plan.repeats, plan.reference_iterations);
+            tasks.push_back(task);
+          }
+    }
   }
-  std::sort(ms.begin(), ms.end());
-  const Violation v = stretch_violation(world);
-  std::printf("# median %.4f ms/step, min %.4f ms/step over %d steps; final stretch rms %.6e max %.6e\n",
-              ms[ms.size() / 2], ms.front(), steps, v.rms, v.max);
+  return tasks;
+}
+
+void write_json(const std::filesystem::path& file, const nlohmann::json& doc) {
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
+  std::ofstream f(file);
+  if (!(f << doc.dump(1) << "\n")) throw Error("--json: cannot write " + file.string());
+}
+
+void run_study(const StudyPlan& plan) {
+  nlohmann::json environment = study_environment();
+  std::vector<Scene> scenes;
+  for (const std::string& name : plan.scenes) scenes.push_back(load_study_scene(name));
+  const std::vector<Task> tasks = plan_tasks(plan, scenes);
+  double total_cost = 0.0, done_cost = 0.0;
+  for (const Task& t : tasks) total_cost += t.cost;
+  std::vector<Reference> references;
+  std::vector<Record> records;
+  const auto start = std::chrono::steady_clock::now();
+  const std::size_t combinations = tasks.size();
+  std::size_t index = 0;
+  for (const Task& task : tasks) {
+    ++index;
+    const Scene& scene = scenes[task.scene];
+    const Combination& c = task.combination;
+    char what[256];
+    if (task.reference) {
+      references.push_back(compute_reference(scene, c.substeps, c.steps, c.iterations));
+      const Reference& r = references.back();
+      std::snprintf(what, sizeof what, "%s reference (serial, double, %d iterations, %d substeps, %d steps): "
+                    "%.1f s; N/2 vs N iterations: %.1e per step, %.1e over the run", scene.name.c_str(), r.iterations,
+                    r.substeps, r.steps, r.seconds, r.step_convergence, r.trajectory_convergence);
+    } else {
+      records.push_back(run_combination(scene, c, references.back(), plan.repeats));
+      const Record& r = records.back();
+      std::snprintf(what, sizeof what, "%s %s %d thr %d it %d sub: %.4f ms/step, ref_error %.2e, rms_violation %.2e",
+                    r.scene.c_str(), r.solver.c_str(), r.threads, r.iterations, r.substeps, r.ms_per_step,
+                    r.ref_error, r.rms_violation);
+    }
+    done_cost += task.cost;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double left = done_cost > 0.0 ? elapsed * (total_cost - done_cost) / done_cost : 0.0;
+    std::fprintf(stderr, "pbd study: [%zu/%zu] %s (elapsed %s, about %s left)\n", index, combinations, what,
+                 clock_text(elapsed).c_str(), clock_text(left).c_str());
+  }
+  const std::vector<Dominance> dom = dominance(records);
+  print_table(std::cout, records, dom);
+  std::cout.flush();
+  environment["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  environment["machine"]["load_average_at_end"] = study_environment()["machine"]["load_average_at_start"];
+  std::filesystem::path json = plan.json;
+  if (json.empty() && !plan.plots.empty()) json = std::filesystem::path(plan.plots) / "study.json";
+  if (!json.empty()) {
+    write_json(json, report_json(plan, environment, references, records, dom));
+    std::fprintf(stderr, "pbd study: wrote %s\n", json.string().c_str());
+  }
+  if (!plan.plots.empty()) run_plot_script(json, plan.plots);
 }
 
 }  // namespace
 
 void add_study_command(CLI::App& app) {
-  auto opts = std::make_shared<StudyOptions>();
-  CLI::App* cmd = app.add_subcommand("study", "Run a scene and report time per step with the stretch error reached");
-  cmd->add_option("--scene", opts->scene, "Built-in scene name or scene JSON file")->capture_default_str();
-  cmd->add_option("--steps", opts->steps, "Number of steps (default: the scene's own)")->check(CLI::Range(1, 100000000));
-  cmd->add_option("--precision", opts->precision, "float or double")
-      ->check(CLI::IsMember({"float", "double"}))
+  auto o = std::make_shared<StudyOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "study", "The speed-vs-error study: time per step and error reached for scenes x solvers x threads x "
+               "iterations x substeps (table on stdout, JSON report, plots)");
+  cmd->add_option("--scene", o->scenes,
+                  "Built-in scene, cloth100/cloth300/cloth1000 (generated hanging cloth, for scaling) or a scene "
+                  "JSON file; repeatable or comma-separated (default: every built-in scene)");
+  cmd->add_option("--solvers", o->solvers, "Comma-separated: serial, serial-colored, colored, jacobi")
       ->capture_default_str();
-  cmd->add_option("--solver", opts->solver, "serial, serial-colored, colored or jacobi")
-      ->check(CLI::IsMember({"serial", "serial-colored", "colored", "jacobi"}))
+  cmd->add_option("--threads", o->threads, "Comma-separated thread counts (serial solvers run once, at the fewest)")
       ->capture_default_str();
-  cmd->add_option("--threads", opts->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
-  cmd->callback([opts] {
-    const Scene scene = load_scene_by_name(opts->scene);
-    const int steps = opts->steps > 0 ? opts->steps : scene.steps;
-    const Solver solver = *parse_solver(opts->solver);
-    tbb::task_arena arena(opts->threads > 0 ? opts->threads : tbb::task_arena::automatic);
-    arena.execute([&] {
-      if (opts->precision == "double") run<double>(scene, steps, solver);
-      else run<float>(scene, steps, solver);
-    });
+  cmd->add_option("--iterations", o->iterations, "Comma-separated iterations per substep")->capture_default_str();
+  cmd->add_option("--substeps", o->substeps, "Comma-separated substeps per step")->capture_default_str();
+  cmd->add_option("--steps", o->steps, "Steps per run (default: each scene's own)")->check(CLI::Range(1, 100000000));
+  cmd->add_option("--precision", o->precision, "float or double")->capture_default_str();
+  cmd->add_option("--repeats", o->repeats, "Timed runs per combination after the warm-up (default 5; --quick 1)")
+      ->check(CLI::Range(1, 1000));
+  cmd->add_option("--reference-iterations", o->reference_iterations,
+                  "Iterations per substep of the converged reference (serial, double; default 200; --quick 50)")
+      ->check(CLI::Range(2, 1000000));
+  cmd->add_option("--json", o->json, "Write the JSON report to FILE");
+  cmd->add_option("--plots", o->plots,
+                  "Write plots (PNG) to DIR with scripts/plot_study.py (and the JSON to DIR/study.json if no --json)");
+  cmd->add_flag("--quick", o->quick,
+                "Smoke test: iterations 1,4, 20 steps, 1 timed run, 50-iteration reference (explicit options win)");
+  cmd->callback([o, cmd] {
+    o->given_iterations = cmd->count("--iterations") > 0;
+    run_study(make_plan(*o));
   });
 }
 
