@@ -10,6 +10,8 @@ Writes into OUT_DIR (default: the JSON's folder):
                        violation
   thread_scaling.png   per scene: speed-up over the serial solver at the same iterations, against threads
   ns_per_projection.png  time per constraint projection against the number of constraints (scene size)
+  summary.md           the main table in Markdown: per scene and iteration count, ms per step and errors of each
+                       solver at its most threads, and the dominance check of the report
 """
 import json
 import math
@@ -173,7 +175,6 @@ def ns_per_projection(doc, out, ext):
     ax.set_xlabel("constraints in the scene")
     ax.set_ylabel("ns per constraint projection")
     ax.xaxis.set_minor_formatter(NullFormatter())
-    ax.yaxis.set_minor_formatter(NullFormatter())
     ax.set_title(f"Cost per projection at {top} iterations (ms/step ÷ constraints·substeps·iterations)", fontsize=9)
     ax.grid(True, which="both", alpha=0.25)
     ax.legend(fontsize=8)
@@ -181,6 +182,46 @@ def ns_per_projection(doc, out, ext):
     path = os.path.join(out, "ns_per_projection." + ext)
     fig.savefig(path, dpi=110)
     plt.close(fig)
+    return path
+
+
+def summary(doc, out, ext):
+    records = doc["records"]
+    lines = []
+    for scene in scenes_of(records):
+        rs = [r for r in records if r["scene"] == scene]
+        first = rs[0]
+        lines.append(f"**{scene}** ({first['particles']} particles, {first['constraints']} constraints, "
+                     f"{first['steps']} steps, {first['precision']})\n")
+        solvers = []
+        for r in rs:
+            if r["solver"] not in solvers:
+                solvers.append(r["solver"])
+        most = {s: max(r["threads"] for r in rs if r["solver"] == s) for s in solvers}
+        head = "| sub | iter | " + " | ".join(f"{label(s, most[s])}: ms/step, ref_error, rms_violation" for s in solvers)
+        lines.append(head + " |")
+        lines.append("|---|---|" + "---|" * len(solvers))
+        keys = sorted({(r["substeps"], r["iterations"]) for r in rs})
+        for sub, it in keys:
+            cells = []
+            for s in solvers:
+                m = [r for r in rs if r["solver"] == s and r["threads"] == most[s] and r["substeps"] == sub
+                     and r["iterations"] == it]
+                cells.append(f"{m[0]['ms_per_step']:.4g}, {m[0]['ref_error']:.2e}, {m[0]['rms_violation']:.2e}"
+                             if m else "-")
+            lines.append(f"| {sub} | {it} | " + " | ".join(cells) + " |")
+        lines.append("")
+    if doc.get("dominance"):
+        lines.append("| scene | substeps | error | serial points dominated by colored | not dominated at iterations |")
+        lines.append("|---|---|---|---|---|")
+        for d in doc["dominance"]:
+            n = d["serial_points"] - len(d["undominated_iterations"])
+            lines.append(f"| {d['scene']} | {d['substeps']} | {d['error']} | {n} of {d['serial_points']} "
+                         f"(colored on {d['threads']} threads) | "
+                         f"{', '.join(map(str, d['undominated_iterations'])) or '-'} |")
+    path = os.path.join(out, "summary.md")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
     return path
 
 
@@ -197,7 +238,7 @@ def main(argv):
         return 1
     out = args[1] if len(args) > 1 else (os.path.dirname(args[0]) or ".")
     os.makedirs(out, exist_ok=True)
-    for plot in (speed_error, thread_scaling, ns_per_projection):
+    for plot in (speed_error, thread_scaling, ns_per_projection, summary):
         print("plot_study.py: wrote", plot(doc, out, ext), file=sys.stderr)
     return 0
 
