@@ -61,7 +61,7 @@ template <class Real> World<Real> random_world(unsigned seed) {
   return w;
 }
 
-// Two inflating balls (stretch, bending, area, volume; 642 particles each, so several reduction blocks) and a cloth
+// Two inflating balls (stretch, bending, area, volume; 162 particles each, so two reduction blocks) and a cloth
 // with bending and area, over a plane.
 template <class Real> World<Real> mesh_world() {
   World<Real> w;
@@ -73,13 +73,13 @@ template <class Real> World<Real> mesh_world() {
   sets.pressure = {1.0, 2.0, 0.2};
   MeshBodyOptions o;
   o.origin = {0.0, 0.0, 0.5};
-  add_mesh(w, icosphere_mesh(3, 0.3), o, sets);
+  add_mesh(w, icosphere_mesh(2, 0.3), o, sets);
   o.origin = {0.7, 0.1, 0.6};
   o.pinned = {0, 5};
-  add_mesh(w, icosphere_mesh(3, 0.25), o, sets);
+  add_mesh(w, icosphere_mesh(2, 0.25), o, sets);
   sets.volume.reset();
   o.origin = {-1.0, -0.5, 1.0};
-  add_mesh(w, grid_mesh(12, 1.0), o, sets);
+  add_mesh(w, grid_mesh(8, 1.0), o, sets);
   w.add_plane(Vec3<Real>(0, 0, 1), Real(0.1));
   return w;
 }
