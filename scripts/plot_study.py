@@ -211,6 +211,15 @@ def summary(doc, out, ext):
                              if m else "-")
             lines.append(f"| {sub} | {it} | " + " | ".join(cells) + " |")
         lines.append("")
+    if doc.get("references"):
+        lines.append("| reference of | substeps | steps | iterations (N) | per step: N/2 vs N | whole run: N/2 vs N | "
+                     "its rms_violation | seconds |")
+        lines.append("|---|---|---|---|---|---|---|---|")
+        for ref in doc["references"]:
+            lines.append(f"| {ref['scene']} | {ref['substeps']} | {ref['steps']} | {ref['iterations']} | "
+                         f"{ref['step_convergence']:.1e} | {ref['trajectory_convergence']:.1e} | "
+                         f"{ref['rms_violation']:.2e} | {ref['seconds']:.1f} |")
+        lines.append("")
     if doc.get("dominance"):
         lines.append("| scene | substeps | error | serial points dominated by colored | not dominated at iterations |")
         lines.append("|---|---|---|---|---|")
