@@ -13,7 +13,7 @@ def main(path):
         parts = dict(p.split(":") for p in name.split("/")[1:] if ":" in p)
         kind = name.split("/")[0].replace("BM_", "").replace("Sweep", "").lower()
         key = (kind, int(parts["n"]), int(parts.get("threads", 1)))
-        med[key] = (b["ns_per_projection"] * 1e9, int(b["constraints"]), int(b["colors"]))
+        med[key] = (b["ns_per_projection"], int(b["constraints"]), int(b["colors"]))  # the counter is already ns
     ctx = data["context"]
     print(f"machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, date {ctx.get('date')}")
     print()
