@@ -33,10 +33,12 @@ inline bool correction(const Constraint& c, const Vec3<Real> (&p)[Constraint::kA
   return true;
 }
 
-/// Gauss-Seidel projection of one constraint in place on the predicted positions `p` (3×N, column-major)
-/// with inverse masses `w`; accumulates its λ. Pinned particles (w = 0) are never written.
+/// Computes the correction of one constraint from positions `p` (3×N, column-major) and inverse masses `w`,
+/// accumulates its λ and adds Δp to `out` (3×N) for its movable particles; pinned ones (w = 0) are never written.
+/// With out = p this is the Gauss-Seidel projection; with out = a separate buffer, the Jacobi accumulation.
 template <class Constraint, class Real>
-inline void project(const Constraint& c, Real* p, const Real* w, SolveCoefficients<Real> coeff, Real& lambda) {
+inline void project_into(const Constraint& c, const Real* p, const Real* w, SolveCoefficients<Real> coeff,
+                         Real& lambda, Real* out) {
   constexpr int n = Constraint::kArity;
   Vec3<Real> q[n];
   Real wi[n];
@@ -49,27 +51,21 @@ inline void project(const Constraint& c, Real* p, const Real* w, SolveCoefficien
   if (!correction(c, q, wi, coeff, lambda, dp, dlambda)) return;
   lambda += dlambda;
   for (int i = 0; i < n; ++i)
-    if (wi[i] != Real(0)) Eigen::Map<Vec3<Real>>(p + 3 * std::size_t(c.particles[i])) += dp[i];
+    if (wi[i] != Real(0)) Eigen::Map<Vec3<Real>>(out + 3 * std::size_t(c.particles[i])) += dp[i];
+}
+
+/// Gauss-Seidel projection of one constraint in place on the predicted positions `p`; accumulates its λ.
+template <class Constraint, class Real>
+inline void project(const Constraint& c, Real* p, const Real* w, SolveCoefficients<Real> coeff, Real& lambda) {
+  project_into(c, p, w, coeff, lambda, p);
 }
 
 /// Jacobi: adds the correction of constraint c, computed from the unchanged `p`, to `delta` (3 per particle) and
-/// accumulates its λ. Pinned particles get nothing.
+/// accumulates its λ.
 template <class Constraint, class Real>
 inline void accumulate(const Constraint& c, const Real* p, const Real* w, SolveCoefficients<Real> coeff, Real& lambda,
                        Real* delta) {
-  constexpr int n = Constraint::kArity;
-  Vec3<Real> q[n];
-  Real wi[n];
-  for (int i = 0; i < n; ++i) {
-    q[i] = Eigen::Map<const Vec3<Real>>(p + 3 * std::size_t(c.particles[i]));
-    wi[i] = w[c.particles[i]];
-  }
-  Vec3<Real> dp[n];
-  Real dlambda;
-  if (!correction(c, q, wi, coeff, lambda, dp, dlambda)) return;
-  lambda += dlambda;
-  for (int i = 0; i < n; ++i)
-    if (wi[i] != Real(0)) Eigen::Map<Vec3<Real>>(delta + 3 * std::size_t(c.particles[i])) += dp[i];
+  project_into(c, p, w, coeff, lambda, delta);
 }
 
 }  // namespace pbd
