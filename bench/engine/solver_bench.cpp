@@ -53,8 +53,9 @@ void BM_SerialSweep(benchmark::State& state) {
   set_counters(state, f, 0);
 }
 
-// Colored Gauss-Seidel (jacobi = false) or Jacobi (true) in an arena of `threads` threads.
-void colored_sweep(benchmark::State& state, bool jacobi) {
+// Colored Gauss-Seidel (jacobi = false) or Jacobi (true) in an arena of `threads` threads; `config` decides which
+// colors fork (default: those of at least 1024 constraints).
+void colored_sweep(benchmark::State& state, bool jacobi, const pbd::ParallelConfig& config = {}) {
   ClothFixture f(int(state.range(0)));
   const int threads = int(state.range(1));
   pbd::ColoredSolver<Real> solver;
@@ -63,7 +64,6 @@ void colored_sweep(benchmark::State& state, bool jacobi) {
   std::vector<pbd::CollisionConstraint<Real>> none;
   solver.begin_substep(none, 0.0, custom);
   const Real* w = f.world.inverse_masses().data();
-  const pbd::ParallelConfig config;
   tbb::task_arena arena(threads);
   arena.execute([&] {
     for (auto _ : state) {
@@ -78,11 +78,16 @@ void colored_sweep(benchmark::State& state, bool jacobi) {
 
 void BM_ColoredSweep(benchmark::State& state) { colored_sweep(state, false); }
 void BM_JacobiSweep(benchmark::State& state) { colored_sweep(state, true); }
+// Every color forks, however small: shows what the fork/join per color costs on small cloths (compare with
+// BM_ColoredSweep at the same size, where small colors run inline). counter fork_us_per_color = extra time per color.
+void BM_ColoredSweepAlwaysFork(benchmark::State& state) { colored_sweep(state, false, pbd::ParallelConfig{0, 16}); }
 
 }  // namespace
 
 BENCHMARK(BM_SerialSweep)->ArgName("n")->Arg(30)->Arg(100)->Arg(300)->Arg(1000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ColoredSweep)->ArgNames({"n", "threads"})->ArgsProduct({{30, 100, 300, 1000}, {1, 2}})
+    ->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ColoredSweepAlwaysFork)->ArgNames({"n", "threads"})->ArgsProduct({{30, 100}, {2}})
     ->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_JacobiSweep)->ArgNames({"n", "threads"})->ArgsProduct({{30, 100, 300, 1000}, {1, 2}})
     ->UseRealTime()->Unit(benchmark::kMicrosecond);
