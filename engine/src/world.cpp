@@ -2,6 +2,7 @@
 
 #include "message.hpp"
 #include "parallel_range.hpp"
+#include "pbd/metrics.hpp"
 #include "pbd/mesh.hpp"
 #include "pbd/serial_solver.hpp"
 
@@ -350,39 +351,10 @@ template <class Real> void World<Real>::substep(Real h, double time, const Real*
   stats_.seconds_solve += seconds(t3 - t2).count();
 }
 
-namespace {
-
-// Adds |C| of each constraint of `items` to a TypeViolation (inequalities count only when violated).
-template <class Constraint, class Real>
-TypeViolation violation_of(const char* name, const Constraint* items, std::size_t n, const Real* x) {
-  TypeViolation v{name, 0, 0.0, 0.0};
-  double sum2 = 0.0;
-  constexpr int k = Constraint::kArity;
-  for (std::size_t i = 0; i < n; ++i) {
-    Vec3<Real> q[k], grad[k];
-    for (int j = 0; j < k; ++j) q[j] = Eigen::Map<const Vec3<Real>>(x + 3 * std::size_t(items[i].particles[j]));
-    Real C = 0;
-    if (!evaluate(items[i], q, C, grad)) C = 0;
-    double e = std::abs(double(C));
-    if constexpr (Constraint::kInequality) e = C < Real(0) ? e : 0.0;
-    sum2 += e * e;
-    v.max = std::max(v.max, e);
-    ++v.count;
-  }
-  v.rms = v.count ? std::sqrt(sum2 / double(v.count)) : 0.0;
-  return v;
-}
-
-}  // namespace
-
 template <class Real> void World<Real>::measure_violation() {
-  const Real* x = x_.data();
-  constraints_.for_each([&](const auto& a) {
-    using C = typename std::decay_t<decltype(a)>::value_type;
-    if (!a.empty()) stats_.violation.push_back(violation_of(C::kName, a.data(), a.size(), x));
-  });
-  if (!collisions_.empty())
-    stats_.violation.push_back(violation_of("collision", collisions_.data(), collisions_.size(), x));
+  // The same normalized measures as the study's (metrics.hpp), so both report one definition of "violation".
+  for (const NamedViolation& v : constraint_violations(*this))
+    stats_.violation.push_back({v.type, v.value.count, v.value.rms, v.value.max});
 }
 
 template <class Real>

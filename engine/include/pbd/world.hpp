@@ -32,12 +32,13 @@ template <class Real> struct StepParams {
   Real jacobi_omega = 1;                     ///< Jacobi over-relaxation factor ω, in (0, 2)
 };
 
-/// Violation of one constraint type after a step: |C| in the type's own unit (inequalities: only when violated).
+/// Violation of one constraint type after a step, normalized as metrics.hpp defines it (relative stretch, angle
+/// error in radians, relative area and volume, penetration depth; anchors: distance to the target).
 struct TypeViolation {
   std::string name;        ///< the constraint type (kName), "volume" or "collision"
-  std::size_t count = 0;   ///< constraints measured
-  double rms = 0.0;        ///< root mean square of |C|
-  double max = 0.0;        ///< maximum |C|
+  std::size_t count = 0;   ///< items measured
+  double rms = 0.0;        ///< root mean square
+  double max = 0.0;        ///< maximum
 };
 
 /// What the last step() did and how long each phase took (wall-clock seconds, summed over sub-steps).
