@@ -31,7 +31,7 @@ bool ColoredSolver<Real>::up_to_date(const ConstraintArrays<Real>& constraints, 
                                      Index num_particles) const {
   if (!built_ || num_particles != num_particles_ || constraints.volume.size() != colored_.volume.size()) return false;
   bool same = true;
-  const_cast<ColoredConstraints<Real>&>(colored_).zip(constraints, [&](const auto& items, const auto& arr) {
+  colored_.zip(constraints, [&](const auto& items, const auto& arr) {
     same = same && arr.color.size() == items.size();
   });
   for (const auto& t : custom.types()) same = same && t->colored_up_to_date();
@@ -82,6 +82,7 @@ template <class Real>
 void ColoredSolver<Real>::begin_substep(std::vector<CollisionConstraint<Real>>& collisions, double time,
                                         CustomTypes<Real>& custom) {
   for (const auto& t : custom.types()) t->reset_lambda();
+  counts_ready_ = false;
   volume_.set_targets(colored_.volume, time);
   // Collisions arrive particle by particle; the k-th collision of a particle gets color k (stable counting sort).
   const Index n = Index(collisions.size());
@@ -140,9 +141,12 @@ void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>
     delta_.resize(3 * std::size_t(n));
   }
   // Constraints touching each particle in this sub-step (persistent ones plus its collisions).
-  count_.assign(static_count_.begin(), static_count_.end());
-  for (const auto& c : collisions) ++count_[c.particles[0]];
-  for (Index i = 0; i < n; ++i) count_inv_[i] = count_[i] ? Real(1) / Real(count_[i]) : Real(0);
+  if (!counts_ready_) {  // once per sub-step, not per sweep: only the sub-step's collisions change the counts
+    count_.assign(static_count_.begin(), static_count_.end());
+    for (const auto& c : collisions) ++count_[c.particles[0]];
+    for (Index i = 0; i < n; ++i) count_inv_[i] = count_[i] ? Real(1) / Real(count_[i]) : Real(0);
+    counts_ready_ = true;
+  }
   std::fill(delta_.begin(), delta_.end(), Real(0));
   Real* delta = delta_.data();
   std::size_t part = 0;

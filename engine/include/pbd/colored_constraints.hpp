@@ -51,11 +51,14 @@ template <class Real> struct ColoredConstraints {
     f(area);
   }
   /// Calls f(insertion_array, colored_array) for each fixed-arity type of `c`, in solver order.
-  template <class F> void zip(const ConstraintArrays<Real>& c, F&& f) {
-    f(c.stretch, stretch);
-    f(c.anchor, anchor);
-    f(c.bending, bending);
-    f(c.area, area);
+  template <class F> void zip(const ConstraintArrays<Real>& c, F&& f) { zip_arrays(*this, c, f); }
+  /// Read-only zip, for comparing the colored copy with the insertion arrays.
+  template <class F> void zip(const ConstraintArrays<Real>& c, F&& f) const { zip_arrays(*this, c, f); }
+  template <class Self, class F> static void zip_arrays(Self& self, const ConstraintArrays<Real>& c, F& f) {
+    f(c.stretch, self.stretch);
+    f(c.anchor, self.anchor);
+    f(c.bending, self.bending);
+    f(c.area, self.area);
   }
   /// Total number of colors over all types (one per volume constraint).
   Index num_colors() const {

@@ -99,6 +99,7 @@ private:
   std::vector<std::uint8_t> fixed_;  // pinned flags the coloring was made with (pins changing = full rebuild)
   std::vector<Index> static_count_;  // Jacobi: persistent constraints touching each particle
   std::vector<Index> count_;         // Jacobi: constraints touching each particle this sub-step (scratch)
+  bool counts_ready_ = false;        // Jacobi: count_inv_ is up to date for this sub-step
   std::vector<Real> count_inv_;      // Jacobi: 1 / constraints touching each particle this sub-step
   std::vector<Real> delta_;          // Jacobi: accumulated corrections, 3 per particle
   VolumeScratch<Real> volume_;       // volume targets, gradients and block sums
