@@ -74,6 +74,25 @@ template <class Real>
 ColoredConstraints<Real> color_constraints(const ConstraintArrays<Real>& c, const VectorX<Real>& inverse_masses,
                                            const coloring::Options& options);
 
+/// Places items[first_item, end) into a.items grouped by their colors (all in [first_color, first_color + colors)),
+/// by insertion index within a color, starting at a.offsets[first_color]; sets the offsets after it and new_index.
+template <class Constraint>
+void place_by_color(ColoredArray<Constraint>& a, const std::vector<Constraint>& items, Index first_item,
+                    Index first_color, Index colors) {
+  const Index n = Index(items.size());
+  std::vector<Index> count(colors, 0);
+  for (Index i = first_item; i < n; ++i) ++count[a.color[i] - first_color];
+  for (Index c = 0; c < colors; ++c) a.offsets[first_color + c + 1] = a.offsets[first_color + c] + count[c];
+  std::vector<Index> next(a.offsets.begin() + first_color, a.offsets.begin() + first_color + colors);
+  a.items.resize(n);
+  a.new_index.resize(n);
+  for (Index i = first_item; i < n; ++i) {
+    const Index at = next[a.color[i] - first_color]++;
+    a.new_index[i] = at;
+    a.items[at] = items[i];
+  }
+}
+
 /// Lays `items` out by the colors in a.color (one per item, insertion order): items grouped by color, by
 /// insertion index within a color; colors left empty are dropped and the others renumbered in order.
 template <class Constraint> void layout_by_color(ColoredArray<Constraint>& a, const std::vector<Constraint>& items) {
@@ -84,25 +103,14 @@ template <class Constraint> void layout_by_color(ColoredArray<Constraint>& a, co
   for (Index c : a.color) ++count[c];
   Index used = 0;
   for (Index c = 0; c < colors; ++c) renumber[c] = count[c] ? used++ : 0;
-  a.offsets.assign(std::size_t(used) + 1, 0);
-  for (Index& c : a.color) {
-    c = renumber[c];
-    ++a.offsets[c + 1];
-  }
-  for (Index c = 0; c < used; ++c) a.offsets[c + 1] += a.offsets[c];
-  std::vector<Index> next(a.offsets.begin(), a.offsets.end() - 1);
+  for (Index& c : a.color) c = renumber[c];
   // Room for the tail that color_appended may add (at most 10%) without moving the arrays.
   const std::size_t room = std::size_t(n) + n / 10 + 16;
   a.items.reserve(room);
   a.new_index.reserve(room);
   a.color.reserve(room);
-  a.items.resize(n);
-  a.new_index.resize(n);
-  for (Index i = 0; i < n; ++i) {
-    const Index at = next[a.color[i]]++;
-    a.new_index[i] = at;
-    a.items[at] = items[i];
-  }
+  a.offsets.assign(std::size_t(used) + 1, 0);
+  place_by_color(a, items, 0, 0, used);
   if (n == 0) a.offsets.clear();
   a.tail_color = ColoredArray<Constraint>::kNoTail;  // everything is laid out as one: no tail any more
   a.tail_used.clear();
@@ -158,18 +166,7 @@ bool color_appended(ColoredArray<Constraint>& a, const std::vector<Constraint>& 
   }
   // Lay out the tail only: its items by color, then insertion index, after the untouched colors.
   a.offsets.resize(std::size_t(a.tail_color) + tail_colors + 1, 0);
-  if (a.tail_color == 0) a.offsets[0] = 0;
-  std::vector<Index> count(tail_colors, 0);
-  for (Index i = a.tail_item; i < n; ++i) ++count[a.color[i] - a.tail_color];
-  for (Index c = 0; c < tail_colors; ++c) a.offsets[a.tail_color + c + 1] = a.offsets[a.tail_color + c] + count[c];
-  std::vector<Index> next(a.offsets.begin() + a.tail_color, a.offsets.end() - 1);
-  a.items.resize(n);
-  a.new_index.resize(n);
-  for (Index i = a.tail_item; i < n; ++i) {
-    const Index at = next[a.color[i] - a.tail_color]++;
-    a.new_index[i] = at;
-    a.items[at] = items[i];
-  }
+  place_by_color(a, items, a.tail_item, a.tail_color, tail_colors);
   return true;
 }
 
