@@ -36,8 +36,8 @@ bool evaluate(const HeightConstraint<Real>& c, const pbd::Vec3<Real> (&p)[1], Re
   return true;
 }
 
-// A host's own distance constraint: the same maths as the built-in stretch constraint (including the optional
-// kUnitGradients promise, so the projection takes the same arithmetic path).
+// A host's own distance constraint: the same maths as the built-in stretch constraint, including stretch's own
+// correction (a type may supply one, found by argument-dependent lookup, instead of the generic one).
 template <class Real> struct Distance {
   static constexpr const char* kName = "distance";
   static constexpr int kArity = 2;
@@ -50,6 +50,11 @@ template <class Real> struct Distance {
 template <class Real>
 bool evaluate(const Distance<Real>& c, const pbd::Vec3<Real> (&p)[2], Real& C, pbd::Vec3<Real> (&grad)[2]) {
   return evaluate(pbd::StretchConstraint<Real>{c.particles, c.set, c.rest}, p, C, grad);
+}
+template <class Real>
+bool correction(const Distance<Real>& c, const pbd::Vec3<Real> (&p)[2], const Real (&w)[2],
+                pbd::SolveCoefficients<Real> coeff, Real lambda, pbd::Vec3<Real> (&dp)[2], Real& dlambda) {
+  return correction(pbd::StretchConstraint<Real>{c.particles, c.set, c.rest}, p, w, coeff, lambda, dp, dlambda);
 }
 
 }  // namespace host
