@@ -26,9 +26,8 @@ def main(pbd, out):
     seconds = time.time() - start
     if run.returncode != 0:
         fail(f"pbd study --quick exited with {run.returncode}:\n{run.stderr}")
+    # Reported, not asserted: timings belong to benchmarks, and this test also runs under the sanitizers.
     print(f"pbd study --quick took {seconds:.1f} s")
-    if seconds > 30:
-        fail(f"--quick took {seconds:.1f} s (budget 30 s)")
     if "left)" not in run.stderr:
         fail("no progress lines with the time left on stderr")
     with open(report) as f:
