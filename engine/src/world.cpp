@@ -252,17 +252,34 @@ template <class Real> void World<Real>::advance(const Real* forces) {
     stats_.seconds_coloring = std::chrono::duration<double>(clock::now() - c0).count();
     stats_.colors = colored_.num_colors(custom_);
   }
-  for (int s = 0; s < params_.substeps; ++s) {
-    const double t = time_ + double(h) * double(s + 1);
-    const Real* f = forces;
-    if (force_callback_) {
-      callback_forces_.setZero(3, x_.cols());
-      force_callback_(t, x_, callback_forces_);
-      if (!callback_forces_.allFinite()) throw Error("step: the force callback returned a non-finite force");
-      if (forces) callback_forces_ += Eigen::Map<const Positions>(forces, 3, x_.cols());
-      f = callback_forces_.data();
+  // A force callback may fail at a later sub-step: keep the state it started from so nothing is half-stepped.
+  const bool rollback = force_callback_ && params_.substeps > 1;
+  if (rollback) {
+    rollback_x_ = x_;
+    rollback_v_ = v_;
+  }
+  try {
+    for (int s = 0; s < params_.substeps; ++s) {
+      const double t = time_ + double(h) * double(s + 1);
+      const Real* f = forces;
+      if (force_callback_) {
+        callback_forces_.setZero(3, x_.cols());
+        force_callback_(t, x_, callback_forces_);
+        for (Eigen::Index i = 0; i < callback_forces_.cols(); ++i)
+          if (!callback_forces_.col(i).allFinite())
+            throw Error(detail::message("step: the force callback returned a non-finite force on particle ", i,
+                                        " at sub-step ", s, " (t = ", t, " s); the step was not taken"));
+        if (forces) callback_forces_ += Eigen::Map<const Positions>(forces, 3, x_.cols());
+        f = callback_forces_.data();
+      }
+      substep(h, t, f);
     }
-    substep(h, t, f);
+  } catch (...) {
+    if (rollback) {
+      x_ = rollback_x_;  // copied back, not swapped: maps the host holds on positions() stay valid
+      v_ = rollback_v_;
+    }
+    throw;
   }
   time_ += double(params_.dt);
   stats_.substeps = params_.substeps;

@@ -1,10 +1,12 @@
 // Bad input to the World API: a pbd::Error naming the offending item, and the world left unchanged.
+#include "pbd/mesh_generators.hpp"
 #include "pbd/world.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
+#include <stdexcept>
 
 namespace pbd {
 namespace {
@@ -27,6 +29,9 @@ struct Fixture {
     EXPECT_EQ(w.constraints().sets.size(), before.constraints().sets.size());
     EXPECT_EQ(w.constraints().stretch.size(), before.constraints().stretch.size());
     EXPECT_EQ(w.constraints().anchor.size(), before.constraints().anchor.size());
+    EXPECT_EQ(w.constraints().bending.size(), before.constraints().bending.size());
+    EXPECT_EQ(w.constraints().area.size(), before.constraints().area.size());
+    EXPECT_EQ(w.constraints().volume.size(), before.constraints().volume.size());
     EXPECT_EQ(w.colliders().planes.size(), before.colliders().planes.size());
     EXPECT_EQ(w.colliders().spheres.size(), before.colliders().spheres.size());
     EXPECT_EQ(w.params().dt, before.params().dt);
@@ -121,6 +126,124 @@ TEST(WorldErrors, ValidCallsStillWorkAfterARejectedOne) {
   EXPECT_THROW(f.w.add_stretch(0, 0, 0), Error);
   EXPECT_EQ(f.w.add_stretch(0, 2, 0), 1u);
   EXPECT_EQ(f.w.add_particle({1, 1, 1}, 1.0), 3u);
+}
+
+// A closed dodecahedron mesh after the 3 fixture particles, with one stretch and one
+// volume constraint on it: the world for bending, area, volume and removal errors.
+struct MeshFixture : Fixture {
+  std::vector<std::array<Index, 3>> tris;
+  MeshFixture() {
+    const TriangleMesh m = dodecahedron_mesh(1.0);
+    w.add_particles(m.positions, Eigen::VectorXd::Ones(m.num_vertices()));
+    for (const auto& t : m.triangles) tris.push_back({t[0] + 3, t[1] + 3, t[2] + 3});
+    w.add_volume(tris, 0);
+  }
+};
+
+// As expect_rejected, on the mesh fixture.
+void expect_rejected_mesh(const std::function<void(World<double>&, const MeshFixture&)>& bad,
+                          std::initializer_list<const char*> words) {
+  MeshFixture f;
+  const World<double> before = f.w;
+  try {
+    bad(f.w, f);
+    ADD_FAILURE() << "no pbd::Error thrown";
+  } catch (const Error& e) {
+    for (const char* word : words) EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
+  }
+  f.expect_unchanged(before);
+}
+
+TEST(WorldErrors, BadBendingConstraints) {
+  using F = const MeshFixture&;
+  expect_rejected_mesh([](auto& w, F) { w.add_bending(0, 1, 3, 99, 0); }, {"bending", "99"});
+  expect_rejected_mesh([](auto& w, F) { w.add_bending(3, 4, 4, 5, 0); }, {"bending", "twice"});
+  expect_rejected_mesh([](auto& w, F) { w.add_bending(3, 4, 5, 6, 0, nan); }, {"bending", "rest"});
+  expect_rejected_mesh([](auto& w, F) { w.add_bending(0, 1, 3, 4, 9); }, {"bending", "set 9"});
+}
+
+TEST(WorldErrors, BadAreaConstraints) {
+  using F = const MeshFixture&;
+  expect_rejected_mesh([](auto& w, F) { w.add_area(3, 4, 99, 0); }, {"area", "99"});
+  expect_rejected_mesh([](auto& w, F) { w.add_area(3, 3, 4, 0); }, {"area", "twice"});
+  expect_rejected_mesh([](auto& w, F) { w.add_area(3, 4, 5, 0, -1.0); }, {"area", "rest"});
+  expect_rejected_mesh([](auto& w, F) { w.add_area(3, 4, 5, 0, inf); }, {"area", "rest"});
+}
+
+TEST(WorldErrors, BadVolumeConstraints) {
+  using F = const MeshFixture&;
+  expect_rejected_mesh([](auto& w, F f) {  // one triangle missing: open
+    w.add_volume(std::span(f.tris).subspan(1), 0);
+  }, {"volume", "edge"});
+  expect_rejected_mesh([](auto& w, F f) {  // one triangle flipped: inconsistent orientation
+    auto t = f.tris;
+    std::swap(t[0][1], t[0][2]);
+    w.add_volume(t, 0);
+  }, {"volume", "edge"});
+  expect_rejected_mesh([](auto& w, F f) {
+    auto t = f.tris;
+    t[5][0] = 77;
+    w.add_volume(t, 0);
+  }, {"volume", "77"});
+  expect_rejected_mesh([](auto& w, F f) { w.add_volume(f.tris, 0, {}, nan); }, {"volume", "rest"});
+  expect_rejected_mesh([](auto& w, F f) { w.add_volume(f.tris, 0, {1.0, 2.0, -1.0}); }, {"volume", "duration"});
+  expect_rejected_mesh([](auto& w, F f) { w.add_volume(f.tris, 0, {1.0, nan, 1.0}); }, {"volume", "pressure"});
+  expect_rejected_mesh([](auto& w, F f) { w.add_volume(f.tris, 0, {1.0, -2.0, 1.0}); }, {"volume", "pressure"});
+  expect_rejected_mesh([](auto& w, F f) {  // inside out: every triangle flipped
+    auto t = f.tris;
+    for (auto& tri : t) std::swap(tri[1], tri[2]);
+    w.add_volume(t, 0);
+  }, {"volume"});
+}
+
+TEST(WorldErrors, BadRemovalsChangeNothing) {
+  using F = const MeshFixture&;
+  expect_rejected_mesh([](auto& w, F) { w.remove_stretch(std::vector<Index>{1}); }, {"stretch", "1"});
+  expect_rejected_mesh([](auto& w, F) { w.remove_stretch(std::vector<Index>{0, 0}); }, {"stretch", "0", "twice"});
+  expect_rejected_mesh([](auto& w, F) { w.remove_anchor(std::vector<Index>{0}); }, {"anchor", "0"});
+  expect_rejected_mesh([](auto& w, F) { w.remove_bending(std::vector<Index>{3}); }, {"bending", "3"});
+  expect_rejected_mesh([](auto& w, F) { w.remove_area(std::vector<Index>{2}); }, {"area", "2"});
+  expect_rejected_mesh([](auto& w, F) { w.remove_particle(99); }, {"particle", "99"});
+  expect_rejected_mesh([](auto& w, F) { w.remove_particle(5); }, {"particle 5", "volume"});
+}
+
+TEST(WorldErrors, BadExternalForces) {
+  expect_rejected([](auto& w) { w.step(Matrix3X<double>::Zero(3, 2)); }, {"forces", "2", "3"});
+  expect_rejected([](auto& w) {
+    Matrix3X<double> f = Matrix3X<double>::Zero(3, 3);
+    f(2, 1) = nan;
+    w.step(f);
+  }, {"force", "particle 1"});
+  expect_rejected([](auto& w) {
+    w.set_force_callback([](double, Eigen::Ref<const Matrix3X<double>>, Eigen::Ref<Matrix3X<double>> f) { f(0, 0) = inf; });
+    w.step();
+  }, {"force", "particle 0"});
+}
+
+// The callback fails at the third of four sub-steps (a non-finite force, or an exception of the host's own): the
+// sub-steps already taken are undone, so the world is as it was before step().
+TEST(WorldErrors, ForceCallbackFailingAtALaterSubStepUndoesTheStep) {
+  for (const bool host_exception : {false, true}) {
+    Fixture f;
+    StepParams<double> p = f.w.params();
+    p.substeps = 4;
+    f.w.set_params(p);
+    f.w.step();  // moving, so an undone sub-step would show
+    int calls = 0;
+    f.w.set_force_callback([&](double, Eigen::Ref<const Matrix3X<double>>, Eigen::Ref<Matrix3X<double>> force) {
+      if (++calls == 3) {
+        if (host_exception) throw std::runtime_error("host failure");
+        force(1, 1) = nan;
+      }
+    });
+    const World<double> before = f.w;
+    const double t = f.w.time();
+    if (host_exception) EXPECT_THROW(f.w.step(), std::runtime_error);
+    else EXPECT_THROW(f.w.step(), Error);
+    EXPECT_EQ(calls, 3);
+    f.expect_unchanged(before);
+    EXPECT_EQ(f.w.time(), t);
+  }
 }
 
 TEST(World, ConvertsBetweenPrecisions) {

@@ -135,7 +135,8 @@ public:
   void step();
   /// step() with external forces (N, 3×N, one column per particle) applied during the whole step: v += h·w·f.
   void step(Eigen::Ref<const Positions> forces);
-  /// Called at every sub-step with the time and positions; fills `forces` (3×N, zeroed before each call).
+  /// Called at every sub-step with the time and positions; fills `forces` (3×N, zeroed before each call). If it
+  /// throws or gives a non-finite force, step() throws and the world is left as it was before the step.
   using ForceCallback = std::function<void(double time, Eigen::Ref<const Positions> x, Eigen::Ref<Positions> forces)>;
   /// Sets (or with an empty function clears) the force callback used by step().
   void set_force_callback(ForceCallback callback) { force_callback_ = std::move(callback); }
@@ -197,6 +198,7 @@ private:
   CustomTypes<Real> custom_;  ///< user-defined constraint types
   ForceCallback force_callback_;
   Positions callback_forces_;  ///< scratch filled by the force callback
+  Positions rollback_x_, rollback_v_;  ///< state at the start of a step with a callback and sub-steps (restored if it throws)
   StepStats stats_;
   bool measure_violation_ = false;
   coloring::Options coloring_;
