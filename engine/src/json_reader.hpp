@@ -6,11 +6,24 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cstddef>
 #include <limits>
 #include <string>
 #include <vector>
 
 namespace pbd::detail {
+
+/// Parses JSON text strictly: a syntax error, a non-finite number (1e400), a key given twice in one object or nesting
+/// deeper than kMaxJsonDepth is a pbd::Error naming `file` and the line and column, or the key (JSON Pointer).
+nlohmann::json parse_json(const std::string& text, const std::string& file);
+inline constexpr std::size_t kMaxJsonDepth = 64;
+
+/// `s` in double quotes for a message: control characters escaped, cut to 64 bytes.
+std::string quoted(const std::string& s);
+/// `key` as one JSON Pointer token ("~" and "/" escaped as RFC 6901 says), cut to 64 bytes.
+std::string pointer_token(const std::string& key);
+/// A short description of `v` for a message: scalars as written (strings quoted), containers by type.
+std::string describe(const nlohmann::json& v);
 
 class JsonObject {
 public:
@@ -36,7 +49,7 @@ public:
 
   [[noreturn]] void fail(const std::string& key, const std::string& what) const;  ///< error at path/key
   const std::string& file() const { return file_; }
-  std::string path(const std::string& key) const { return path_ + "/" + key; }
+  std::string path(const std::string& key) const { return path_ + "/" + pointer_token(key); }
 
 private:
   const nlohmann::json& at(const std::string& key) const;

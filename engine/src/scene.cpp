@@ -8,9 +8,12 @@
 #include "pbd/obj_loader.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 
 #ifndef PBD_SOURCE_SCENE_DIR
 #define PBD_SOURCE_SCENE_DIR ""
@@ -27,7 +30,30 @@ using detail::kInf;
 using detail::message;
 
 constexpr std::uintmax_t kMaxSceneBytes = 64u << 20;  // a scene file names generators, not meshes: 64 MiB is plenty
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+constexpr long kMaxParticles = 100'000;  // fuzz builds (tests/fuzz): every accepted input stays small and fast
+#else
 constexpr long kMaxParticles = 50'000'000;
+#endif
+
+// Throws unless a body of `count` particles still fits in the scene's particle limit: checked before anything is
+// generated, so a huge resolution is refused instead of allocated.
+void check_particle_budget(const JsonObject& o, const std::string& key, const World<double>& world,
+                           std::uint64_t count) {
+  const std::uint64_t have = world.num_particles();
+  if (count > std::uint64_t(kMaxParticles) - std::min(have, std::uint64_t(kMaxParticles)))
+    o.fail(key, message("this body has ", count, " particles; with the ", have, " before it the scene would exceed its "
+                        "limit of ", kMaxParticles, " particles"));
+}
+
+// A direction or normal: non-zero and of finite length.
+Eigen::Vector3d direction(const JsonObject& o, const std::string& key, const std::array<double, 3>& a) {
+  const Eigen::Vector3d v(a[0], a[1], a[2]);
+  const double length = v.norm();
+  if (!(length > 0.0) || !std::isfinite(length))
+    o.fail(key, length > 0.0 ? "is too long (its length overflows)" : "must not be the zero vector (or too short)");
+  return v;
+}
 
 Eigen::Vector3d vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
@@ -95,25 +121,33 @@ MeshConstraintSets read_surface_sets(const JsonObject& body, World<double>& worl
   return sets;
 }
 
-// "generator": {"type": "grid" | "dodecahedron" | "icosphere" | "tube", parameters...}.
-TriangleMesh read_generator(const JsonObject& g) {
+// "generator": {"type": "grid" | "dodecahedron" | "icosphere" | "tube", parameters...}; its vertex count is checked
+// against the particles the scene has left before the mesh is made.
+TriangleMesh read_generator(const JsonObject& g, const World<double>& world) {
   const std::string type = g.string("type");
   TriangleMesh m;
   if (type == "grid") {
-    m = grid_mesh(int(g.integer("resolution", 2, 4096)), g.number("size", 1e-6, 1e6, 1.0));
+    const long n = g.integer("resolution", 2, 4096);
+    check_particle_budget(g, "resolution", world, std::uint64_t(n) * std::uint64_t(n));
+    m = grid_mesh(int(n), g.number("size", 1e-6, 1e6, 1.0));
   } else if (type == "dodecahedron") {
+    check_particle_budget(g, "type", world, 32);
     m = dodecahedron_mesh(g.number("radius", 1e-6, 1e6, 1.0));
   } else if (type == "icosphere") {
     const int level = int(g.integer("level", 0, 8, 2));
+    check_particle_budget(g, "level", world, 10 * (std::uint64_t(1) << (2 * level)) + 2);
     m = icosphere_mesh(level, g.number("radius", 1e-6, 1e6, 1.0));
   } else if (type == "tube") {
     const int segments = int(g.integer("segments", 3, 100000, 16));
     const int rings = int(g.integer("rings", 2, 100000, 8));
     const double radius = g.number("radius", 1e-6, 1e6, 0.1);
     const double length = g.number("length", 1e-6, 1e6, 1.0);
-    m = tube_mesh(segments, rings, radius, length, g.boolean("capped", false));
+    const bool capped = g.boolean("capped", false);
+    check_particle_budget(g, "rings", world, std::uint64_t(segments) * std::uint64_t(rings) + (capped ? 2 : 0));
+    m = tube_mesh(segments, rings, radius, length, capped);
   } else {
-    g.fail("type", message("unknown generator \"", type, "\" (expected \"grid\", \"dodecahedron\", \"icosphere\" or \"tube\")"));
+    g.fail("type", message("unknown generator ", detail::quoted(type),
+                           " (expected \"grid\", \"dodecahedron\", \"icosphere\" or \"tube\")"));
   }
   g.reject_unknown_keys();
   return m;
@@ -125,14 +159,18 @@ Body read_mesh(const JsonObject& o, World<double>& world) {
   if (o.has("generator") == o.has("obj")) o.fail("generator", "give exactly one of \"generator\" and \"obj\"");
   TriangleMesh mesh;
   if (o.has("obj")) {
-    const std::filesystem::path file = std::filesystem::path(o.file()).parent_path() / o.string("obj");
+    const std::string name = o.string("obj");
+    if (name.empty()) o.fail("obj", "the file name is empty");
+    if (name.find('\0') != std::string::npos) o.fail("obj", "the file name contains a NUL character");
+    const std::filesystem::path file = std::filesystem::path(o.file()).parent_path() / name;
     try {
       mesh = load_obj(file);
     } catch (const Error& e) {
       o.fail("obj", e.what());
     }
+    check_particle_budget(o, "obj", world, mesh.num_vertices());
   } else {
-    mesh = read_generator(o.object("generator"));
+    mesh = read_generator(o.object("generator"), world);
   }
   MeshBodyOptions opts;
   opts.scale = o.number("scale", 1e-9, 1e9, 1.0);
@@ -157,6 +195,7 @@ Body read_mesh(const JsonObject& o, World<double>& world) {
 Body read_cloth(const JsonObject& o, World<double>& world) {
   ClothOptions c;
   c.resolution = int(o.integer("resolution", 2, 4096));
+  check_particle_budget(o, "resolution", world, std::uint64_t(c.resolution) * std::uint64_t(c.resolution));
   c.size = o.number("size", 1e-6, 1e6, c.size);
   c.mass = o.number("mass", 1e-12, 1e12, c.mass);
   c.origin = o.vec3("origin", c.origin);
@@ -164,7 +203,7 @@ Body read_cloth(const JsonObject& o, World<double>& world) {
   if (pin == "corners") c.pin = ClothPin::corners;
   else if (pin == "edge") c.pin = ClothPin::edge;
   else if (pin == "none") c.pin = ClothPin::none;
-  else o.fail("pin", message("expected \"corners\", \"edge\" or \"none\", got \"", pin, "\""));
+  else o.fail("pin", message("expected \"corners\", \"edge\" or \"none\", got ", detail::quoted(pin)));
   const std::optional<Index> stretch = read_stretch_set(o, world);
   const MeshConstraintSets sets = read_surface_sets(o, world, false);
   Body body = add_cloth(world, c, stretch);
@@ -175,12 +214,13 @@ Body read_cloth(const JsonObject& o, World<double>& world) {
 Body read_rope(const JsonObject& o, World<double>& world) {
   RopeOptions r;
   r.particles = int(o.integer("particles", 2, kMaxParticles));
+  check_particle_budget(o, "particles", world, std::uint64_t(r.particles));
   r.length = o.number("length", 1e-6, 1e6, r.length);
   r.mass = o.number("mass", 1e-12, 1e12, r.mass);
   r.end_mass = o.number("end_mass", 1e-12, 1e15, r.mass);
   r.origin = o.vec3("origin", r.origin);
   r.direction = o.vec3("direction", r.direction);
-  if (!(vec(r.direction).norm() > 0.0)) o.fail("direction", "must not be the zero vector");
+  direction(o, "direction", r.direction);
   return add_rope(world, r, read_stretch_set(o, world));
 }
 
@@ -189,7 +229,7 @@ Body read_rope(const JsonObject& o, World<double>& world) {
 Body read_particles(const JsonObject& o, World<double>& world) {
   const auto positions = o.array("positions");
   if (positions.empty()) o.fail("positions", "needs at least one particle");
-  if (long(positions.size()) > kMaxParticles) o.fail("positions", "too many particles");
+  check_particle_budget(o, "positions", world, positions.size());
   const Index n = Index(positions.size());
   Matrix3X<double> x(3, n);
   for (Index i = 0; i < n; ++i) x.col(i) = vec(detail::json_vec3(*positions[i].first, o.file(), positions[i].second));
@@ -233,29 +273,35 @@ void read_collider(const nlohmann::json& v, const std::string& file, const std::
   const JsonObject c(v, file, path);
   const std::string type = c.string("type");
   if (type == "plane") {
-    const Eigen::Vector3d n = vec(c.vec3("normal"));
-    if (!(n.norm() > 0.0)) c.fail("normal", "must not be the zero vector");
-    world.add_plane(n, c.number("offset", -kInf, kInf, 0.0) * n.norm());
+    const Eigen::Vector3d n = direction(c, "normal", c.vec3("normal"));
+    const double offset = c.number("offset", -kInf, kInf, 0.0) * n.norm();  // n·x >= d with n not yet normalized
+    if (!std::isfinite(offset)) c.fail("offset", "offset × |normal| overflows");
+    world.add_plane(n, offset);
   } else if (type == "sphere") {
     world.add_sphere(vec(c.vec3("center")), c.number("radius", 1e-9, kInf));
   } else {
-    c.fail("type", message("unknown collider type \"", type, "\" (expected \"plane\" or \"sphere\")"));
+    c.fail("type", message("unknown collider type ", detail::quoted(type), " (expected \"plane\" or \"sphere\")"));
   }
   c.reject_unknown_keys();
+}
+
+// Runs `read` (reading the item at `path`); a pbd::Error from the engine underneath (World, generators) that does not
+// name the file yet gets the file and `path` in front, so every error says where it comes from.
+template <class Read> void at_path(const std::string& file, const std::string& path, Read&& read) {
+  try {
+    read();
+  } catch (const Error& e) {
+    if (std::string_view(e.what()).starts_with(file + ": ")) throw;
+    detail::json_fail(file, path, e.what());
+  }
 }
 
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source) {
-  nlohmann::json root;
-  try {
-    root = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // e.what() carries "parse error at line L, column C: ..."
-    std::string what = e.what();
-    const auto pos = what.find("parse error");
-    throw Error(message(source, ": ", pos == std::string::npos ? what : what.substr(pos)));
-  }
+  if (text.size() > kMaxSceneBytes)
+    throw Error(message(source, ": ", text.size(), " bytes, more than the ", kMaxSceneBytes, " a scene may have"));
+  const nlohmann::json root = detail::parse_json(text, source);
   const std::string& f = source;
   const JsonObject o(root, f, "");
   Scene scene;
@@ -270,24 +316,26 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   p.gravity = vec(o.vec3("gravity", {0.0, 0.0, -9.81}));
   p.damping = o.number("damping", 0.0, 1e6, 0.0);
   p.collision_margin = o.number("collision_margin", 0.0, 1e6, p.collision_margin);
-  scene.world.set_params(p);
+  at_path(f, "", [&] { scene.world.set_params(p); });
   for (const auto& [v, path] : o.array("bodies")) {
-    const JsonObject b(*v, f, path);
-    const std::string type = b.string("type");
-    Body body;
-    if (type == "cloth") body = read_cloth(b, scene.world);
-    else if (type == "rope") body = read_rope(b, scene.world);
-    else if (type == "particles") body = read_particles(b, scene.world);
-    else if (type == "mesh") body = read_mesh(b, scene.world);
-    else b.fail("type", message("unknown body type \"", type, "\" (expected \"cloth\", \"rope\", \"particles\" or \"mesh\")"));
-    read_anchors(b, scene.world, body);
-    b.reject_unknown_keys();
-    scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());
-    if (scene.world.num_particles() > Index(kMaxParticles))
-      b.fail("type", message("the scene exceeds ", kMaxParticles, " particles"));
+    at_path(f, path, [&, &v = v, &path = path] {
+      const JsonObject b(*v, f, path);
+      const std::string type = b.string("type");
+      Body body;
+      if (type == "cloth") body = read_cloth(b, scene.world);
+      else if (type == "rope") body = read_rope(b, scene.world);
+      else if (type == "particles") body = read_particles(b, scene.world);
+      else if (type == "mesh") body = read_mesh(b, scene.world);
+      else b.fail("type", message("unknown body type ", detail::quoted(type),
+                                  " (expected \"cloth\", \"rope\", \"particles\" or \"mesh\")"));
+      read_anchors(b, scene.world, body);
+      b.reject_unknown_keys();
+      scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());
+    });
   }
   if (o.has("colliders"))
-    for (const auto& [v, path] : o.array("colliders")) read_collider(*v, f, path, scene.world);
+    for (const auto& [v, path] : o.array("colliders"))
+      at_path(f, path, [&, &v = v, &path = path] { read_collider(*v, f, path, scene.world); });
   o.reject_unknown_keys();
   return scene;
 }

@@ -138,7 +138,7 @@ TEST_F(ObjFiles, BadFilesNameTheFileAndLine) {
   expect_error(write("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"), "range.obj:4");
   expect_error(write("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"), "out of range");
   expect_error(write("negative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n"), "out of range");
-  expect_error(write("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), "line 4");
+  expect_error(write("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), "zero.obj:4");
   expect_error(write("short.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n"), "short.obj:3");
   expect_error(write("nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n"), "nan.obj:2");
   expect_error(write("inf.obj", "v 0 0 0\nv 1 1e999 0\nv 0 1 0\nf 1 2 3\n"), "not a finite number");

@@ -1,0 +1,324 @@
+// Bad input to the two file formats pbd reads, scenes (JSON) and meshes (OBJ): malformed, truncated, oversized,
+// inconsistent or non-finite data is a pbd::Error naming the file, the key (scenes, as a JSON Pointer) or the line
+// (OBJ), and what is wrong; never a crash, another exception, a hang or a huge allocation. The basic cases (unknown
+// keys, wrong types, out-of-range values; bad indices and numbers in OBJ) are in scene_test.cpp and mesh_test.cpp;
+// the inputs tests/fuzz found are kept here as regression cases.
+#include "pbd/obj_loader.hpp"
+#include "pbd/scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <string>
+
+namespace pbd {
+namespace {
+
+// The message of the pbd::Error that `load` throws (a failure if it throws nothing or something else).
+template <class Load> std::string error_of(Load&& load) {
+  try {
+    load();
+  } catch (const Error& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "not a pbd::Error: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "accepted";
+  return {};
+}
+
+// Expects `message` to contain every one of `words` and to stay short (no megabyte echo of the input).
+void expect_words(const std::string& message, std::initializer_list<std::string> words) {
+  for (const auto& w : words) EXPECT_NE(message.find(w), std::string::npos) << "no \"" << w << "\" in: " << message;
+  EXPECT_LT(message.size(), 400u) << message.substr(0, 400);
+}
+
+void expect_scene_error(const std::string& text, std::initializer_list<std::string> words) {
+  expect_words(error_of([&] { parse_scene(text, "bad.json"); }), words);
+}
+
+void expect_obj_error(const std::string& text, std::initializer_list<std::string> words) {
+  expect_words(error_of([&] { parse_obj(text, "bad.obj"); }), words);
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
+const std::string kScene = R"({"name": "t", "dt": 0.01, "description": "d",
+  "bodies": [
+    {"type": "particles", "positions": [[0,0,0],[1,0,0]], "velocities": [[0,0,0],[0,1,0]],
+     "stretch": {"pairs": [[0,1]], "stiffness": 1}},
+    {"type": "rope", "particles": 3, "direction": [1, 0, 0]}
+  ],
+  "colliders": [{"type": "plane", "normal": [0, 0, 1], "offset": 0}]
+})";
+
+const std::string kTetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+TEST(BadInputScene, TheReferenceScenesLoad) {
+  EXPECT_EQ(parse_scene(kScene, "ok.json").world.num_particles(), 5u);
+  EXPECT_EQ(parse_obj(kTetra, "ok.obj").triangles.size(), 4u);
+}
+
+// --- scenes: malformed, truncated, binary ----------------------------------------------------------------------
+
+TEST(BadInputScene, CutAnywhereIsAnErrorNamingTheFile) {
+  for (std::size_t n = 0; n < kScene.size(); ++n) {
+    const std::string message = error_of([&] { parse_scene(kScene.substr(0, n), "cut.json"); });
+    ASSERT_EQ(message.rfind("cut.json: ", 0), 0u) << "cut at " << n << ": " << message;
+    ASSERT_NE(message.find("line"), std::string::npos) << "cut at " << n << ": " << message;
+  }
+}
+
+TEST(BadInputScene, BinaryGarbageAndBrokenTextNameTheLine) {
+  expect_scene_error(std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16), {"bad.json", "parse error at line 1"});
+  expect_scene_error(std::string("{\"name\": \"a\0b\"}", 15), {"parse error at line 1", "control character"});
+  expect_scene_error("{\"name\": \"\xff\xfe\"}", {"parse error at line 1", "UTF-8"});
+  expect_scene_error(kScene + "\n}", {"parse error at line 9"});                  // trailing garbage
+  expect_scene_error(replaced(kScene, "\"d\",", "\"d\""), {"parse error at line 2"});  // a comma missing
+  expect_scene_error("   \n\t\n", {"parse error at line 3"});
+}
+
+// --- scenes: non-finite and out-of-range numbers ----------------------------------------------------------------
+
+TEST(BadInputScene, NumbersBeyondDoubleAreParseErrorsNotCrashes) {
+  // nlohmann::json reports these as out_of_range, which used to escape parse_scene (found by tests/fuzz).
+  expect_scene_error(replaced(kScene, "0.01", "1e400"), {"bad.json", "line 1, column", "1e400"});
+  expect_scene_error(replaced(kScene, "[1, 0, 0]", "[1, -1e400, 0]"), {"line 5", "-1e400"});
+  expect_scene_error(replaced(kScene, "0.01", "NaN"), {"parse error at line 1"});
+  expect_scene_error(replaced(kScene, "0.01", "Infinity"), {"parse error at line 1"});
+  expect_scene_error(replaced(kScene, "0.01", "1e308"), {"/dt", "out of range"});
+  expect_scene_error(replaced(kScene, "\"particles\": 3", "\"particles\": 99999999999999999999"),
+                     {"/bodies/1/particles", "expected an integer"});
+  expect_scene_error(replaced(kScene, "\"particles\": 3", "\"particles\": 18446744073709551615"),
+                     {"/bodies/1/particles", "out of range"});
+  expect_scene_error(replaced(kScene, "\"particles\": 3", "\"particles\": -9223372036854775808"),
+                     {"/bodies/1/particles", "out of range"});
+}
+
+TEST(BadInputScene, VectorsWhoseLengthOverflowsOrVanishes) {
+  expect_scene_error(replaced(kScene, "[1, 0, 0]", "[1e300, 1e300, 0]"), {"/bodies/1/direction", "too long"});
+  expect_scene_error(replaced(kScene, "[1, 0, 0]", "[1e-200, 0, 0]"), {"/bodies/1/direction", "zero"});
+  expect_scene_error(replaced(kScene, "[0, 0, 1]", "[1e200, 0, 1e200]"), {"/colliders/0/normal", "too long"});
+  EXPECT_NO_THROW(parse_scene(replaced(kScene, "\"offset\": 0", "\"offset\": 1e300"), "ok.json"));
+  // offset × |normal| (the offset is along the normal as given) overflows with a long normal
+  expect_scene_error(replaced(replaced(kScene, "\"offset\": 0", "\"offset\": 1e300"), "[0, 0, 1]", "[0, 0, 1e10]"),
+                     {"/colliders/0/offset", "overflows"});
+}
+
+// --- scenes: oversized ------------------------------------------------------------------------------------------
+
+TEST(BadInputScene, HugeGeneratorsAreRefusedBeforeAllocating) {
+  const std::string tube = R"({"name": "t", "dt": 0.01, "bodies": [
+    {"type": "mesh", "generator": {"type": "tube", "segments": 100000, "rings": 100000}}]})";
+  // 10^10 vertices: used to overflow an int in tube_mesh and allocate gigabytes (found by tests/fuzz).
+  expect_scene_error(tube, {"/bodies/0/generator/rings", "10000000000 particles", "limit of 50000000"});
+  expect_scene_error(replaced(tube, "\"rings\": 100000", "\"rings\": 501"), {"/bodies/0/generator/rings", "limit"});
+  expect_scene_error(replaced(kScene, "\"particles\": 3", "\"particles\": 50000001"), {"/bodies/1/particles", "range"});
+  expect_scene_error(R"({"name": "t", "dt": 0.01, "bodies": [{"type": "cloth", "resolution": 1000000}]})",
+                     {"/bodies/0/resolution", "out of range [2, 4096]"});
+  expect_scene_error(R"({"name": "t", "dt": 0.01, "bodies": [
+    {"type": "mesh", "generator": {"type": "grid", "resolution": 4097}}]})",
+                     {"/bodies/0/generator/resolution", "out of range"});
+}
+
+TEST(BadInputScene, OversizedTextAndDeepNesting) {
+  expect_scene_error(std::string((64u << 20) + 1, ' '), {"bad.json", "67108865 bytes", "more than"});
+  std::string deep = std::string(100, '[') + std::string(100, ']');
+  expect_scene_error(replaced(kScene, "\"d\"", deep), {"/description/0/0/0", "nested more than 64 deep"});
+  // A million levels: no recursion anywhere (parse, error, destruction), so no stack overflow.
+  deep = std::string(1'000'000, '[') + std::string(1'000'000, ']');
+  expect_scene_error(replaced(kScene, "\"d\"", deep), {"/description/0", "nested more than 64 deep"});
+  deep = std::string(1'000'000, '[');
+  expect_scene_error(deep, {"/0/0", "nested more than 64 deep"});
+}
+
+TEST(BadInputScene, LongOrStrangeStringsAreShortenedInMessages) {
+  const std::string long_word(1'000'000, 'x');
+  expect_scene_error(replaced(kScene, "\"description\"", "\"" + long_word + "\""), {"unknown key", "/xxxx", "..."});
+  expect_scene_error(replaced(kScene, "\"rope\"", "\"" + long_word + "\""), {"/bodies/1/type", "unknown body type"});
+  expect_scene_error(replaced(kScene, "\"rope\"", "\"ro\\u0000pe\""), {"/bodies/1/type", "ro\\x00pe"});
+  expect_scene_error(replaced(kScene, "\"description\"", "\"a/b~c\""), {"/a~1b~0c", "unknown key"});
+  expect_scene_error(replaced(kScene, "0.01", "\"" + long_word + "\""), {"/dt", "expected a number", "..."});
+  std::string many = "[1";
+  for (int i = 0; i < 100'000; ++i) many += ",1";
+  expect_scene_error(replaced(kScene, "0.01", many + "]"), {"/dt", "expected a number, got an array"});
+}
+
+// --- scenes: inconsistent ---------------------------------------------------------------------------------------
+
+TEST(BadInputScene, KeysGivenTwiceAreErrorsNotSilentlyOverwritten) {
+  expect_scene_error(replaced(kScene, "\"dt\": 0.01,", "\"dt\": 0.01, \"dt\": 5,"), {"bad.json: /dt", "twice"});
+  expect_scene_error(replaced(kScene, "\"particles\": 3", "\"particles\": 3, \"particles\": 4"),
+                     {"/bodies/1/particles", "twice"});
+}
+
+TEST(BadInputScene, CountsAndIndicesThatDoNotAgree) {
+  expect_scene_error(replaced(kScene, "[[0,0,0],[0,1,0]]", "[[0,0,0]]"), {"/bodies/0/velocities", "1 entries for 2"});
+  expect_scene_error(replaced(kScene, "[[0,1]]", "[[0,1,1]]"), {"/bodies/0/stretch/pairs/0", "pair"});
+  expect_scene_error(replaced(kScene, "[[0,1]]", "[[0,-1]]"), {"/bodies/0/stretch/pairs/0/1", "out of range"});
+  expect_scene_error(replaced(kScene, "[[0,0,0],[1,0,0]]", "[]"), {"/bodies/0/positions", "at least one"});
+  expect_scene_error(replaced(kScene, "[[0,0,0],[1,0,0]]", "[[0,0,0],[1,0]]"), {"/bodies/0/positions/1", "3 numbers"});
+  expect_scene_error(replaced(kScene, "\"direction\"", "\"anchors\": {\"particles\": [3]}, \"direction\""),
+                     {"/bodies/1/anchors/particles/0", "out of range [0, 2]"});
+}
+
+// --- scenes: the OBJ files they name ----------------------------------------------------------------------------
+
+class BadInputSceneMesh : public ::testing::Test {
+protected:
+  std::filesystem::path dir = std::filesystem::temp_directory_path() / "pbd_bad_input_test";
+  void SetUp() override { std::filesystem::create_directories(dir); }
+  std::filesystem::path write(const std::string& name, const std::string& text) {
+    std::ofstream(dir / name, std::ios::binary) << text;
+    return dir / name;
+  }
+  // Loads a scene file whose one mesh body is {"type": "mesh", "obj": obj_name, "stretch": {}}.
+  std::string scene_error(const std::string& obj_name) {
+    const auto scene = write("scene.json", R"({"name": "m", "dt": 0.01, "bodies": [{"type": "mesh", "obj": ")" +
+                                               obj_name + R"(", "stretch": {}}]})");
+    return error_of([&] { load_scene(scene); });
+  }
+};
+
+TEST_F(BadInputSceneMesh, TheErrorNamesTheSceneTheKeyTheMeshAndItsLine) {
+  write("tetra.obj", kTetra);
+  EXPECT_NO_THROW(load_scene(write("ok.json", R"({"name": "m", "dt": 0.01, "bodies": [
+    {"type": "mesh", "obj": "tetra.obj", "volume": {}}]})")));
+  write("broken.obj", "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n");
+  expect_words(scene_error("broken.obj"), {"scene.json: /bodies/0/obj: ", "broken.obj:3: ", "\"nan\""});
+  write("empty.obj", "");
+  expect_words(scene_error("empty.obj"), {"scene.json: /bodies/0/obj: ", "empty.obj", "empty (0 bytes)"});
+  expect_words(scene_error("missing.obj"), {"scene.json: /bodies/0/obj: ", "missing.obj", "cannot read"});
+  std::filesystem::create_directories(dir / "folder.obj");
+  expect_words(scene_error("folder.obj"), {"/bodies/0/obj: ", "folder.obj", "not a regular file"});
+  expect_words(scene_error(""), {"/bodies/0/obj", "file name is empty"});
+  expect_words(scene_error("tetra.obj\\u0000.png"), {"/bodies/0/obj", "NUL"});
+  write("twice.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 1\n");  // would give stretch (0, 0)
+  expect_words(scene_error("twice.obj"), {"/bodies/0/obj: ", "twice.obj:4: ", "vertex 1 twice"});
+}
+
+TEST_F(BadInputSceneMesh, SpecialFilesAreNotRead) {
+  // A device or a /proc file has no size to check; reading it could block or never end.
+  expect_words(scene_error("/dev/zero"), {"/bodies/0/obj: ", "not a regular file"});
+  expect_words(scene_error("/proc/self/status"), {"/bodies/0/obj: ", "empty (0 bytes)"});
+}
+
+// --- OBJ: empty, binary, truncated --------------------------------------------------------------------------
+
+TEST(BadInputObj, EmptyFilesAndFilesWithoutFaces) {
+  expect_obj_error("", {"bad.obj", "empty (0 bytes)"});
+  expect_obj_error("\n\n  \t\n", {"bad.obj", "no faces"});
+  expect_obj_error("# only a comment", {"bad.obj", "no faces"});
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2 3\np 1\n", {"bad.obj", "no faces"});
+  const auto file = std::filesystem::temp_directory_path() / "pbd_bad_input_empty.obj";
+  std::ofstream(file).close();
+  expect_words(error_of([&] { load_obj(file); }), {"pbd_bad_input_empty.obj", "empty (0 bytes)"});
+}
+
+TEST(BadInputObj, BinaryDataNamesTheLineAndTheByte) {
+  expect_obj_error(std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10), {"bad.obj:1: ", "0x7f", "binary"});
+  expect_obj_error(std::string("v 0 0 0\nv 1 0 0\nv 0 1\x00 0\nf 1 2 3\n", 33), {"bad.obj:3: ", "0x00", "not text"});
+  expect_obj_error("v 0 0 0\x1b[0m\n", {"bad.obj:1: ", "0x1b"});
+}
+
+TEST(BadInputObj, CutAnywhereIsAMeshOrAnErrorNamingTheLine) {
+  for (std::size_t n = 0; n <= kTetra.size(); ++n) {
+    const std::string text = kTetra.substr(0, n);
+    try {
+      const TriangleMesh m = parse_obj(text, "cut.obj");
+      EXPECT_GT(m.triangles.size(), 0u);
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      ASSERT_EQ(message.rfind("cut.obj", 0), 0u) << message;
+      if (n > 0 && text.find('f') != std::string::npos && text.back() != '\n' && text.back() != 'f') {
+        EXPECT_EQ(message.rfind("cut.obj:", 0), 0u) << "a cut line is named: " << message;
+      }
+    } catch (const std::exception& e) {
+      FAIL() << "cut at " << n << ": not a pbd::Error: " << e.what();
+    }
+  }
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2", {"bad.obj:5: ", "at least 3 vertices, this one has 2"});
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nv 1 1", {"bad.obj:5: ", "3 coordinates, this one has 2"});
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 1.5e\nf 1 2 3\n", {"bad.obj:3: ", "\"1.5e\" is not a decimal number"});
+}
+
+TEST(BadInputObj, OversizedFilesAreRefusedBeforeReading) {
+  const auto file = std::filesystem::temp_directory_path() / "pbd_bad_input_huge.obj";
+  std::ofstream(file).close();
+  std::filesystem::resize_file(file, kMaxObjBytes + 1);  // sparse: costs no disk
+  expect_words(error_of([&] { load_obj(file); }), {"pbd_bad_input_huge.obj", "268435457 bytes", "more than"});
+  std::filesystem::remove(file);
+}
+
+// --- OBJ: numbers -------------------------------------------------------------------------------------------
+
+TEST(BadInputObj, NumbersTinyobjloaderWouldMisreadAreRefused) {
+  expect_obj_error("v 0 0 0\nv 0x1p3 0 0\nv 0 1 0\nf 1 2 3\n", {"bad.obj:2: ", "\"0x1p3\" is not a decimal number"});
+  expect_obj_error("v 0 0 0\nv -inf 0 0\nv 0 1 0\nf 1 2 3\n", {"bad.obj:2: ", "\"-inf\""});
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1e39 0\nf 1 2 3\n", {"bad.obj:3: ", "beyond the float range"});
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0e441\nf 1 2 3\n", {"bad.obj:3: ", "exponent beyond 400"});
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 1,5\nf 1 2 3\n", {"bad.obj:3: ", "\"1,5\""});
+  // Found by tests/fuzz: a signed int overflow inside tinyobjloader's number parser (UBSan).
+  expect_obj_error("# v 0 1 0 1 0 0\nv 1.5e-21474836490 -0 +2\n", {"bad.obj:2: ", "exponent beyond 400"});
+  // The forms it reads right are accepted, with their values.
+  const TriangleMesh m = parse_obj("v +1 -.5 2.\nv 1e2 1E-2 -0\nv 0.25e+1 0 0 1\nf 1 2 3\n", "ok.obj");
+  EXPECT_DOUBLE_EQ(m.positions(1, 0), -0.5);
+  EXPECT_DOUBLE_EQ(m.positions(0, 1), 100.0);
+  EXPECT_FLOAT_EQ(float(m.positions(1, 1)), 0.01f);
+  EXPECT_DOUBLE_EQ(m.positions(0, 2), 2.5);
+}
+
+// --- OBJ: indices and references ----------------------------------------------------------------------------
+
+TEST(BadInputObj, ReferencesAndIndicesNameTheLine) {
+  const std::string v3 = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  expect_obj_error(v3 + "f 1 2 99999999999\n", {"bad.obj:4: ", "out of range"});
+  expect_obj_error(v3 + "f 1 2 -2147483648\n", {"bad.obj:4: ", "out of range"});
+  expect_obj_error(v3 + "f 1 2 2147483647\n", {"bad.obj:4: ", "vertex index 2147483647 is out of range"});
+  expect_obj_error(v3 + "f 1/2/3/4 2 3\n", {"bad.obj:4: ", "\"1/2/3/4\" is not a vertex reference"});
+  expect_obj_error(v3 + "f 1/ 2 3\n", {"bad.obj:4: ", "\"1/\""});
+  expect_obj_error(v3 + "f 1// 2 3\n", {"bad.obj:4: ", "\"1//\""});
+  expect_obj_error(v3 + "f 1 2 x\n", {"bad.obj:4: ", "\"x\""});
+  expect_obj_error(v3 + "f 1 2 3a\n", {"bad.obj:4: ", "\"3a\""});
+  expect_obj_error(v3 + "f 1/0/1 2 3\n", {"bad.obj:4: ", "index 0"});
+  // Relative indices count the vertices before the face, even if more follow.
+  expect_obj_error("v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n", {"bad.obj:3: ", "-3 is out of range (2 vertices"});
+  // Positive indices may name a vertex further down; references with texture and normal indices are fine.
+  EXPECT_EQ(parse_obj("f 1/1/1 2//1 3/1\nv 0 0 0\nv 1 0 0\nv 0 1 0\n", "ok.obj").triangles.size(), 1u);
+}
+
+TEST(BadInputObj, AFaceNamingAVertexTwiceIsDegenerate) {
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -3\n", {"bad.obj:4: ", "vertex 1 twice"});
+  // A long face of one repeated vertex is found without quadratic work.
+  std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3";
+  for (int i = 0; i < 100'000; ++i) text += " 3";
+  expect_obj_error(text, {"bad.obj:4: ", "vertex 3 twice"});
+}
+
+// --- OBJ: line endings and statements that are ignored -------------------------------------------------------
+
+TEST(BadInputObj, LineNumbersFollowEveryLineEnding) {
+  expect_obj_error("v 0 0 0\r\nv 1 0 0\r\nv 0 1 x\r\nf 1 2 3\r\n", {"bad.obj:3: "});
+  expect_obj_error("v 0 0 0\rv 1 0 0\rv 0 1 x\rf 1 2 3\r", {"bad.obj:3: "});
+  expect_obj_error("v 0 0 0\n\rv 1 0 0\nf 1 2 9\n", {"bad.obj:4: "});  // "\n\r" is two line ends
+  EXPECT_EQ(parse_obj("v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3", "ok.obj").triangles.size(), 1u);
+}
+
+TEST(BadInputObj, StatementsPbdDoesNotUseAreIgnoredNotParsed) {
+  // tinyobjloader's tags allocate up to 3 × 8192 values per "t" line and copy them per shape: a small file of such
+  // lines used to take gigabytes. Materials are never opened, nothing is read but the text given.
+  std::string text = "mtllib /nonexistent/x.mtl\nusemtl red\no a\ng b\ns 1\nvn 0 0 1\nvt 0 0\nl 1 2\np 1\nvw 0 0 1\n";
+  for (int i = 0; i < 2000; ++i) text += "t a 8192/8192/8192\n";
+  text += kTetra;
+  EXPECT_EQ(parse_obj(text, "ok.obj").triangles.size(), 4u);
+}
+
+}  // namespace
+}  // namespace pbd
