@@ -257,5 +257,36 @@ TEST(World, ConvertsBetweenPrecisions) {
   EXPECT_EQ(w.colliders().planes.size(), 1u);
 }
 
+TEST(World, ConversionToFloatRejectsValuesOutOfFloatRange) {
+  auto expect_throws = [](const World<double>& w, const char* words) {
+    try {
+      const World<float> f(w);
+      ADD_FAILURE() << "no pbd::Error thrown";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  {
+    Fixture f;
+    f.w.add_particle({1e300, 0, 0}, 1.0);
+    expect_throws(f.w, "position of particle 3");
+  }
+  {
+    Fixture f;
+    f.w.add_particle({0, 0, 0}, 1e-300);  // inverse mass 1e300
+    expect_throws(f.w, "inverse mass of particle 3");
+  }
+  {
+    Fixture f;
+    f.w.add_stretch(0, 2, 0, 1e200);
+    expect_throws(f.w, "rest length of stretch constraint 1");
+  }
+  {
+    Fixture f;
+    f.w.add_sphere({0, 0, 0}, 1e100);
+    expect_throws(f.w, "sphere 0");
+  }
+}
+
 }  // namespace
 }  // namespace pbd

@@ -66,7 +66,8 @@ public:
 
   /// An empty world with default parameters.
   World() = default;
-  /// A copy of `other` converted to precision Real (e.g. a float world from a double scene).
+  /// A copy of `other` converted to precision Real (e.g. a float world from a double scene); throws naming the
+  /// first value that does not fit in Real (e.g. a position of 1e300 as float).
   template <class Other> explicit World(const World<Other>& other);
 
   /// Adds a particle; mass > 0 (kPinned for a fixed particle). Returns its index (indices never change).
@@ -198,6 +199,7 @@ private:
   CustomTypes<Real> custom_;  ///< user-defined constraint types
   ForceCallback force_callback_;
   Positions callback_forces_;  ///< scratch filled by the force callback
+  void check_converted() const;  // after a precision conversion: every value still finite
   Positions rollback_x_, rollback_v_;  ///< state at the start of a step with a callback and sub-steps (restored if it throws)
   StepStats stats_;
   bool measure_violation_ = false;
