@@ -442,6 +442,32 @@ template <class Real> void World<Real>::remove_particle(Index particle) {
   colored_.invalidate();   // a particle became pinned: conflicts changed
 }
 
+// A value finite in one precision may overflow in the other (1e300 as float): name the first one that did.
+template <class Real> void World<Real>::check_converted() const {
+  auto bad = [](const std::string& what) { throw Error("World: converting precision, " + what + " is not finite (out of range)"); };
+  for (Eigen::Index i = 0; i < x_.cols(); ++i) {
+    if (!x_.col(i).allFinite()) bad(detail::message("the position of particle ", i));
+    if (!v_.col(i).allFinite()) bad(detail::message("the velocity of particle ", i));
+    if (!std::isfinite(w_[i])) bad(detail::message("the inverse mass of particle ", i));
+  }
+  const auto& c = constraints_;
+  for (std::size_t i = 0; i < c.stretch.size(); ++i)
+    if (!std::isfinite(c.stretch[i].rest)) bad(detail::message("the rest length of stretch constraint ", i));
+  for (std::size_t i = 0; i < c.anchor.size(); ++i)
+    if (!c.anchor[i].target.allFinite()) bad(detail::message("the target of anchor ", i));
+  for (std::size_t i = 0; i < c.area.size(); ++i)
+    if (!std::isfinite(c.area[i].rest)) bad(detail::message("the rest area of area constraint ", i));
+  for (std::size_t i = 0; i < c.volume.items.size(); ++i)
+    if (!std::isfinite(c.volume.items[i].rest)) bad(detail::message("the rest volume of volume constraint ", i));
+  for (std::size_t i = 0; i < colliders_.planes.size(); ++i)
+    if (!std::isfinite(colliders_.planes[i].offset)) bad(detail::message("the offset of plane ", i));
+  for (std::size_t i = 0; i < colliders_.spheres.size(); ++i)
+    if (!colliders_.spheres[i].center.allFinite() || !std::isfinite(colliders_.spheres[i].radius))
+      bad(detail::message("sphere ", i));
+  if (!params_.gravity.allFinite() || !std::isfinite(params_.dt) || !std::isfinite(params_.damping))
+    bad("a step parameter (dt, gravity or damping)");
+}
+
 template class World<float>;
 template class World<double>;
 
@@ -479,32 +505,6 @@ World<Real>::World(const World<Other>& o)
   coloring_ = o.coloring_;
   parallel_ = o.parallel_;
   check_converted();
-}
-
-// A value finite in one precision may overflow in the other (1e300 as float): name the first one that did.
-template <class Real> void World<Real>::check_converted() const {
-  auto bad = [](const std::string& what) { throw Error("World: converting precision, " + what + " is not finite (out of range)"); };
-  for (Eigen::Index i = 0; i < x_.cols(); ++i) {
-    if (!x_.col(i).allFinite()) bad(detail::message("the position of particle ", i));
-    if (!v_.col(i).allFinite()) bad(detail::message("the velocity of particle ", i));
-    if (!std::isfinite(w_[i])) bad(detail::message("the inverse mass of particle ", i));
-  }
-  const auto& c = constraints_;
-  for (std::size_t i = 0; i < c.stretch.size(); ++i)
-    if (!std::isfinite(c.stretch[i].rest)) bad(detail::message("the rest length of stretch constraint ", i));
-  for (std::size_t i = 0; i < c.anchor.size(); ++i)
-    if (!c.anchor[i].target.allFinite()) bad(detail::message("the target of anchor ", i));
-  for (std::size_t i = 0; i < c.area.size(); ++i)
-    if (!std::isfinite(c.area[i].rest)) bad(detail::message("the rest area of area constraint ", i));
-  for (std::size_t i = 0; i < c.volume.items.size(); ++i)
-    if (!std::isfinite(c.volume.items[i].rest)) bad(detail::message("the rest volume of volume constraint ", i));
-  for (std::size_t i = 0; i < colliders_.planes.size(); ++i)
-    if (!std::isfinite(colliders_.planes[i].offset)) bad(detail::message("the offset of plane ", i));
-  for (std::size_t i = 0; i < colliders_.spheres.size(); ++i)
-    if (!colliders_.spheres[i].center.allFinite() || !std::isfinite(colliders_.spheres[i].radius))
-      bad(detail::message("sphere ", i));
-  if (!params_.gravity.allFinite() || !std::isfinite(params_.dt) || !std::isfinite(params_.damping))
-    bad("a step parameter (dt, gravity or damping)");
 }
 
 template World<float>::World(const World<double>&);
