@@ -38,17 +38,24 @@ struct Fixture {
   }
 };
 
-// Runs `bad` on a fresh fixture, expects pbd::Error whose message contains every one of `words`, and no change.
-void expect_rejected(const std::function<void(World<double>&)>& bad, std::initializer_list<const char*> words) {
-  Fixture f;
+// Runs `bad` on a fresh fixture F, expects pbd::Error whose message contains every one of `words`, and no change.
+template <class F>
+void expect_rejected_on(const std::function<void(World<double>&, const F&)>& bad,
+                        std::initializer_list<const char*> words) {
+  F f;
   const World<double> before = f.w;
   try {
-    bad(f.w);
+    bad(f.w, f);
     ADD_FAILURE() << "no pbd::Error thrown";
   } catch (const Error& e) {
     for (const char* word : words) EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
   }
   f.expect_unchanged(before);
+}
+
+// As expect_rejected_on, on the plain fixture.
+void expect_rejected(const std::function<void(World<double>&)>& bad, std::initializer_list<const char*> words) {
+  expect_rejected_on<Fixture>([&](World<double>& w, const Fixture&) { bad(w); }, words);
 }
 
 const double nan = std::nan(""), inf = std::numeric_limits<double>::infinity();
@@ -143,15 +150,7 @@ struct MeshFixture : Fixture {
 // As expect_rejected, on the mesh fixture.
 void expect_rejected_mesh(const std::function<void(World<double>&, const MeshFixture&)>& bad,
                           std::initializer_list<const char*> words) {
-  MeshFixture f;
-  const World<double> before = f.w;
-  try {
-    bad(f.w, f);
-    ADD_FAILURE() << "no pbd::Error thrown";
-  } catch (const Error& e) {
-    for (const char* word : words) EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
-  }
-  f.expect_unchanged(before);
+  expect_rejected_on<MeshFixture>(bad, words);
 }
 
 TEST(WorldErrors, BadBendingConstraints) {
