@@ -3,6 +3,7 @@
 // (OBJ), and what is wrong; never a crash, another exception, a hang or a huge allocation. The basic cases (unknown
 // keys, wrong types, out-of-range values; bad indices and numbers in OBJ) are in scene_test.cpp and mesh_test.cpp;
 // the inputs tests/fuzz found are kept here as regression cases.
+#include "error_checks.hpp"
 #include "pbd/obj_loader.hpp"
 #include "pbd/scene.hpp"
 
@@ -16,25 +17,9 @@
 namespace pbd {
 namespace {
 
-// The message of the pbd::Error that `load` throws (a failure if it throws nothing or something else).
-template <class Load> std::string error_of(Load&& load) {
-  try {
-    load();
-  } catch (const Error& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not a pbd::Error: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "accepted";
-  return {};
-}
-
-// Expects `message` to contain every one of `words` and to stay short (no megabyte echo of the input).
-void expect_words(const std::string& message, std::initializer_list<std::string> words) {
-  for (const auto& w : words) EXPECT_NE(message.find(w), std::string::npos) << "no \"" << w << "\" in: " << message;
-  EXPECT_LT(message.size(), 400u) << message.substr(0, 400);
-}
+using test::error_of;
+using test::expect_words;
+using test::replaced;
 
 void expect_scene_error(const std::string& text, std::initializer_list<std::string> words) {
   expect_words(error_of([&] { parse_scene(text, "bad.json"); }), words);
@@ -42,12 +27,6 @@ void expect_scene_error(const std::string& text, std::initializer_list<std::stri
 
 void expect_obj_error(const std::string& text, std::initializer_list<std::string> words) {
   expect_words(error_of([&] { parse_obj(text, "bad.obj"); }), words);
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
 }
 
 const std::string kScene = R"({"name": "t", "dt": 0.01, "description": "d",

@@ -1,4 +1,5 @@
 // Scene files: the built-in scenes load; bad files give errors naming the file and the key.
+#include "error_checks.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/scene.hpp"
 
@@ -114,23 +115,14 @@ TEST(Scene, ParsesEveryFieldOfTheFormat) {
   EXPECT_EQ(w.colliders().spheres.size(), 1u);
 }
 
-// Parses `text` and expects a pbd::Error whose message contains every one of `words`.
+// Parses `text` and expects a pbd::Error whose message names the source ("bad.json") and every one of `words`.
 void expect_error(const std::string& text, std::initializer_list<const char*> words) {
-  try {
-    parse_scene(text, "bad.json");
-    ADD_FAILURE() << "accepted: " << text;
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find("bad.json"), std::string::npos) << msg;
-    for (const char* w : words) EXPECT_NE(msg.find(w), std::string::npos) << msg;
-  }
+  const std::string msg = test::error_of([&] { parse_scene(text, "bad.json"); });
+  EXPECT_NE(msg.find("bad.json"), std::string::npos) << msg;
+  for (const char* w : words) EXPECT_NE(msg.find(w), std::string::npos) << msg;
 }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return text.replace(at, from.size(), to);
-}
+using test::replaced;
 
 TEST(SceneErrors, UnknownKeysAnywhere) {
   expect_error(replaced(kMinimal, "\"steps\"", "\"stepz\""), {"/stepz", "unknown key"});

@@ -269,6 +269,15 @@ template <class Real> Eigen::Vector3d centroid(const World<Real>& w) {
 
 // ---- Scene builders -------------------------------------------------------------------------------------------
 
+/// Sets the step parameters every builder varies (the rest keep their defaults: dt = 1/60 s, gravity −9.81 z).
+template <class Real> void set_sweeps(World<Real>& w, int iterations, Real damping, int substeps = 1) {
+  StepParams<Real> p;
+  p.iterations = iterations;
+  p.substeps = substeps;
+  p.damping = damping;
+  w.set_params(p);
+}
+
 /// Case 1: a horizontal rope of `particles` 1 kg particles over 1 m, pinned at (0, 0, 2), its free end 1000 kg,
 /// PBD k = 1, released from rest; `iterations` sweeps, `substeps` sub-steps of 1/60 s, air damping 1/s.
 template <class Real> World<Real> heavy_rope(int particles, int iterations, int substeps) {
@@ -281,11 +290,7 @@ template <class Real> World<Real> heavy_rope(int particles, int iterations, int 
   o.origin = {0.0, 0.0, 2.0};
   o.direction = {1.0, 0.0, 0.0};
   add_rope(w, o, w.add_constraint_set(Stiffness::pbd_k(1.0)));
-  StepParams<Real> p;
-  p.iterations = iterations;
-  p.substeps = substeps;
-  p.damping = Real(1);
-  w.set_params(p);
+  set_sweeps(w, iterations, Real(1), substeps);
   return w;
 }
 
@@ -328,10 +333,7 @@ template <class Real> World<Real> welded_rope(int knots, double spacing, std::ve
     if (welds) welds->push_back(weld);
     prev = b;
   }
-  StepParams<Real> p;
-  p.iterations = 10;
-  p.damping = Real(1);
-  w.set_params(p);
+  set_sweeps(w, 10, Real(1));
   return w;
 }
 
@@ -348,10 +350,7 @@ template <class Real> World<Real> collapsed_cloth(int n, bool collapse = true) {
   auto x = w.positions();
   for (Index i = 0; i < w.num_particles(); ++i)
     if (collapse && w.inverse_masses()[i] != Real(0)) x.col(i) = Vec3<Real>(Real(0.5), Real(0.5), Real(2));
-  StepParams<Real> p;
-  p.iterations = 10;
-  p.damping = Real(1);
-  w.set_params(p);
+  set_sweeps(w, 10, Real(1));
   return w;
 }
 
@@ -377,10 +376,7 @@ template <class Real> World<Real> line_cloth(int n, bool squash = true) {
       x(1, i) = Real(0.5);
       x(2, i) = Real(2);
     }
-  StepParams<Real> p;
-  p.iterations = 10;
-  p.damping = Real(1);
-  w.set_params(p);
+  set_sweeps(w, 10, Real(1));
   return w;
 }
 
@@ -515,10 +511,7 @@ template <class Real> World<Real> resting_cloth(int n, double size, bool prestre
     }
   }
   w.add_plane(Vec3<Real>(0, 0, 1), Real(0));
-  StepParams<Real> p;
-  p.iterations = 2;
-  p.damping = Real(prestress ? 0.0 : 0.5);
-  w.set_params(p);
+  set_sweeps(w, 2, Real(prestress ? 0.0 : 0.5));
   return w;
 }
 
