@@ -4,6 +4,7 @@
 // keys, wrong types, out-of-range values; bad indices and numbers in OBJ) are in scene_test.cpp and mesh_test.cpp;
 // the inputs tests/fuzz found are kept here as regression cases.
 #include "error_checks.hpp"
+#include "temp_dir.hpp"
 #include "pbd/obj_loader.hpp"
 #include "pbd/scene.hpp"
 
@@ -152,8 +153,7 @@ TEST(BadInputScene, CountsAndIndicesThatDoNotAgree) {
 
 class BadInputSceneMesh : public ::testing::Test {
 protected:
-  std::filesystem::path dir = std::filesystem::temp_directory_path() / "pbd_bad_input_test";
-  void SetUp() override { std::filesystem::create_directories(dir); }
+  pbd::test::TempDir dir{"pbd_bad_input"};
   std::filesystem::path write(const std::string& name, const std::string& text) {
     std::ofstream(dir / name, std::ios::binary) << text;
     return dir / name;

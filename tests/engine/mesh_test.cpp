@@ -3,6 +3,7 @@
 #include "pbd/mesh_body.hpp"
 #include "pbd/mesh_generators.hpp"
 #include "pbd/obj_loader.hpp"
+#include "temp_dir.hpp"
 
 #include <gtest/gtest.h>
 
@@ -77,9 +78,8 @@ TEST(MeshBody, GeneratesOnlyTheRequestedSets) {
 
 class ObjFiles : public ::testing::Test {
 protected:
+  pbd::test::TempDir dir{"pbd_obj_test"};
   std::filesystem::path write(const std::string& name, const std::string& text) {
-    const auto dir = std::filesystem::temp_directory_path() / "pbd_obj_test";
-    std::filesystem::create_directories(dir);
     const auto path = dir / name;
     std::ofstream(path) << text;
     return path;
