@@ -87,6 +87,10 @@ public:
 private:
   template <class> friend class World;  // erases constraints in place (World::remove_*)
   void count_static(const CustomTypes<Real>& custom);
+  // The stretch colors on padded positions (float with SSE2; see stretch_block.hpp).
+  void project_stretch_colors(const ColoredArray<StretchConstraint<Real>>& array, Real* lambda, Real* p,
+                              const Real* w, const SolveCoefficients<Real>* coeff, bool parallel,
+                              const ParallelConfig& config, std::size_t& part);
   void project_volumes(const Real* p, Real* out, const Real* w, std::span<const SolveCoefficients<Real>> coeff,
                        bool parallel, const ParallelConfig& config, std::size_t& part);
   bool built_ = false;
@@ -103,6 +107,7 @@ private:
   std::vector<Real> count_inv_;      // Jacobi: 1 / constraints touching each particle this sub-step
   std::vector<Real> delta_;          // Jacobi: accumulated corrections, 3 per particle
   VolumeScratch<Real> volume_;       // volume targets, gradients and block sums
+  Eigen::Matrix<Real, 4, Eigen::Dynamic> padded_;  // stretch sweep: x y z w per particle (float only)
 };
 
 extern template class ColoredSolver<float>;

@@ -1,0 +1,60 @@
+#include "stretch_block.hpp"
+
+namespace pbd::detail {
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+[[gnu::target_clones("avx2", "default")]]
+#endif
+void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, float* q,
+                           const SolveCoefficients<float>* coeff, float* lambda) {
+#if defined(__SSE2__)
+  for (; b + kStretchBlock <= e; b += kStretchBlock) project_stretch_block4(c + b, q, coeff, lambda + b);
+#endif
+  for (; b < e; ++b) project_stretch_padded(c[b], q, coeff[c[b].set], lambda[b]);
+}
+
+void pad_positions(const float* p, const float* w, Index b, Index e, float* q) {
+  Index i = b;
+#if defined(__SSE2__)
+  for (; i + 4 <= e; i += 4) {  // four particles: 12 floats x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3, and 4 w
+    const float* s = p + 3 * std::size_t(i);
+    const __m128 a = _mm_loadu_ps(s), m = _mm_loadu_ps(s + 4), c = _mm_loadu_ps(s + 8);
+    const __m128 ws = _mm_loadu_ps(w + i);
+    float* t = q + 4 * std::size_t(i);
+    const __m128 zw0 = _mm_shuffle_ps(a, ws, _MM_SHUFFLE(0, 0, 2, 2));  // z0 z0 w0 w0
+    _mm_store_ps(t, _mm_shuffle_ps(a, zw0, _MM_SHUFFLE(2, 0, 1, 0)));  // x0 y0 z0 w0
+    const __m128 xy1 = _mm_shuffle_ps(a, m, _MM_SHUFFLE(0, 0, 3, 3));  // x1 x1 y1 y1
+    const __m128 zw1 = _mm_shuffle_ps(m, ws, _MM_SHUFFLE(1, 1, 1, 1));  // z1 z1 w1 w1
+    _mm_store_ps(t + 4, _mm_shuffle_ps(xy1, zw1, _MM_SHUFFLE(2, 0, 2, 0)));  // x1 y1 z1 w1
+    const __m128 zw2 = _mm_shuffle_ps(c, ws, _MM_SHUFFLE(2, 2, 0, 0));  // z2 z2 w2 w2
+    _mm_store_ps(t + 8, _mm_shuffle_ps(m, zw2, _MM_SHUFFLE(2, 0, 3, 2)));  // x2 y2 z2 w2
+    const __m128 zw3 = _mm_shuffle_ps(c, ws, _MM_SHUFFLE(3, 3, 3, 3));  // z3 z3 w3 w3
+    _mm_store_ps(t + 12, _mm_shuffle_ps(c, zw3, _MM_SHUFFLE(2, 0, 2, 1)));  // x3 y3 z3 w3
+  }
+#endif
+  for (; i < e; ++i) {
+    for (int d = 0; d < 3; ++d) q[4 * std::size_t(i) + d] = p[3 * std::size_t(i) + d];
+    q[4 * std::size_t(i) + 3] = w[i];
+  }
+}
+
+void unpad_positions(const float* q, Index b, Index e, float* p) {
+  Index i = b;
+#if defined(__SSE2__)
+  for (; i + 4 <= e; i += 4) {
+    const float* s = q + 4 * std::size_t(i);
+    const __m128 q0 = _mm_load_ps(s), q1 = _mm_load_ps(s + 4), q2 = _mm_load_ps(s + 8), q3 = _mm_load_ps(s + 12);
+    float* t = p + 3 * std::size_t(i);
+    const __m128 zx = _mm_shuffle_ps(q0, q1, _MM_SHUFFLE(0, 0, 2, 2));  // z0 z0 x1 x1
+    _mm_storeu_ps(t, _mm_shuffle_ps(q0, zx, _MM_SHUFFLE(2, 0, 1, 0)));  // x0 y0 z0 x1
+    const __m128 xy2 = _mm_shuffle_ps(q2, q2, _MM_SHUFFLE(1, 0, 1, 0));  // x2 y2 x2 y2
+    _mm_storeu_ps(t + 4, _mm_shuffle_ps(q1, xy2, _MM_SHUFFLE(1, 0, 2, 1)));  // y1 z1 x2 y2
+    const __m128 zx2 = _mm_shuffle_ps(q2, q3, _MM_SHUFFLE(0, 0, 2, 2));  // z2 z2 x3 x3
+    _mm_storeu_ps(t + 8, _mm_shuffle_ps(zx2, q3, _MM_SHUFFLE(2, 1, 2, 0)));  // z2 x3 y3 z3
+  }
+#endif
+  for (; i < e; ++i)
+    for (int d = 0; d < 3; ++d) p[3 * std::size_t(i) + d] = q[4 * std::size_t(i) + d];
+}
+
+}  // namespace pbd::detail
