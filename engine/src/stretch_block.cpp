@@ -8,7 +8,13 @@ namespace pbd::detail {
 void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, float* q,
                            const SolveCoefficients<float>* coeff, float* lambda) {
 #if defined(__SSE2__)
-  for (; b + kStretchBlock <= e; b += kStretchBlock) project_stretch_block4(c + b, q, coeff, lambda + b);
+  if (e - b >= kStretchBlock) {
+    const StretchConstraint<float>* const last = c + (e - kStretchBlock);
+    const StretchConstraint<float>* it = c + b;
+    float* lam = lambda + b;
+    for (; it <= last; it += kStretchBlock, lam += kStretchBlock) project_stretch_block4(it, q, coeff, lam);
+    b = Index(it - c);
+  }
 #endif
   for (; b < e; ++b) project_stretch_padded(c[b], q, coeff[c[b].set], lambda[b]);
 }

@@ -107,9 +107,21 @@ template <int k> inline void move(float* a, __m128 s, __m128 d) {
   const __m128 new_lam = _mm_add_ps(lam, _mm_mul_ps(s, len));
   _mm_storeu_ps(lambda, _mm_or_ps(_mm_and_ps(ok, new_lam), _mm_andnot_ps(ok, lam)));
   const __m128 sa = _mm_mul_ps(wa, s), sb = _mm_mul_ps(_mm_xor_ps(wb, sign), s);
-  // A particle is written when its constraint projects and it is movable (w ≠ 0), as in project_into().
-  const int move_a = active & ~_mm_movemask_ps(_mm_cmpeq_ps(wa, zero));
-  const int move_b = active & ~_mm_movemask_ps(_mm_cmpeq_ps(wb, zero));
+  // A particle is written when its constraint projects and it is movable (w ≠ 0), as in project_into(). The usual
+  // case, all eight, takes one test instead of eight.
+  const int movable_a = ~_mm_movemask_ps(_mm_cmpeq_ps(wa, zero)), movable_b = ~_mm_movemask_ps(_mm_cmpeq_ps(wb, zero));
+  if ((active & movable_a & movable_b & 0xF) == 0xF) {
+    move<0>(qa0, sa, d0);
+    move<0>(qb0, sb, d0);
+    move<1>(qa1, sa, d1);
+    move<1>(qb1, sb, d1);
+    move<2>(qa2, sa, d2);
+    move<2>(qb2, sb, d2);
+    move<3>(qa3, sa, d3);
+    move<3>(qb3, sb, d3);
+    return;
+  }
+  const int move_a = active & movable_a, move_b = active & movable_b;
   if (move_a & 1) move<0>(qa0, sa, d0);
   if (move_b & 1) move<0>(qb0, sb, d0);
   if (move_a & 2) move<1>(qa1, sa, d1);
