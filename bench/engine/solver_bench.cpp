@@ -1,6 +1,8 @@
 // ns per constraint projection per sweep: serial reference, colored Gauss-Seidel and Jacobi on 1 and 2 threads,
 // over the stretch constraints of an N×N hanging cloth (float). Positions are perturbed so every projection works.
-// Counter ns_per_projection = wall time of one sweep / number of constraints (medians: use --benchmark_repetitions).
+// One benchmark iteration is one sub-step's solve as World::step runs it: λ reset (begin_substep), kSweeps sweeps,
+// and end_substep (which may copy positions back from the solver's padded copy). Counter ns_per_projection = wall
+// time of one iteration / (constraints × kSweeps) (medians: use --benchmark_repetitions).
 #include "pbd/colored_solver.hpp"
 #include "pbd/generators.hpp"
 #include "pbd/serial_solver.hpp"
@@ -34,9 +36,11 @@ struct ClothFixture {
   std::size_t constraints() const { return world.constraints().stretch.size(); }
 };
 
+constexpr int kSweeps = 10;  // sweeps per sub-step: StepParams' default iterations
+
 void set_counters(benchmark::State& state, const ClothFixture& f, std::size_t colors) {
   state.counters["ns_per_projection"] = benchmark::Counter(
-      double(f.constraints()) * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+      double(f.constraints()) * kSweeps * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["constraints"] = double(f.constraints());
   state.counters["colors"] = double(colors);
 }
@@ -47,7 +51,8 @@ void BM_SerialSweep(benchmark::State& state) {
   lambda.reset(f.world.constraints(), 0);
   const Real* w = f.world.inverse_masses().data();
   for (auto _ : state) {
-    pbd::sweep_serial<Real>(f.world.constraints(), {}, f.coeff, f.p.data(), w, lambda);
+    lambda.reset(f.world.constraints(), 0);
+    for (int s = 0; s < kSweeps; ++s) pbd::sweep_serial<Real>(f.world.constraints(), {}, f.coeff, f.p.data(), w, lambda);
     benchmark::ClobberMemory();
   }
   set_counters(state, f, 0);
@@ -62,13 +67,16 @@ void colored_sweep(benchmark::State& state, bool jacobi, const pbd::ParallelConf
   pbd::CustomTypes<Real> custom;
   solver.build(f.world.constraints(), pbd::VectorX<Real>(f.world.inverse_masses()), {}, custom);
   std::vector<pbd::CollisionConstraint<Real>> none;
-  solver.begin_substep(none, 0.0, custom);
   const Real* w = f.world.inverse_masses().data();
   tbb::task_arena arena(threads);
   arena.execute([&] {
     for (auto _ : state) {
-      if (jacobi) solver.sweep_jacobi(none, f.coeff, f.p.data(), w, Real(1), true, config, custom);
-      else solver.sweep_gauss_seidel(none, f.coeff, f.p.data(), w, true, config, custom);
+      solver.begin_substep(none, 0.0, custom);
+      for (int s = 0; s < kSweeps; ++s) {
+        if (jacobi) solver.sweep_jacobi(none, f.coeff, f.p.data(), w, Real(1), true, config, custom);
+        else solver.sweep_gauss_seidel(none, f.coeff, f.p.data(), w, true, config, custom);
+      }
+      solver.end_substep(f.p.data(), true, config);
       benchmark::ClobberMemory();
     }
   });
@@ -79,7 +87,7 @@ void colored_sweep(benchmark::State& state, bool jacobi, const pbd::ParallelConf
 void BM_ColoredSweep(benchmark::State& state) { colored_sweep(state, false); }
 void BM_JacobiSweep(benchmark::State& state) { colored_sweep(state, true); }
 // Every color forks, however small: shows what the fork/join per color costs on small cloths (compare with
-// BM_ColoredSweep at the same size, where small colors run inline). counter fork_us_per_color = extra time per color.
+// BM_ColoredSweep at the same size, where small colors run inline).
 void BM_ColoredSweepAlwaysFork(benchmark::State& state) { colored_sweep(state, false, pbd::ParallelConfig{0, 16}); }
 
 }  // namespace

@@ -85,6 +85,7 @@ void ColoredSolver<Real>::begin_substep(std::vector<CollisionConstraint<Real>>& 
                                         CustomTypes<Real>& custom) {
   for (const auto& t : custom.types()) t->reset_lambda();
   counts_ready_ = false;
+  padded_current_ = false;
   volume_.set_targets(colored_.volume, time);
   // Collisions arrive particle by particle; the k-th collision of a particle gets color k (stable counting sort).
   const Index n = Index(collisions.size());
@@ -113,10 +114,15 @@ void ColoredSolver<Real>::sweep_gauss_seidel(std::span<const CollisionConstraint
                                              bool parallel, const ParallelConfig& config,
                                              CustomTypes<Real>& custom) {
   std::size_t part = 0;
+  // When stretch is all this sweep projects, the positions may stay padded until end_substep().
+  const bool stretch_only = colored_.anchor.items.empty() && colored_.bending.items.empty() &&
+                            colored_.area.items.empty() && colored_.volume.size() == 0 && custom.types().empty() &&
+                            collisions.empty();
   lambda_.zip(colored_, [&](const auto& array, std::vector<Real>& lam) {
     using Constraint = typename std::decay_t<decltype(array)>::value_type;
     if constexpr (std::is_same_v<Constraint, StretchConstraint<float>> && detail::kPaddedStretch) {
-      if (array.num_colors() > 0) project_stretch_colors(array, lam.data(), p, w, coeff.data(), parallel, config, part);
+      if (array.num_colors() > 0)
+        project_stretch_colors(array, lam.data(), p, w, coeff.data(), stretch_only, parallel, config, part);
     } else {
       for (Index c = 0; c < array.num_colors(); ++c)
         run_range(array.offsets[c], array.offsets[c + 1], parallel, config, partitioners_[part++],
@@ -144,6 +150,7 @@ void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>
                                        std::span<const SolveCoefficients<Real>> coeff, Real* p, const Real* w,
                                        Real omega, bool parallel, const ParallelConfig& config,
                                        CustomTypes<Real>& custom) {
+  end_substep(p, parallel, config);  // Jacobi reads p: bring it up to date if Gauss-Seidel sweeps left it padded
   const Index n = num_particles_;
   if (count_inv_.size() != n || delta_.size() != 3 * std::size_t(n)) {
     count_inv_.resize(n);
@@ -188,23 +195,43 @@ void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>
 template <class Real>
 void ColoredSolver<Real>::project_stretch_colors(const ColoredArray<StretchConstraint<Real>>& array, Real* lam,
                                                  Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
-                                                 bool parallel, const ParallelConfig& config, std::size_t& part) {
+                                                 bool keep_padded, bool parallel, const ParallelConfig& config,
+                                                 std::size_t& part) {
   if constexpr (std::is_same_v<Real, float>) {
-    // Copy to padded positions (x y z w), project every stretch color there, copy back: two passes over the
-    // particles buy one aligned load and store per particle in the kernel instead of three of each plus w.
+    // Project every stretch color on padded positions (x y z w): one aligned load and store per particle in the
+    // kernel instead of three of each plus w. Copied in unless the last sweep left them there, copied back unless
+    // keep_padded (then end_substep() copies them back). Partitioner slots are the same whichever copies run.
     const Index n = num_particles_;
-    padded_.resize(4, n);
+    const std::size_t pad_slot = part++, unpad_slot = part++;
+    if (!padded_current_) {
+      padded_.resize(4, n);
+      float* q = padded_.data();
+      run_range(0, n, parallel, config, partitioners_[pad_slot],
+                [&](Index b, Index e) { detail::pad_positions(p, w, b, e, q); });
+    }
     float* q = padded_.data();
-    run_range(0, n, parallel, config, partitioners_[part++],
-              [&](Index b, Index e) { detail::pad_positions(p, w, b, e, q); });
     for (Index c = 0; c < array.num_colors(); ++c)
       run_blocks(array.offsets[c], array.offsets[c + 1], detail::kStretchBlock, parallel, config,
                  partitioners_[part++], [&](Index b, Index e) {
                    detail::project_stretch_range(array.items.data(), b, e, q, coeff, lam);
                  });
-    run_range(0, n, parallel, config, partitioners_[part++],
+    padded_current_ = true;
+    if (!keep_padded) unpad(p, parallel, config, unpad_slot);
+  }
+}
+
+template <class Real>
+void ColoredSolver<Real>::unpad(Real* p, bool parallel, const ParallelConfig& config, std::size_t slot) {
+  if constexpr (std::is_same_v<Real, float>) {
+    const float* q = padded_.data();
+    run_range(0, num_particles_, parallel, config, partitioners_[slot],
               [&](Index b, Index e) { detail::unpad_positions(q, b, e, p); });
   }
+  padded_current_ = false;
+}
+
+template <class Real> void ColoredSolver<Real>::end_substep(Real* p, bool parallel, const ParallelConfig& config) {
+  if (padded_current_) unpad(p, parallel, config, 1);  // slot 1: the unpad slot of the stretch colors
 }
 
 template <class Real>

@@ -354,6 +354,7 @@ template <class Real> void World<Real>::substep(Real h, double time, const Real*
       else
         colored_.sweep_gauss_seidel(collisions_, coeff_, p, w, parallel, parallel_, custom_);
     }
+    colored_.end_substep(p, parallel, parallel_);
   }
   const auto t3 = clock::now();
   // 5. update: v = (p − x)/h, x = p

@@ -61,6 +61,10 @@ public:
   /// Starts a sub-step: reorders `collisions` by color in place, sets every λ to 0 and the volume targets to their
   /// schedule's value at `time` (seconds).
   void begin_substep(std::vector<CollisionConstraint<Real>>& collisions, double time, CustomTypes<Real>& custom);
+  /// Ends a sub-step's sweeps: p holds the solved positions afterwards. Gauss-Seidel sweeps that project only
+  /// stretch constraints (float) may keep the positions in the solver's padded copy between sweeps; p is only
+  /// guaranteed up to date after this call.
+  void end_substep(Real* p, bool parallel, const ParallelConfig& config);
 
   /// One Gauss-Seidel sweep color by color; `parallel` = false gives the serial color-order bridge.
   void sweep_gauss_seidel(std::span<const CollisionConstraint<Real>> collisions,
@@ -89,8 +93,9 @@ private:
   void count_static(const CustomTypes<Real>& custom);
   // The stretch colors on padded positions (float with SSE2; see stretch_block.hpp).
   void project_stretch_colors(const ColoredArray<StretchConstraint<Real>>& array, Real* lambda, Real* p,
-                              const Real* w, const SolveCoefficients<Real>* coeff, bool parallel,
+                              const Real* w, const SolveCoefficients<Real>* coeff, bool keep_padded, bool parallel,
                               const ParallelConfig& config, std::size_t& part);
+  void unpad(Real* p, bool parallel, const ParallelConfig& config, std::size_t slot);  // padded copy → p
   void project_volumes(const Real* p, Real* out, const Real* w, std::span<const SolveCoefficients<Real>> coeff,
                        bool parallel, const ParallelConfig& config, std::size_t& part);
   bool built_ = false;
@@ -108,6 +113,7 @@ private:
   std::vector<Real> delta_;          // Jacobi: accumulated corrections, 3 per particle
   VolumeScratch<Real> volume_;       // volume targets, gradients and block sums
   Eigen::Matrix<Real, 4, Eigen::Dynamic> padded_;  // stretch sweep: x y z w per particle (float only)
+  bool padded_current_ = false;      // padded_ holds the positions and p is stale (until end_substep)
 };
 
 extern template class ColoredSolver<float>;
