@@ -3,40 +3,16 @@
 // One benchmark iteration is one sub-step's solve as World::step runs it: λ reset (begin_substep), kSweeps sweeps,
 // and end_substep (which may copy positions back from the solver's padded copy). Counter ns_per_projection = wall
 // time of one iteration / (constraints × kSweeps) (medians: use --benchmark_repetitions).
-#include "pbd/colored_solver.hpp"
-#include "pbd/generators.hpp"
-#include "pbd/serial_solver.hpp"
+#include "cloth_fixture.hpp"
 
 #include <benchmark/benchmark.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include <random>
-
 namespace {
 
-using Real = float;
-
-struct ClothFixture {
-  pbd::World<Real> world;
-  pbd::Matrix3X<Real> p;
-  std::vector<pbd::SolveCoefficients<Real>> coeff;
-
-  explicit ClothFixture(int n) {
-    pbd::ClothOptions o;
-    o.resolution = n;
-    pbd::add_cloth(world, o, world.add_constraint_set(pbd::Stiffness::pbd_k(1.0)));
-    p = world.positions();
-    std::mt19937 rng(42);
-    std::uniform_real_distribution<Real> u(-0.3f, 0.3f);
-    const Real spacing = Real(1.0 / (n - 1));
-    for (Eigen::Index i = 0; i < p.cols(); ++i)
-      if (world.inverse_masses()[i] != 0) p.col(i) += spacing * pbd::Vec3<Real>(u(rng), u(rng), u(rng));
-    coeff = {pbd::coefficients<Real>(world.constraints().sets[0], 1.0 / 60, 10)};
-  }
-  std::size_t constraints() const { return world.constraints().stretch.size(); }
-};
-
-constexpr int kSweeps = 10;  // sweeps per sub-step: StepParams' default iterations
+using pbd::bench::ClothFixture;
+using pbd::bench::kSweeps;
+using pbd::bench::Real;
 
 void set_counters(benchmark::State& state, const ClothFixture& f, std::size_t colors) {
   state.counters["ns_per_projection"] = benchmark::Counter(
@@ -48,11 +24,8 @@ void set_counters(benchmark::State& state, const ClothFixture& f, std::size_t co
 void BM_SerialSweep(benchmark::State& state) {
   ClothFixture f(int(state.range(0)));
   pbd::Multipliers<Real> lambda;
-  lambda.reset(f.world.constraints(), 0);
-  const Real* w = f.world.inverse_masses().data();
   for (auto _ : state) {
-    lambda.reset(f.world.constraints(), 0);
-    for (int s = 0; s < kSweeps; ++s) pbd::sweep_serial<Real>(f.world.constraints(), {}, f.coeff, f.p.data(), w, lambda);
+    pbd::bench::serial_substep(f, lambda);
     benchmark::ClobberMemory();
   }
   set_counters(state, f, 0);
@@ -66,17 +39,10 @@ void colored_sweep(benchmark::State& state, bool jacobi, const pbd::ParallelConf
   pbd::ColoredSolver<Real> solver;
   pbd::CustomTypes<Real> custom;
   solver.build(f.world.constraints(), pbd::VectorX<Real>(f.world.inverse_masses()), {}, custom);
-  std::vector<pbd::CollisionConstraint<Real>> none;
-  const Real* w = f.world.inverse_masses().data();
   tbb::task_arena arena(threads);
   arena.execute([&] {
     for (auto _ : state) {
-      solver.begin_substep(none, 0.0, custom);
-      for (int s = 0; s < kSweeps; ++s) {
-        if (jacobi) solver.sweep_jacobi(none, f.coeff, f.p.data(), w, Real(1), true, config, custom);
-        else solver.sweep_gauss_seidel(none, f.coeff, f.p.data(), w, true, config, custom);
-      }
-      solver.end_substep(f.p.data(), true, config);
+      pbd::bench::colored_substep(f, solver, custom, jacobi, config);
       benchmark::ClobberMemory();
     }
   });
