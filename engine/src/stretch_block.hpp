@@ -135,8 +135,8 @@ template <int k> inline void move(float* a, __m128 s, __m128 d) {
 
 /// Gauss-Seidel projection of stretch constraints c[b, e) of one color on padded positions q: blocks of
 /// kStretchBlock counted from b with SIMD, the remainder scalar. Same result, bit for bit, as project() one by one.
-/// Compiled twice (stretch_block.cpp): for AVX2 machines (three-operand encoding) and for any x86-64; the loader
-/// picks one for the process, and both do the same arithmetic.
+/// Compiled twice (stretch_block.cpp): for AVX2 machines (three-operand encoding) and for any x86-64; a CPU check
+/// on first use picks one for the process, and both do the same arithmetic.
 void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, float* q,
                            const SolveCoefficients<float>* coeff, float* lambda);
 
