@@ -6,10 +6,14 @@ import sys
 def main(path):
     data = json.load(open(path))
     med = {}
+    triad = {}
     for b in data["benchmarks"]:
         if b.get("aggregate_name") != "median":
             continue
         name = b["run_name"]  # e.g. BM_ColoredSweep/n:300/threads:2/real_time
+        if name.startswith("BM_StreamTriad"):
+            triad[int(b["threads"])] = b["bytes_per_second"] / 1e9
+            continue
         parts = dict(p.split(":") for p in name.split("/")[1:] if ":" in p)
         kind = name.split("/")[0].replace("BM_", "").replace("Sweep", "").lower()
         key = (kind, int(parts["n"]), int(parts.get("threads", 1)))
@@ -29,6 +33,10 @@ def main(path):
               f" {c1 / c2:.2f}× | {s / c2:.2f}× |")
     print()
     print("ns per constraint projection per sweep (median of the repetitions); ratios from the same run.")
+    if 1 in triad and 2 in triad:
+        print()
+        print(f"Memory ceiling (BM_StreamTriad, two 64 MB arrays): {triad[1]:.1f} GB/s on 1 thread, {triad[2]:.1f} GB/s"
+              f" on 2 ({triad[2] / triad[1]:.2f}×).")
 
 
 if __name__ == "__main__":

@@ -6,7 +6,12 @@
 #include "cloth_fixture.hpp"
 
 #include <benchmark/benchmark.h>
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
 #include <oneapi/tbb/task_arena.h>
+
+#include <vector>
 
 namespace {
 
@@ -56,6 +61,27 @@ void BM_JacobiSweep(benchmark::State& state) { colored_sweep(state, true); }
 // BM_ColoredSweep at the same size, where small colors run inline).
 void BM_ColoredSweepAlwaysFork(benchmark::State& state) { colored_sweep(state, false, pbd::ParallelConfig{0, 16}); }
 
+// The machine's memory ceiling for the largest cloth: a[i] = 0.999·a[i] + b[i] over two 64 MB arrays (larger than
+// L2, like the 1000² cloth's ~90 MB), split evenly over 1 or 2 threads. bytes_per_second counts reads + writes; its 2T/1T
+// ratio bounds what any sweep that streams through memory can gain from the second core.
+void BM_StreamTriad(benchmark::State& state) {
+  const std::size_t n = std::size_t(16) << 20;
+  std::vector<float> a(n, 1.0f), b(n, 2.0f);
+  const int threads = int(state.range(0));
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    for (auto _ : state) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, n / std::size_t(threads)),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i < r.end(); ++i) a[i] = 0.999f * a[i] + b[i];
+                        }, tbb::static_partitioner());
+      benchmark::ClobberMemory();
+    }
+  });
+  state.SetBytesProcessed(std::int64_t(state.iterations()) * 3 * std::int64_t(n * sizeof(float)));
+  state.counters["threads"] = threads;
+}
+
 }  // namespace
 
 BENCHMARK(BM_SerialSweep)->ArgName("n")->Arg(30)->Arg(100)->Arg(300)->Arg(1000)->Unit(benchmark::kMicrosecond);
@@ -65,4 +91,5 @@ BENCHMARK(BM_ColoredSweepAlwaysFork)->ArgNames({"n", "threads"})->ArgsProduct({{
     ->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_JacobiSweep)->ArgNames({"n", "threads"})->ArgsProduct({{30, 100, 300, 1000}, {1, 2}})
     ->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_StreamTriad)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();
