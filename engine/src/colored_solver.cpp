@@ -202,7 +202,8 @@ void ColoredSolver<Real>::project_stretch_colors(const ColoredArray<StretchConst
     // kernel instead of three of each plus w. Copied in unless the last sweep left them there, copied back unless
     // keep_padded (then end_substep() copies them back). Partitioner slots are the same whichever copies run.
     const Index n = num_particles_;
-    const std::size_t pad_slot = part++, unpad_slot = part++;
+    const std::size_t pad_slot = part++;
+    unpad_slot_ = part++;
     if (!padded_current_) {
       padded_.resize(4, n);
       float* q = padded_.data();
@@ -216,22 +217,21 @@ void ColoredSolver<Real>::project_stretch_colors(const ColoredArray<StretchConst
                    detail::project_stretch_range(array.items.data(), b, e, q, coeff, lam);
                  });
     padded_current_ = true;
-    if (!keep_padded) unpad(p, parallel, config, unpad_slot);
+    if (!keep_padded) unpad(p, parallel, config);
   }
 }
 
-template <class Real>
-void ColoredSolver<Real>::unpad(Real* p, bool parallel, const ParallelConfig& config, std::size_t slot) {
+template <class Real> void ColoredSolver<Real>::unpad(Real* p, bool parallel, const ParallelConfig& config) {
   if constexpr (std::is_same_v<Real, float>) {
     const float* q = padded_.data();
-    run_range(0, num_particles_, parallel, config, partitioners_[slot],
+    run_range(0, num_particles_, parallel, config, partitioners_[unpad_slot_],
               [&](Index b, Index e) { detail::unpad_positions(q, b, e, p); });
   }
   padded_current_ = false;
 }
 
 template <class Real> void ColoredSolver<Real>::end_substep(Real* p, bool parallel, const ParallelConfig& config) {
-  if (padded_current_) unpad(p, parallel, config, 1);  // slot 1: the unpad slot of the stretch colors
+  if (padded_current_) unpad(p, parallel, config);
 }
 
 template <class Real>
@@ -240,8 +240,7 @@ void ColoredSolver<Real>::project_volumes(const Real* p, Real* out, const Real* 
                                           const ParallelConfig& config, std::size_t& part) {
   // Each volume constraint is its own color; its blocks are the parallel items (a block is kVolumeBlock rows, so
   // the inline threshold and grain are scaled down to blocks).
-  const ParallelConfig blocks{std::max<std::size_t>(1, config.inline_below / kVolumeBlock),
-                              std::max<std::size_t>(1, config.min_grain / kVolumeBlock)};
+  const ParallelConfig blocks = detail::per_block(config, kVolumeBlock);
   const VolumeConstraints<Real>& v = colored_.volume;
   for (Index i = 0; i < Index(v.size()); ++i) {
     tbb::affinity_partitioner& ap = partitioners_[part++];

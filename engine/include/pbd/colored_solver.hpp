@@ -95,7 +95,7 @@ private:
   void project_stretch_colors(const ColoredArray<StretchConstraint<Real>>& array, Real* lambda, Real* p,
                               const Real* w, const SolveCoefficients<Real>* coeff, bool keep_padded, bool parallel,
                               const ParallelConfig& config, std::size_t& part);
-  void unpad(Real* p, bool parallel, const ParallelConfig& config, std::size_t slot);  // padded copy → p
+  void unpad(Real* p, bool parallel, const ParallelConfig& config);  // padded copy → p
   void project_volumes(const Real* p, Real* out, const Real* w, std::span<const SolveCoefficients<Real>> coeff,
                        bool parallel, const ParallelConfig& config, std::size_t& part);
   bool built_ = false;
@@ -114,6 +114,7 @@ private:
   VolumeScratch<Real> volume_;       // volume targets, gradients and block sums
   Eigen::Matrix<Real, 4, Eigen::Dynamic> padded_;  // stretch sweep: x y z w per particle (float only)
   bool padded_current_ = false;      // padded_ holds the positions and p is stale (until end_substep)
+  std::size_t unpad_slot_ = 0;       // partitioner slot of the copy back (the stretch colors reserve it)
 };
 
 extern template class ColoredSolver<float>;
