@@ -129,7 +129,7 @@ TYPED_TEST(SolverTest, ColoredIsBitwiseIdenticalForAnyThreadCountAndToSerialColo
 // constraints for the scalar remainder.
 TYPED_TEST(SolverTest, StretchKernelMatchesTheScalarProjectionBitForBit) {
   using Real = TypeParam;
-  for (int count : {1, 2, 3, 4, 5, 6, 7, 61, 250, 1003}) {
+  for (int count : {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 15, 16, 61, 250, 1003}) {
     std::mt19937 rng{unsigned(count)};
     std::uniform_real_distribution<double> u(-1, 1);
     World<Real> w;
