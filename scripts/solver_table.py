@@ -7,10 +7,14 @@ def main(path):
     data = json.load(open(path))
     med = {}
     triad = {}
+    paired = {}  # BM_ColoredScaling / BM_ComputeScaling: name -> median counters
     for b in data["benchmarks"]:
         if b.get("aggregate_name") != "median":
             continue
         name = b["run_name"]  # e.g. BM_ColoredSweep/n:300/threads:2/real_time
+        if "Scaling" in name:
+            paired[name.split("/iterations")[0]] = b
+            continue
         if name.startswith("BM_StreamTriad"):
             triad[int(b["threads"])] = b["bytes_per_second"] / 1e9
             continue
@@ -37,6 +41,19 @@ def main(path):
         print()
         print(f"Memory ceiling (BM_StreamTriad, two 64 MB arrays): {triad[1]:.1f} GB/s on 1 thread, {triad[2]:.1f} GB/s"
               f" on 2 ({triad[2] / triad[1]:.2f}×).")
+    if paired:
+        print()
+        print("Paired 2T vs 1T (one unit of work on 1 thread, then on 2, alternated; speed-up = median over the pairs):")
+        print()
+        print("| work | 1 thread | 2 threads | 2T vs 1T |")
+        print("|---|---|---|---|")
+        for name, b in sorted(paired.items()):
+            if name.startswith("BM_ColoredScaling"):
+                label = f"colored sub-step, {name.split('n:')[1]}² cloth (ns per projection)"
+                print(f"| {label} | {b['ns_1T']:.2f} | {b['ns_2T']:.2f} | {b['speedup']:.2f}× |")
+            else:
+                label = "compute only, no memory (ms): the machine's own ceiling"
+                print(f"| {label} | {b['ms_1T']:.2f} | {b['ms_2T']:.2f} | {b['speedup']:.2f}× |")
 
 
 if __name__ == "__main__":

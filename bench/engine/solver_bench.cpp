@@ -2,7 +2,8 @@
 // over the stretch constraints of an N×N hanging cloth (float). Positions are perturbed so every projection works.
 // One benchmark iteration is one sub-step's solve as World::step runs it: λ reset (begin_substep), kSweeps sweeps,
 // and end_substep (which may copy positions back from the solver's padded copy). Counter ns_per_projection = wall
-// time of one iteration / (constraints × kSweeps) (medians: use --benchmark_repetitions).
+// time of one iteration / (constraints × kSweeps) (medians: use --benchmark_repetitions). BM_ColoredScaling and
+// BM_ComputeScaling measure 2T vs 1T paired, sub-step by sub-step (see paired_scaling).
 #include "cloth_fixture.hpp"
 
 #include <benchmark/benchmark.h>
@@ -11,6 +12,9 @@
 #include <oneapi/tbb/partitioner.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <vector>
 
 namespace {
@@ -82,6 +86,89 @@ void BM_StreamTriad(benchmark::State& state) {
   state.counters["threads"] = threads;
 }
 
+// Paired 2T/1T measurement: each benchmark iteration times one unit of work in a 1-thread arena, then the same work
+// in a 2-thread arena, so both halves of a pair see the same minute of this shared machine. Counters: median ms of
+// each, and `speedup` = median over pairs of t1/t2 (noise slower than a pair cancels; faster noise does not).
+template <class Work> void paired_scaling(benchmark::State& state, Work&& work, double projections = 0) {
+  tbb::task_arena one(1), two(2);
+  std::vector<double> t1, t2, ratio;
+  auto timed = [&](tbb::task_arena& arena, int slot) {
+    double ms = 0;
+    arena.execute([&] {
+      std::atomic<int> arrived{0};
+      const int expected = arena.max_concurrency();
+      // Untimed: wait (≤ 50 ms) until every thread of the arena has arrived, so the timed work starts with them all
+      // awake (a worker that went to sleep during the other run can take milliseconds to come back on this VM).
+      tbb::parallel_for(0, 2, [&](int) {
+        ++arrived;
+        const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(50);
+        while (arrived.load() < expected && std::chrono::steady_clock::now() < until) {
+        }
+      }, tbb::static_partitioner());
+      const auto start = std::chrono::steady_clock::now();
+      work(slot);
+      ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    });
+    return ms;
+  };
+  for (auto _ : state) {
+    t1.push_back(timed(one, 0));
+    t2.push_back(timed(two, 1));
+    ratio.push_back(t1.back() / t2.back());
+  }
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  state.counters["ms_1T"] = median(t1);
+  state.counters["ms_2T"] = median(t2);
+  state.counters["speedup"] = median(ratio);
+  if (projections > 0) {  // ns per projection per sweep, `projections` per unit of work
+    state.counters["ns_1T"] = median(t1) * 1e6 / projections;
+    state.counters["ns_2T"] = median(t2) * 1e6 / projections;
+  }
+}
+
+// Colored Gauss-Seidel sub-steps, 1 thread against 2, paired: two identical cloths, one per thread count. The
+// solver's bits do not depend on the thread count, so the two cloths must stay bitwise equal; checked at the end.
+void BM_ColoredScaling(benchmark::State& state) {
+  const int n = int(state.range(0));
+  ClothFixture f[2] = {ClothFixture(n), ClothFixture(n)};
+  pbd::ColoredSolver<Real> solver[2];
+  pbd::CustomTypes<Real> custom[2];
+  for (int k = 0; k < 2; ++k)
+    solver[k].build(f[k].world.constraints(), pbd::VectorX<Real>(f[k].world.inverse_masses()), {}, custom[k]);
+  paired_scaling(
+      state,
+      [&](int k) {
+        pbd::bench::colored_substep(f[k], solver[k], custom[k], false);
+        benchmark::ClobberMemory();
+      },
+      double(f[0].constraints()) * kSweeps);
+  if (f[0].p != f[1].p) state.SkipWithError("1-thread and 2-thread positions differ");
+  state.counters["constraints"] = double(f[0].constraints());
+}
+
+// The machine's own 2T/1T ceiling for work that touches no memory: two independent chains of floating-point
+// multiply-adds in registers (about 5 ms on one thread), paired like BM_ColoredScaling. No solver can be expected to
+// scale better than this in the same run.
+void BM_ComputeScaling(benchmark::State& state) {
+  double out[2] = {0, 0};
+  paired_scaling(state, [&](int) {
+    tbb::parallel_for(0, 2, [&](int half) {
+      double a = 1.0 + half, b = 2.0 + half, c = 3.0 + half, d = 4.0 + half;
+      for (int i = 0; i < 1500000; ++i) {
+        a = a * 0.999999 + 1e-7;
+        b = b * 0.999999 + 1e-7;
+        c = c * 0.999999 + 1e-7;
+        d = d * 0.999999 + 1e-7;
+      }
+      out[half] = a + b + c + d;
+    }, tbb::static_partitioner());
+    benchmark::DoNotOptimize(out);
+  });
+}
+
 }  // namespace
 
 BENCHMARK(BM_SerialSweep)->ArgName("n")->Arg(30)->Arg(100)->Arg(300)->Arg(1000)->Unit(benchmark::kMicrosecond);
@@ -91,5 +178,8 @@ BENCHMARK(BM_ColoredSweepAlwaysFork)->ArgNames({"n", "threads"})->ArgsProduct({{
     ->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_JacobiSweep)->ArgNames({"n", "threads"})->ArgsProduct({{30, 100, 300, 1000}, {1, 2}})
     ->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ColoredScaling)->ArgName("n")->Arg(300)->Iterations(40)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ColoredScaling)->ArgName("n")->Arg(1000)->Iterations(8)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ComputeScaling)->Iterations(40)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StreamTriad)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();
