@@ -122,7 +122,7 @@ void ColoredSolver<Real>::sweep_gauss_seidel(std::span<const CollisionConstraint
     using Constraint = typename std::decay_t<decltype(array)>::value_type;
     if constexpr (std::is_same_v<Constraint, StretchConstraint<float>> && detail::kPaddedStretch) {
       if (array.num_colors() > 0)
-        project_stretch_colors(array, lam.data(), p, w, coeff.data(), stretch_only, parallel, config, part);
+        project_stretch_colors(array, lam.data(), p, w, coeff, stretch_only, parallel, config, part);
     } else {
       for (Index c = 0; c < array.num_colors(); ++c)
         run_range(array.offsets[c], array.offsets[c + 1], parallel, config, partitioners_[part++],
@@ -194,8 +194,8 @@ void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>
 
 template <class Real>
 void ColoredSolver<Real>::project_stretch_colors(const ColoredArray<StretchConstraint<Real>>& array, Real* lam,
-                                                 Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
-                                                 bool keep_padded, bool parallel, const ParallelConfig& config,
+                                                 Real* p, const Real* w,
+                                                 std::span<const SolveCoefficients<Real>> coeff, bool keep_padded, bool parallel, const ParallelConfig& config,
                                                  std::size_t& part) {
   if constexpr (std::is_same_v<Real, float>) {
     // Project every stretch color on padded positions (x y z w): one aligned load and store per particle in the
@@ -211,10 +211,11 @@ void ColoredSolver<Real>::project_stretch_colors(const ColoredArray<StretchConst
                 [&](Index b, Index e) { detail::pad_positions(p, w, b, e, q); });
     }
     float* q = padded_.data();
+    const bool any_xpbd = std::ranges::any_of(coeff, [](const auto& s) { return s.alpha_tilde != 0; });
     for (Index c = 0; c < array.num_colors(); ++c)
       run_blocks(array.offsets[c], array.offsets[c + 1], detail::kStretchBlock, parallel, config,
                  partitioners_[part++], [&](Index b, Index e) {
-                   detail::project_stretch_range(array.items.data(), b, e, q, coeff, lam);
+                   detail::project_stretch_range(array.items.data(), b, e, q, coeff.data(), lam, any_xpbd);
                  });
     padded_current_ = true;
     if (!keep_padded) unpad(p, parallel, config);

@@ -9,7 +9,7 @@ namespace pbd::detail {
 namespace {
 
 using RangeFn = void (*)(const StretchConstraint<float>*, Index, Index, float*, const SolveCoefficients<float>*,
-                         float*);
+                         float*, bool);
 
 #if defined(__SSE2__)
 // Software prefetch of the constraint and λ streams kPrefetchAhead constraints ahead of the block being projected.
@@ -23,6 +23,8 @@ constexpr std::size_t kPrefetchAhead = 128;  // 2 KB of constraints, 512 B of λ
 }
 #endif
 
+// kLambda = false (no set has α̃ ≠ 0): λ is neither read nor written, so its stream is not fetched either.
+template <bool kLambda>
 [[gnu::always_inline]] inline void range_body(const StretchConstraint<float>* c, Index b, Index e, float* q,
                                               const SolveCoefficients<float>* coeff, float* lambda) {
 #if defined(__SSE2__)
@@ -32,8 +34,8 @@ constexpr std::size_t kPrefetchAhead = 128;  // 2 KB of constraints, 512 B of λ
     float* lam = lambda + b;
     for (; it <= last; it += kStretchBlock, lam += kStretchBlock) {
       prefetch_ahead(it, kPrefetchAhead * sizeof(*it));  // a block is 64 bytes: every line gets one
-      prefetch_ahead(lam, kPrefetchAhead * sizeof(*lam));
-      project_stretch_block4(it, q, coeff, lam);
+      if constexpr (kLambda) prefetch_ahead(lam, kPrefetchAhead * sizeof(*lam));
+      project_stretch_block4<kLambda>(it, q, coeff, lam);
     }
     b = Index(it - c);
   }
@@ -41,9 +43,17 @@ constexpr std::size_t kPrefetchAhead = 128;  // 2 KB of constraints, 512 B of λ
   for (; b < e; ++b) project_stretch_padded(c[b], q, coeff[c[b].set], lambda[b]);
 }
 
+[[gnu::always_inline]] inline void range_either(const StretchConstraint<float>* c, Index b, Index e, float* q,
+                                                const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+  if (any_xpbd)
+    range_body<true>(c, b, e, q, coeff, lambda);
+  else
+    range_body<false>(c, b, e, q, coeff, lambda);
+}
+
 void range_default(const StretchConstraint<float>* c, Index b, Index e, float* q,
-                   const SolveCoefficients<float>* coeff, float* lambda) {
-  range_body(c, b, e, q, coeff, lambda);
+                   const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+  range_either(c, b, e, q, coeff, lambda, any_xpbd);
 }
 
 // The same code compiled for AVX2 machines: the three-operand encoding saves the register copies SSE2 needs. The
@@ -51,8 +61,8 @@ void range_default(const StretchConstraint<float>* c, Index b, Index e, float* q
 // ifunc resolvers run before ThreadSanitizer's runtime is up).
 #if defined(__x86_64__) && defined(__GNUC__)
 [[gnu::target("avx2")]] void range_avx2(const StretchConstraint<float>* c, Index b, Index e, float* q,
-                                        const SolveCoefficients<float>* coeff, float* lambda) {
-  range_body(c, b, e, q, coeff, lambda);
+                                        const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+  range_either(c, b, e, q, coeff, lambda, any_xpbd);
 }
 
 // PBD_SIMD=sse2 in the environment keeps the SSE2 build on an AVX2 machine (tests run both builds this way).
@@ -68,9 +78,9 @@ RangeFn pick_range() { return range_default; }
 }  // namespace
 
 void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, float* q,
-                           const SolveCoefficients<float>* coeff, float* lambda) {
+                           const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
   static const RangeFn range = pick_range();
-  range(c, b, e, q, coeff, lambda);
+  range(c, b, e, q, coeff, lambda, any_xpbd);
 }
 
 void pad_positions(const float* p, const float* w, Index b, Index e, float* q) {

@@ -36,7 +36,7 @@ inline void project_stretch_padded(const StretchConstraint<float>& c, float* q, 
   Vec3<float> dp[2];
   float dlambda;
   if (!correction(c, pos, w, coeff, lambda, dp, dlambda)) return;
-  lambda += dlambda;
+  if (coeff.alpha_tilde != 0.0f) lambda += dlambda;  // λ is kept only where it enters (projection.hpp)
   if (w[0] != 0.0f) Eigen::Map<Vec3<float>>(qa) += dp[0];
   if (w[1] != 0.0f) Eigen::Map<Vec3<float>>(qb) += dp[1];
 }
@@ -52,7 +52,9 @@ template <int k> inline void move(float* a, __m128 s, __m128 d) {
 }  // namespace sse
 
 /// Four constraints c[0, 4) of one color on padded positions q, λ in lambda[0, 4): the four corrections side by
-/// side, and only the writes the scalar projection makes (movable particles of constraints that project).
+/// side, and only the writes the scalar projection makes (movable particles of constraints that project; λ of
+/// lanes with α̃ ≠ 0). kLambda = false when no set has α̃ ≠ 0: every λ is 0, so λ is neither read nor written.
+template <bool kLambda>
 [[gnu::always_inline]] inline void project_stretch_block4(const StretchConstraint<float>* c, float* q,
                                                           const SolveCoefficients<float>* coeff, float* lambda) {
   using namespace sse;
@@ -100,12 +102,15 @@ template <int k> inline void move(float* a, __m128 s, __m128 d) {
   if (active == 0) return;
   const __m128 sign = _mm_set1_ps(-0.0f);
   const __m128 rest = _mm_setr_ps(c[0].rest, c[1].rest, c[2].rest, c[3].rest);
-  const __m128 lam = _mm_loadu_ps(lambda);
+  const __m128 lam = kLambda ? _mm_loadu_ps(lambda) : zero;
   const __m128 len = _mm_sqrt_ps(len2);
   const __m128 num = _mm_sub_ps(_mm_mul_ps(_mm_xor_ps(k, sign), _mm_sub_ps(len, rest)), _mm_mul_ps(alpha, lam));
   const __m128 s = _mm_div_ps(num, _mm_mul_ps(denom, len));
-  const __m128 new_lam = _mm_add_ps(lam, _mm_mul_ps(s, len));
-  _mm_storeu_ps(lambda, _mm_or_ps(_mm_and_ps(ok, new_lam), _mm_andnot_ps(ok, lam)));
+  if constexpr (kLambda) {
+    const __m128 keep = _mm_and_ps(ok, _mm_cmpneq_ps(alpha, zero));  // lanes whose λ the scalar projection adds to
+    const __m128 new_lam = _mm_add_ps(lam, _mm_mul_ps(s, len));
+    _mm_storeu_ps(lambda, _mm_or_ps(_mm_and_ps(keep, new_lam), _mm_andnot_ps(keep, lam)));
+  }
   const __m128 sa = _mm_mul_ps(wa, s), sb = _mm_mul_ps(_mm_xor_ps(wb, sign), s);
   // A particle is written when its constraint projects and it is movable (w ≠ 0), as in project_into(). The usual
   // case, all eight, takes one test instead of eight.
@@ -135,10 +140,11 @@ template <int k> inline void move(float* a, __m128 s, __m128 d) {
 
 /// Gauss-Seidel projection of stretch constraints c[b, e) of one color on padded positions q: blocks of
 /// kStretchBlock counted from b with SIMD, the remainder scalar. Same result, bit for bit, as project() one by one.
+/// any_xpbd = false promises that no set of the range has α̃ ≠ 0: λ is then never touched (nor fetched).
 /// Compiled twice (stretch_block.cpp): for AVX2 machines (three-operand encoding) and for any x86-64; a CPU check
 /// on first use picks one for the process, and both do the same arithmetic.
 void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, float* q,
-                           const SolveCoefficients<float>* coeff, float* lambda);
+                           const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd);
 
 /// Particles [b, e) from positions p (3 per particle) and inverse masses w into padded positions q (4 per particle).
 void pad_positions(const float* p, const float* w, Index b, Index e, float* q);

@@ -61,7 +61,7 @@ void project_volume(const VolumeConstraints<Real>& v, Index index, const Real* p
   const Real C = pg / Real(3) - target;
   const Real dlambda = (-coeff.k * C - coeff.alpha_tilde * lambda) / denom;
   if (!std::isfinite(dlambda)) return;
-  lambda += dlambda;
+  if (coeff.alpha_tilde != Real(0)) lambda += dlambda;  // λ is kept only where it enters (projection.hpp)
   run(Index(0), blocks, [&](Index b0, Index b1) {
     for (Index b = b0; b < b1; ++b) {
       const Index end = std::min<Index>(rows, (b + 1) * kVolumeBlock);

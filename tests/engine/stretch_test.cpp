@@ -54,6 +54,21 @@ TYPED_TEST(StretchTest, BothPinnedMovesNothing) {
   EXPECT_EQ(lambda, Real(0));
 }
 
+// λ enters a correction only as α̃·λ, so it is accumulated only when α̃ ≠ 0 (PBD's stays 0: no solver streams it).
+TYPED_TEST(StretchTest, LambdaIsAccumulatedOnlyUnderCompliance) {
+  using Real = TypeParam;
+  Real p[6] = {0, 0, 0, 3, 0, 0};  // C = 2, w = 1 and 1
+  const Real w[2] = {1, 1};
+  Real lambda = 0;
+  project(StretchConstraint<Real>{{0, 1}, 0, Real(1)}, p, w, SolveCoefficients<Real>{1, 0}, lambda);
+  EXPECT_NEAR(p[3] - p[0], 1.0, 1e-6);  // PBD moved the particles...
+  EXPECT_EQ(lambda, Real(0));           // ...and kept no λ
+  Real q[6] = {0, 0, 0, 3, 0, 0};
+  project(StretchConstraint<Real>{{0, 1}, 0, Real(1)}, q, w, SolveCoefficients<Real>{1, Real(0.5)}, lambda);
+  EXPECT_NEAR(lambda, -0.8, 1e-6);  // XPBD: Δλ = −C / (w0 + w1 + α̃) = −2 / 2.5
+  EXPECT_NEAR(q[3] - q[0], 3 - 1.6, 1e-6);
+}
+
 TYPED_TEST(StretchTest, CoincidentParticlesAreSkipped) {
   using Real = TypeParam;
   // Guard: no direction to push along, so nothing moves (and nothing becomes NaN).

@@ -93,8 +93,8 @@ private:
   void count_static(const CustomTypes<Real>& custom);
   // The stretch colors on padded positions (float with SSE2; see stretch_block.hpp).
   void project_stretch_colors(const ColoredArray<StretchConstraint<Real>>& array, Real* lambda, Real* p,
-                              const Real* w, const SolveCoefficients<Real>* coeff, bool keep_padded, bool parallel,
-                              const ParallelConfig& config, std::size_t& part);
+                              const Real* w, std::span<const SolveCoefficients<Real>> coeff, bool keep_padded,
+                              bool parallel, const ParallelConfig& config, std::size_t& part);
   void unpad(Real* p, bool parallel, const ParallelConfig& config);  // padded copy → p
   void project_volumes(const Real* p, Real* out, const Real* w, std::span<const SolveCoefficients<Real>> coeff,
                        bool parallel, const ParallelConfig& config, std::size_t& part);

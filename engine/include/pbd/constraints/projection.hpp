@@ -35,6 +35,8 @@ inline bool correction(const Constraint& c, const Vec3<Real> (&p)[Constraint::kA
 
 /// Computes the correction of one constraint from positions `p` (3×N, column-major) and inverse masses `w`,
 /// accumulates its λ and adds Δp to `out` (3×N) for its movable particles; pinned ones (w = 0) are never written.
+/// λ is accumulated only when α̃ ≠ 0: it enters the correction only as α̃·λ, so for PBD (α̃ = 0) it stays 0 and
+/// the solvers need not read or write it (every solver follows this rule, so all give the same bits).
 /// With out = p this is the Gauss-Seidel projection; with out = a separate buffer, the Jacobi accumulation.
 template <class Constraint, class Real>
 inline void project_into(const Constraint& c, const Real* p, const Real* w, SolveCoefficients<Real> coeff,
@@ -49,7 +51,7 @@ inline void project_into(const Constraint& c, const Real* p, const Real* w, Solv
   Vec3<Real> dp[n];
   Real dlambda;
   if (!correction(c, q, wi, coeff, lambda, dp, dlambda)) return;
-  lambda += dlambda;
+  if (coeff.alpha_tilde != Real(0)) lambda += dlambda;
   for (int i = 0; i < n; ++i)
     if (wi[i] != Real(0)) Eigen::Map<Vec3<Real>>(out + 3 * std::size_t(c.particles[i])) += dp[i];
 }
