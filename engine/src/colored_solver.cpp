@@ -105,7 +105,16 @@ void ColoredSolver<Real>::begin_substep(std::vector<CollisionConstraint<Real>>& 
       collisions.swap(collision_scratch_);
     }
   }
-  lambda_.reset(colored_, collisions.size());
+  // λ changes only where α̃ ≠ 0 (projection.hpp): after sub-steps whose sweeps had no such set, every λ is still 0
+  // and the (serial) reset can be skipped.
+  if (lambda_written_ || !lambda_.sized_for(colored_, collisions.size())) lambda_.reset(colored_, collisions.size());
+  lambda_written_ = false;
+}
+
+template <class Real> bool ColoredSolver<Real>::note_compliance(std::span<const SolveCoefficients<Real>> coeff) {
+  const bool any = std::ranges::any_of(coeff, [](const auto& s) { return s.alpha_tilde != Real(0); });
+  lambda_written_ = lambda_written_ || any;
+  return any;
 }
 
 template <class Real>
@@ -114,6 +123,7 @@ void ColoredSolver<Real>::sweep_gauss_seidel(std::span<const CollisionConstraint
                                              bool parallel, const ParallelConfig& config,
                                              CustomTypes<Real>& custom) {
   std::size_t part = 0;
+  const bool any_xpbd = note_compliance(coeff);
   // When stretch is all this sweep projects, the positions may stay padded until end_substep().
   const bool stretch_only = colored_.anchor.items.empty() && colored_.bending.items.empty() &&
                             colored_.area.items.empty() && colored_.volume.size() == 0 && custom.types().empty() &&
@@ -122,7 +132,7 @@ void ColoredSolver<Real>::sweep_gauss_seidel(std::span<const CollisionConstraint
     using Constraint = typename std::decay_t<decltype(array)>::value_type;
     if constexpr (std::is_same_v<Constraint, StretchConstraint<float>> && detail::kPaddedStretch) {
       if (array.num_colors() > 0)
-        project_stretch_colors(array, lam.data(), p, w, coeff, stretch_only, parallel, config, part);
+        project_stretch_colors(array, lam.data(), p, w, coeff.data(), any_xpbd, stretch_only, parallel, config, part);
     } else {
       for (Index c = 0; c < array.num_colors(); ++c)
         run_range(array.offsets[c], array.offsets[c + 1], parallel, config, partitioners_[part++],
@@ -165,6 +175,7 @@ void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>
   }
   std::fill(delta_.begin(), delta_.end(), Real(0));
   Real* delta = delta_.data();
+  note_compliance(coeff);
   std::size_t part = 0;
   lambda_.zip(colored_, [&](const auto& array, std::vector<Real>& lam) {
     for (Index c = 0; c < array.num_colors(); ++c)
@@ -194,8 +205,8 @@ void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>
 
 template <class Real>
 void ColoredSolver<Real>::project_stretch_colors(const ColoredArray<StretchConstraint<Real>>& array, Real* lam,
-                                                 Real* p, const Real* w,
-                                                 std::span<const SolveCoefficients<Real>> coeff, bool keep_padded, bool parallel, const ParallelConfig& config,
+                                                 Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
+                                                 bool any_xpbd, bool keep_padded, bool parallel, const ParallelConfig& config,
                                                  std::size_t& part) {
   if constexpr (std::is_same_v<Real, float>) {
     // Project every stretch color on padded positions (x y z w): one aligned load and store per particle in the
@@ -211,11 +222,10 @@ void ColoredSolver<Real>::project_stretch_colors(const ColoredArray<StretchConst
                 [&](Index b, Index e) { detail::pad_positions(p, w, b, e, q); });
     }
     float* q = padded_.data();
-    const bool any_xpbd = std::ranges::any_of(coeff, [](const auto& s) { return s.alpha_tilde != 0; });
     for (Index c = 0; c < array.num_colors(); ++c)
       run_blocks(array.offsets[c], array.offsets[c + 1], detail::kStretchBlock, parallel, config,
                  partitioners_[part++], [&](Index b, Index e) {
-                   detail::project_stretch_range(array.items.data(), b, e, q, coeff.data(), lam, any_xpbd);
+                   detail::project_stretch_range(array.items.data(), b, e, q, coeff, lam, any_xpbd);
                  });
     padded_current_ = true;
     if (!keep_padded) unpad(p, parallel, config);

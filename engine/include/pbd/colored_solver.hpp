@@ -92,15 +92,19 @@ private:
   template <class> friend class World;  // erases constraints in place (World::remove_*)
   void count_static(const CustomTypes<Real>& custom);
   // The stretch colors on padded positions (float with SSE2; see stretch_block.hpp).
+  // any_xpbd: some set has α̃ ≠ 0 (otherwise the kernel neither reads nor writes λ).
   void project_stretch_colors(const ColoredArray<StretchConstraint<Real>>& array, Real* lambda, Real* p,
-                              const Real* w, std::span<const SolveCoefficients<Real>> coeff, bool keep_padded,
+                              const Real* w, const SolveCoefficients<Real>* coeff, bool any_xpbd, bool keep_padded,
                               bool parallel, const ParallelConfig& config, std::size_t& part);
+  // True when some set of `coeff` has α̃ ≠ 0; then λ may be written this sub-step (begin_substep must reset it).
+  bool note_compliance(std::span<const SolveCoefficients<Real>> coeff);
   void unpad(Real* p, bool parallel, const ParallelConfig& config);  // padded copy → p
   void project_volumes(const Real* p, Real* out, const Real* w, std::span<const SolveCoefficients<Real>> coeff,
                        bool parallel, const ParallelConfig& config, std::size_t& part);
   bool built_ = false;
   ColoredConstraints<Real> colored_;
   Multipliers<Real> lambda_;
+  bool lambda_written_ = true;       // a sweep since the last reset had α̃ ≠ 0, so some λ may be non-zero
   std::vector<Index> collision_offsets_;
   std::vector<CollisionConstraint<Real>> collision_scratch_;
   PartitionerPool partitioners_;  // one per color of the persistent types, then collisions, then the Jacobi update

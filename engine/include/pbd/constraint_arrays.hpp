@@ -60,6 +60,13 @@ template <class Real> struct Multipliers {
     collision.assign(collisions, Real(0));
   }
 
+  /// True when every array already has the size reset(c, collisions) would give it.
+  template <class Arrays> bool sized_for(const Arrays& c, std::size_t collisions) const {
+    return stretch.size() == c.stretch.size() && anchor.size() == c.anchor.size() &&
+           bending.size() == c.bending.size() && area.size() == c.area.size() && volume.size() == c.volume.size() &&
+           collision.size() == collisions;
+  }
+
   /// Calls f(array_of_constraints, its_lambdas) for each fixed-arity persistent type of `c` (same order as for_each).
   template <class Arrays, class F> void zip(const Arrays& c, F&& f) {
     f(c.stretch, stretch);
