@@ -51,6 +51,10 @@ def main(path):
             if name.startswith("BM_ColoredScaling"):
                 label = f"colored sub-step, {name.split('n:')[1]}² cloth (ns per projection)"
                 print(f"| {label} | {b['ns_1T']:.2f} | {b['ns_2T']:.2f} | {b['speedup']:.2f}× |")
+            elif name.startswith("BM_SharedNothingScaling"):
+                n = name.split('n:')[1]
+                label = f"two independent {n}² cloths, one per thread (ns per projection): the ceiling at that size"
+                print(f"| {label} | {b['ns_1T']:.2f} | {b['ns_2T']:.2f} | {b['speedup']:.2f}× |")
             else:
                 label = "compute only, no memory (ms): the machine's own ceiling"
                 print(f"| {label} | {b['ms_1T']:.2f} | {b['ms_2T']:.2f} | {b['speedup']:.2f}× |")

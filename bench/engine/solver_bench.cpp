@@ -2,8 +2,8 @@
 // over the stretch constraints of an N×N hanging cloth (float). Positions are perturbed so every projection works.
 // One benchmark iteration is one sub-step's solve as World::step runs it: λ reset (begin_substep), kSweeps sweeps,
 // and end_substep (which may copy positions back from the solver's padded copy). Counter ns_per_projection = wall
-// time of one iteration / (constraints × kSweeps) (medians: use --benchmark_repetitions). BM_ColoredScaling and
-// BM_ComputeScaling measure 2T vs 1T paired, sub-step by sub-step (see paired_scaling).
+// time of one iteration / (constraints × kSweeps) (medians: use --benchmark_repetitions). BM_ColoredScaling,
+// BM_SharedNothingScaling and BM_ComputeScaling measure 2T vs 1T paired, sub-step by sub-step (see paired_scaling).
 #include "cloth_fixture.hpp"
 
 #include <benchmark/benchmark.h>
@@ -151,6 +151,29 @@ void BM_ColoredScaling(benchmark::State& state) {
   state.counters["constraints"] = double(f[0].constraints());
 }
 
+// The ceiling for the solver at size n when the two threads share nothing: a unit of work is one sub-step of each
+// of two independent n² cloths, both on one thread, or one per thread at once (every color inline, so no fork, no
+// join, no particle shared). Paired like BM_ColoredScaling; what it loses against 2× is what the two cores cost
+// each other (shared cache and memory) and how unequal their speeds are at that moment, on data of the solver's size.
+void BM_SharedNothingScaling(benchmark::State& state) {
+  const int n = int(state.range(0));
+  ClothFixture f[4] = {ClothFixture(n), ClothFixture(n), ClothFixture(n), ClothFixture(n)};  // two per half
+  pbd::ColoredSolver<Real> solver[4];
+  pbd::CustomTypes<Real> custom[4];
+  for (int k = 0; k < 4; ++k)
+    solver[k].build(f[k].world.constraints(), pbd::VectorX<Real>(f[k].world.inverse_masses()), {}, custom[k]);
+  const pbd::ParallelConfig inline_all{std::size_t(-1), std::size_t(-1)};
+  paired_scaling(
+      state,
+      [&](int half) {
+        tbb::parallel_for(0, 2, [&](int k) {
+          pbd::bench::colored_substep(f[2 * half + k], solver[2 * half + k], custom[2 * half + k], false, inline_all);
+        }, tbb::static_partitioner());
+        benchmark::ClobberMemory();
+      },
+      2.0 * double(f[0].constraints()) * kSweeps);
+}
+
 // The machine's own 2T/1T ceiling for work that touches no memory: two independent chains of floating-point
 // multiply-adds in registers (about 5 ms on one thread), paired like BM_ColoredScaling. No solver can be expected to
 // scale better than this in the same run.
@@ -182,6 +205,7 @@ BENCHMARK(BM_JacobiSweep)->ArgNames({"n", "threads"})->ArgsProduct({{30, 100, 30
     ->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ColoredScaling)->ArgName("n")->Arg(300)->Iterations(40)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ColoredScaling)->ArgName("n")->Arg(1000)->Iterations(8)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SharedNothingScaling)->ArgName("n")->Arg(300)->Iterations(20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ComputeScaling)->Iterations(40)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StreamTriad)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();
