@@ -206,8 +206,8 @@ void ColoredSolver<Real>::sweep_jacobi(std::span<const CollisionConstraint<Real>
 template <class Real>
 void ColoredSolver<Real>::project_stretch_colors(const ColoredArray<StretchConstraint<Real>>& array, Real* lam,
                                                  Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
-                                                 bool any_xpbd, bool keep_padded, bool parallel, const ParallelConfig& config,
-                                                 std::size_t& part) {
+                                                 bool any_xpbd, bool keep_padded, bool parallel,
+                                                 const ParallelConfig& config, std::size_t& part) {
   if constexpr (std::is_same_v<Real, float>) {
     // Project every stretch color on padded positions (x y z w): one aligned load and store per particle in the
     // kernel instead of three of each plus w. Copied in unless the last sweep left them there, copied back unless
