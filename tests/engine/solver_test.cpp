@@ -126,39 +126,44 @@ TYPED_TEST(SolverTest, ColoredIsBitwiseIdenticalForAnyThreadCountAndToSerialColo
 // positions) must agree bit for bit. The pairs cover what the SIMD kernel masks or mixes within one block of four:
 // coincident particles, one or both ends pinned (pinned ends shared between constraints), PBD, iteration-independent
 // and XPBD sets side by side, rest lengths shorter and longer than the distance, and counts that leave 1 to 3
-// constraints for the scalar remainder.
+// constraints for the scalar remainder. Each count runs twice: with an XPBD set among the three (the kernel keeps
+// λ) and with three sets of α̃ = 0 and different k (the kernel neither reads nor writes λ).
 TYPED_TEST(SolverTest, StretchKernelMatchesTheScalarProjectionBitForBit) {
   using Real = TypeParam;
-  for (int count : {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 15, 16, 61, 250, 1003}) {
-    std::mt19937 rng{unsigned(count)};
-    std::uniform_real_distribution<double> u(-1, 1);
-    World<Real> w;
-    const Index pin_a = w.add_particle(Vec3<Real>(0, 0, 1), World<Real>::kPinned);
-    const Index pin_b = w.add_particle(Vec3<Real>(Real(0.3), 0, 1), World<Real>::kPinned);
-    const Index sets[3] = {w.add_constraint_set(Stiffness::pbd_k(0.7)), w.add_constraint_set(Stiffness::xpbd_compliance(1e-5)),
-                           w.add_constraint_set(Stiffness::iteration_independent(0.4))};
-    auto random_point = [&] { return Vec3<Real>(Real(u(rng)), Real(u(rng)), Real(u(rng))); };
-    auto movable = [&] { return w.add_particle(random_point(), Real(0.2 + 2 * std::abs(u(rng)))); };
-    for (int k = 0; k < count; ++k) {
-      const Index set = sets[std::uniform_int_distribution<int>(0, 2)(rng)];
-      const Real rest = Real(0.5 * std::abs(u(rng)) + 0.01);
-      switch (k % 7) {
-        case 0: {  // coincident: no direction, skipped
-          const Vec3<Real> at = random_point();
-          const Index a = w.add_particle(at, 1);
-          w.add_stretch(a, w.add_particle(at, 1), set, rest);
-          break;
+  for (bool with_xpbd : {true, false}) {
+    for (int count : {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 15, 16, 61, 250, 1003}) {
+      std::mt19937 rng{unsigned(count)};
+      std::uniform_real_distribution<double> u(-1, 1);
+      World<Real> w;
+      const Index pin_a = w.add_particle(Vec3<Real>(0, 0, 1), World<Real>::kPinned);
+      const Index pin_b = w.add_particle(Vec3<Real>(Real(0.3), 0, 1), World<Real>::kPinned);
+      const Index sets[3] = {w.add_constraint_set(Stiffness::pbd_k(0.7)),
+                             w.add_constraint_set(with_xpbd ? Stiffness::xpbd_compliance(1e-5) : Stiffness::pbd_k(0.3)),
+                             w.add_constraint_set(Stiffness::iteration_independent(0.4))};
+      auto random_point = [&] { return Vec3<Real>(Real(u(rng)), Real(u(rng)), Real(u(rng))); };
+      auto movable = [&] { return w.add_particle(random_point(), Real(0.2 + 2 * std::abs(u(rng)))); };
+      for (int k = 0; k < count; ++k) {
+        const Index set = sets[std::uniform_int_distribution<int>(0, 2)(rng)];
+        const Real rest = Real(0.5 * std::abs(u(rng)) + 0.01);
+        switch (k % 7) {
+          case 0: {  // coincident: no direction, skipped
+            const Vec3<Real> at = random_point();
+            const Index a = w.add_particle(at, 1);
+            w.add_stretch(a, w.add_particle(at, 1), set, rest);
+            break;
+          }
+          case 1: w.add_stretch(pin_a, movable(), set, rest); break;  // first end pinned (and shared)
+          case 2: w.add_stretch(movable(), pin_b, set, rest); break;  // second end pinned (and shared)
+          case 3: w.add_stretch(pin_a, pin_b, set, rest); break;      // both pinned: PBD skips, XPBD moves λ only
+          default: w.add_stretch(movable(), movable(), set, rest); break;
         }
-        case 1: w.add_stretch(pin_a, movable(), set, rest); break;  // first end pinned (and shared)
-        case 2: w.add_stretch(movable(), pin_b, set, rest); break;  // second end pinned (and shared)
-        case 3: w.add_stretch(pin_a, pin_b, set, rest); break;      // both pinned: PBD skips, XPBD moves λ only
-        default: w.add_stretch(movable(), movable(), set, rest); break;
       }
+      // Steps without collisions or other constraints: only stretch projections move particles.
+      const auto serial = run(w, Solver::serial, 1, 12);
+      for (int threads : {1, 2})
+        EXPECT_TRUE(bitwise_equal(serial, run(w, Solver::colored, threads, 12)))
+            << count << " constraints, " << threads << " threads, " << (with_xpbd ? "with" : "without") << " XPBD";
     }
-    // Steps without collisions or other constraints: only stretch projections move particles.
-    const auto serial = run(w, Solver::serial, 1, 12);
-    for (int threads : {1, 2})
-      EXPECT_TRUE(bitwise_equal(serial, run(w, Solver::colored, threads, 12))) << count << " constraints, " << threads << " threads";
   }
 }
 
