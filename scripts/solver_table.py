@@ -48,16 +48,14 @@ def main(path):
         print("| work | 1 thread | 2 threads | 2T vs 1T |")
         print("|---|---|---|---|")
         for name, b in sorted(paired.items()):
+            n = name.split("n:")[1] if "n:" in name else None
             if name.startswith("BM_ColoredScaling"):
-                label = f"colored sub-step, {name.split('n:')[1]}² cloth (ns per projection)"
-                print(f"| {label} | {b['ns_1T']:.2f} | {b['ns_2T']:.2f} | {b['speedup']:.2f}× |")
+                label, unit = f"colored sub-step, {n}² cloth (ns per projection)", "ns"
             elif name.startswith("BM_SharedNothingScaling"):
-                n = name.split('n:')[1]
-                label = f"two independent {n}² cloths, one per thread (ns per projection): the ceiling at that size"
-                print(f"| {label} | {b['ns_1T']:.2f} | {b['ns_2T']:.2f} | {b['speedup']:.2f}× |")
+                label, unit = f"two independent {n}² cloths, one per thread (ns per projection): the ceiling at that size", "ns"
             else:
-                label = "compute only, no memory (ms): the machine's own ceiling"
-                print(f"| {label} | {b['ms_1T']:.2f} | {b['ms_2T']:.2f} | {b['speedup']:.2f}× |")
+                label, unit = "compute only, no memory (ms): the machine's own ceiling", "ms"
+            print(f"| {label} | {b[unit + '_1T']:.2f} | {b[unit + '_2T']:.2f} | {b['speedup']:.2f}× |")
 
 
 if __name__ == "__main__":
