@@ -68,6 +68,7 @@ void ColoredSolver<Real>::update(const ConstraintArrays<Real>& constraints, cons
     custom_changed = true;
   }
   if (custom_changed) count_static(custom);
+  else note_stretch_sets();  // appended constraints may have joined a color of another set
 }
 
 template <class Real> void ColoredSolver<Real>::count_static(const CustomTypes<Real>& custom) {
@@ -78,6 +79,17 @@ template <class Real> void ColoredSolver<Real>::count_static(const CustomTypes<R
   });
   for (Index k : colored_.volume.particles) ++static_count_[k];
   for (const auto& t : custom.types()) t->count_particles(static_count_);
+  note_stretch_sets();
+}
+
+template <class Real> void ColoredSolver<Real>::note_stretch_sets() {
+  const auto& a = colored_.stretch;
+  stretch_sets_.assign(a.num_colors(), detail::kMixedSets);
+  for (Index c = 0; c < a.num_colors(); ++c) {
+    const auto first = a.items.begin() + a.offsets[c], last = a.items.begin() + a.offsets[c + 1];
+    if (first != last && std::all_of(first, last, [&](const auto& x) { return x.set == first->set; }))
+      stretch_sets_[c] = first->set;
+  }
 }
 
 template <class Real>
@@ -222,11 +234,14 @@ void ColoredSolver<Real>::project_stretch_colors(const ColoredArray<StretchConst
                 [&](Index b, Index e) { detail::pad_positions(p, w, b, e, q); });
     }
     float* q = padded_.data();
-    for (Index c = 0; c < array.num_colors(); ++c)
+    const bool sets_known = stretch_sets_.size() == std::size_t(array.num_colors());
+    for (Index c = 0; c < array.num_colors(); ++c) {
+      const Index set = sets_known ? stretch_sets_[c] : detail::kMixedSets;
       run_blocks(array.offsets[c], array.offsets[c + 1], detail::kStretchBlock, parallel, config,
                  partitioners_[part++], [&](Index b, Index e) {
-                   detail::project_stretch_range(array.items.data(), b, e, q, coeff, lam, any_xpbd);
+                   detail::project_stretch_range(array.items.data(), b, e, q, coeff, lam, any_xpbd, set);
                  });
+    }
     padded_current_ = true;
     if (!keep_padded) unpad(p, parallel, config);
   }

@@ -9,7 +9,7 @@ namespace pbd::detail {
 namespace {
 
 using RangeFn = void (*)(const StretchConstraint<float>*, Index, Index, float*, const SolveCoefficients<float>*,
-                         float*, bool);
+                         float*, bool, Index);
 
 #if defined(__SSE2__)
 // Software prefetch of the constraint and λ streams kPrefetchAhead constraints ahead of the block being projected.
@@ -24,18 +24,23 @@ constexpr std::size_t kPrefetchAhead = 128;  // 2 KB of constraints, 512 B of λ
 #endif
 
 // kLambda = false (no set has α̃ ≠ 0): λ is neither read nor written, so its stream is not fetched either.
-template <bool kLambda>
+template <bool kLambda, bool kOneSet>
 [[gnu::always_inline]] inline void range_body(const StretchConstraint<float>* c, Index b, Index e, float* q,
-                                              const SolveCoefficients<float>* coeff, float* lambda) {
+                                              const SolveCoefficients<float>* coeff, float* lambda, Index set) {
 #if defined(__SSE2__)
   if (e - b >= kStretchBlock) {
+    __m128 neg_k = _mm_setzero_ps(), alpha = _mm_setzero_ps();
+    if constexpr (kOneSet) {
+      neg_k = _mm_set1_ps(-coeff[set].k);
+      alpha = _mm_set1_ps(coeff[set].alpha_tilde);
+    }
     const StretchConstraint<float>* const last = c + (e - kStretchBlock);
     const StretchConstraint<float>* it = c + b;
     float* lam = lambda + b;
     for (; it <= last; it += kStretchBlock, lam += kStretchBlock) {
       prefetch_ahead(it, kPrefetchAhead * sizeof(*it));  // a block is 64 bytes: every line gets one
       if constexpr (kLambda) prefetch_ahead(lam, kPrefetchAhead * sizeof(*lam));
-      project_stretch_block4<kLambda>(it, q, coeff, lam);
+      project_stretch_block4<kLambda, kOneSet>(it, q, coeff, lam, neg_k, alpha);
     }
     b = Index(it - c);
   }
@@ -44,16 +49,20 @@ template <bool kLambda>
 }
 
 [[gnu::always_inline]] inline void range_either(const StretchConstraint<float>* c, Index b, Index e, float* q,
-                                                const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
-  if (any_xpbd)
-    range_body<true>(c, b, e, q, coeff, lambda);
-  else
-    range_body<false>(c, b, e, q, coeff, lambda);
+                                                const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd,
+                                                Index set) {
+  if (set != kMixedSets) {
+    if (any_xpbd) range_body<true, true>(c, b, e, q, coeff, lambda, set);
+    else range_body<false, true>(c, b, e, q, coeff, lambda, set);
+  } else {
+    if (any_xpbd) range_body<true, false>(c, b, e, q, coeff, lambda, set);
+    else range_body<false, false>(c, b, e, q, coeff, lambda, set);
+  }
 }
 
 void range_default(const StretchConstraint<float>* c, Index b, Index e, float* q,
-                   const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
-  range_either(c, b, e, q, coeff, lambda, any_xpbd);
+                   const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set) {
+  range_either(c, b, e, q, coeff, lambda, any_xpbd, set);
 }
 
 // The same code compiled for AVX2 machines: the three-operand encoding saves the register copies SSE2 needs. The
@@ -61,8 +70,8 @@ void range_default(const StretchConstraint<float>* c, Index b, Index e, float* q
 // ifunc resolvers run before ThreadSanitizer's runtime is up).
 #if defined(__x86_64__) && defined(__GNUC__)
 [[gnu::target("avx2")]] void range_avx2(const StretchConstraint<float>* c, Index b, Index e, float* q,
-                                        const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
-  range_either(c, b, e, q, coeff, lambda, any_xpbd);
+                                        const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set) {
+  range_either(c, b, e, q, coeff, lambda, any_xpbd, set);
 }
 
 // PBD_SIMD=sse2 in the environment keeps the SSE2 build on an AVX2 machine (tests run both builds this way).
@@ -78,9 +87,9 @@ RangeFn pick_range() { return range_default; }
 }  // namespace
 
 void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, float* q,
-                           const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+                           const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set) {
   static const RangeFn range = pick_range();
-  range(c, b, e, q, coeff, lambda, any_xpbd);
+  range(c, b, e, q, coeff, lambda, any_xpbd, set);
 }
 
 void pad_positions(const float* p, const float* w, Index b, Index e, float* q) {

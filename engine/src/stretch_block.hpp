@@ -14,6 +14,9 @@
 
 namespace pbd::detail {
 
+/// "The constraints of this range belong to more than one set" (project_stretch_range).
+inline constexpr Index kMixedSets = ~Index(0);
+
 /// Constraints per SIMD block: parallel ranges of the stretch colors are cut at multiples of this.
 inline constexpr Index kStretchBlock = 4;
 
@@ -54,9 +57,12 @@ template <int k> inline void move(float* a, __m128 s, __m128 d) {
 /// Four constraints c[0, 4) of one color on padded positions q, λ in lambda[0, 4): the four corrections side by
 /// side, and only the writes the scalar projection makes (movable particles of constraints that project; λ of
 /// lanes with α̃ ≠ 0). kLambda = false when no set has α̃ ≠ 0: every λ is 0, so λ is neither read nor written.
-template <bool kLambda>
+/// kOneSet: the four belong to one set, whose −k and α̃ are given broadcast in neg_k1 and alpha1 (otherwise they are
+/// read from coeff per block and the last two arguments are ignored).
+template <bool kLambda, bool kOneSet>
 [[gnu::always_inline]] inline void project_stretch_block4(const StretchConstraint<float>* c, float* q,
-                                                          const SolveCoefficients<float>* coeff, float* lambda) {
+                                                          const SolveCoefficients<float>* coeff, float* lambda,
+                                                          __m128 neg_k1, __m128 alpha1) {
   using namespace sse;
   float* const qa0 = q + 4 * std::size_t(c[0].particles[0]);
   float* const qa1 = q + 4 * std::size_t(c[1].particles[0]);
@@ -84,15 +90,18 @@ template <bool kLambda>
   const __m128 dx = _mm_movelh_ps(t0, t1), dy = _mm_movehl_ps(t1, t0), dz = _mm_movelh_ps(t2, t3);
   // len2 = x² + (y² + z²), the order of Eigen's squaredNorm of a 3-vector (it halves the sum recursively).
   const __m128 len2 = _mm_add_ps(_mm_mul_ps(dx, dx), _mm_add_ps(_mm_mul_ps(dy, dy), _mm_mul_ps(dz, dz)));
-  __m128 k, alpha;
-  const Index set = c[0].set;
-  if (c[1].set == set && c[2].set == set && c[3].set == set) {
-    k = _mm_set1_ps(coeff[set].k);
-    alpha = _mm_set1_ps(coeff[set].alpha_tilde);
-  } else {
-    k = _mm_setr_ps(coeff[set].k, coeff[c[1].set].k, coeff[c[2].set].k, coeff[c[3].set].k);
-    alpha = _mm_setr_ps(coeff[set].alpha_tilde, coeff[c[1].set].alpha_tilde, coeff[c[2].set].alpha_tilde,
-                        coeff[c[3].set].alpha_tilde);
+  const __m128 sign = _mm_set1_ps(-0.0f);
+  __m128 neg_k = neg_k1, alpha = alpha1;
+  if constexpr (!kOneSet) {
+    const Index set = c[0].set;
+    if (c[1].set == set && c[2].set == set && c[3].set == set) {
+      neg_k = _mm_xor_ps(_mm_set1_ps(coeff[set].k), sign);
+      alpha = _mm_set1_ps(coeff[set].alpha_tilde);
+    } else {
+      neg_k = _mm_xor_ps(_mm_setr_ps(coeff[set].k, coeff[c[1].set].k, coeff[c[2].set].k, coeff[c[3].set].k), sign);
+      alpha = _mm_setr_ps(coeff[set].alpha_tilde, coeff[c[1].set].alpha_tilde, coeff[c[2].set].alpha_tilde,
+                          coeff[c[3].set].alpha_tilde);
+    }
   }
   const __m128 denom = _mm_add_ps(_mm_add_ps(alpha, wa), wb);
   // Lanes that project: a direction exists and the denominator is positive (false for NaN, as in the scalar test).
@@ -100,11 +109,15 @@ template <bool kLambda>
   const __m128 ok = _mm_and_ps(_mm_cmpgt_ps(len2, _mm_set1_ps(tiny_squared<float>())), _mm_cmpgt_ps(denom, zero));
   const int active = _mm_movemask_ps(ok);
   if (active == 0) return;
-  const __m128 sign = _mm_set1_ps(-0.0f);
   const __m128 rest = _mm_setr_ps(c[0].rest, c[1].rest, c[2].rest, c[3].rest);
-  const __m128 lam = kLambda ? _mm_loadu_ps(lambda) : zero;
   const __m128 len = _mm_sqrt_ps(len2);
-  const __m128 num = _mm_sub_ps(_mm_mul_ps(_mm_xor_ps(k, sign), _mm_sub_ps(len, rest)), _mm_mul_ps(alpha, lam));
+  // Without λ (every α̃ is +0, every λ 0) the scalar's "− α̃·λ" subtracts +0, which changes no bit: left out.
+  __m128 num = _mm_mul_ps(neg_k, _mm_sub_ps(len, rest));
+  __m128 lam = zero;
+  if constexpr (kLambda) {
+    lam = _mm_loadu_ps(lambda);
+    num = _mm_sub_ps(num, _mm_mul_ps(alpha, lam));
+  }
   const __m128 s = _mm_div_ps(num, _mm_mul_ps(denom, len));
   if constexpr (kLambda) {
     const __m128 keep = _mm_and_ps(ok, _mm_cmpneq_ps(alpha, zero));  // lanes whose λ the scalar projection adds to
@@ -114,8 +127,8 @@ template <bool kLambda>
   const __m128 sa = _mm_mul_ps(wa, s), sb = _mm_mul_ps(_mm_xor_ps(wb, sign), s);
   // A particle is written when its constraint projects and it is movable (w ≠ 0), as in project_into(). The usual
   // case, all eight, takes one test instead of eight.
-  const int movable_a = ~_mm_movemask_ps(_mm_cmpeq_ps(wa, zero)), movable_b = ~_mm_movemask_ps(_mm_cmpeq_ps(wb, zero));
-  if ((active & movable_a & movable_b & 0xF) == 0xF) {
+  const __m128 pinned_a = _mm_cmpeq_ps(wa, zero), pinned_b = _mm_cmpeq_ps(wb, zero);
+  if ((active | _mm_movemask_ps(_mm_or_ps(pinned_a, pinned_b)) << 4) == 0xF) {
     move<0>(qa0, sa, d0);
     move<0>(qb0, sb, d0);
     move<1>(qa1, sa, d1);
@@ -126,7 +139,7 @@ template <bool kLambda>
     move<3>(qb3, sb, d3);
     return;
   }
-  const int move_a = active & movable_a, move_b = active & movable_b;
+  const int move_a = active & ~_mm_movemask_ps(pinned_a), move_b = active & ~_mm_movemask_ps(pinned_b);
   if (move_a & 1) move<0>(qa0, sa, d0);
   if (move_b & 1) move<0>(qb0, sb, d0);
   if (move_a & 2) move<1>(qa1, sa, d1);
@@ -140,11 +153,13 @@ template <bool kLambda>
 
 /// Gauss-Seidel projection of stretch constraints c[b, e) of one color on padded positions q: blocks of
 /// kStretchBlock counted from b with SIMD, the remainder scalar. Same result, bit for bit, as project() one by one.
-/// any_xpbd = false promises that no set of the range has α̃ ≠ 0: λ is then never touched (nor fetched).
+/// any_xpbd = false promises that every set of the range has α̃ = +0 (coefficients() never gives −0): λ is then
+/// never touched (nor fetched).
+/// set: the set every constraint of the range belongs to (k and α̃ are then read once), or kMixedSets.
 /// Compiled twice (stretch_block.cpp): for AVX2 machines (three-operand encoding) and for any x86-64; a CPU check
 /// on first use picks one for the process, and both do the same arithmetic.
 void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, float* q,
-                           const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd);
+                           const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set);
 
 /// Particles [b, e) from positions p (3 per particle) and inverse masses w into padded positions q (4 per particle).
 void pad_positions(const float* p, const float* w, Index b, Index e, float* q);

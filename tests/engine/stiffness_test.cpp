@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace pbd {
 namespace {
 
@@ -39,6 +41,15 @@ TEST(Stiffness, CoefficientsOfEachMode) {
   const auto x = coefficients<double>(Stiffness::xpbd_compliance(0.02), 0.1, 7);
   EXPECT_DOUBLE_EQ(x.k, 1.0);
   EXPECT_DOUBLE_EQ(x.alpha_tilde, 2.0);
+}
+
+// A compliance of −0 gives α̃ = +0: the stretch kernel leaves "− α̃·λ" out where no set has α̃ ≠ 0, which changes
+// no bit only when α̃ is +0 (−0·0 = −0, and −0 − (−0) = +0 where the scalar projection's −0 − (+0) stays −0).
+TEST(Stiffness, NegativeZeroComplianceGivesPositiveZeroAlphaTilde) {
+  for (double h : {0.01, 1.0}) {
+    EXPECT_FALSE(std::signbit(coefficients<float>(Stiffness::xpbd_compliance(-0.0), h, 4).alpha_tilde)) << h;
+    EXPECT_FALSE(std::signbit(coefficients<double>(Stiffness::xpbd_compliance(-0.0), h, 4).alpha_tilde)) << h;
+  }
 }
 
 }  // namespace

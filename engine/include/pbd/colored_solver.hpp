@@ -99,6 +99,7 @@ private:
   // True when some set of `coeff` has α̃ ≠ 0; then λ may be written this sub-step (begin_substep must reset it).
   bool note_compliance(std::span<const SolveCoefficients<Real>> coeff);
   void unpad(Real* p, bool parallel, const ParallelConfig& config);  // padded copy → p
+  void note_stretch_sets();  // stretch_sets_ from colored_.stretch (after any change to it)
   void project_volumes(const Real* p, Real* out, const Real* w, std::span<const SolveCoefficients<Real>> coeff,
                        bool parallel, const ParallelConfig& config, std::size_t& part);
   bool built_ = false;
@@ -110,6 +111,7 @@ private:
   PartitionerPool partitioners_;  // one per color of the persistent types, then collisions, then the Jacobi update
   Index num_particles_ = 0;
   std::vector<std::uint8_t> fixed_;  // pinned flags the coloring was made with (pins changing = full rebuild)
+  std::vector<Index> stretch_sets_;  // per stretch color: the set all its constraints share, or kMixedSets
   std::vector<Index> static_count_;  // Jacobi: persistent constraints touching each particle
   std::vector<Index> count_;         // Jacobi: constraints touching each particle this sub-step (scratch)
   bool counts_ready_ = false;        // Jacobi: count_inv_ is up to date for this sub-step
