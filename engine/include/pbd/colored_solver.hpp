@@ -90,6 +90,8 @@ public:
 
 private:
   template <class> friend class World;  // erases constraints in place (World::remove_*)
+  // What follows the colored arrays' layout, after a full coloring or a removal: the Jacobi counts
+  // (static_count_) and, through note_stretch_sets(), each stretch color's set.
   void count_static(const CustomTypes<Real>& custom);
   // The stretch colors on padded positions (float with SSE2; see stretch_block.hpp).
   // any_xpbd: some set has α̃ ≠ 0 (otherwise the kernel neither reads nor writes λ).
