@@ -67,8 +67,12 @@ void ColoredSolver<Real>::update(const ConstraintArrays<Real>& constraints, cons
     colored_.volume = constraints.volume;  // each volume constraint is its own color: nothing to color
     custom_changed = true;
   }
-  if (custom_changed) count_static(custom);
-  else note_stretch_sets();  // appended constraints may have joined a color of another set
+  if (custom_changed) {
+    count_static(custom);
+  } else {  // appended stretch constraints changed only the tail colors (they may have joined a color of another set)
+    const auto& s = colored_.stretch;
+    note_stretch_sets(std::min(s.tail_color, s.num_colors()));
+  }
 }
 
 template <class Real> void ColoredSolver<Real>::count_static(const CustomTypes<Real>& custom) {
@@ -82,13 +86,15 @@ template <class Real> void ColoredSolver<Real>::count_static(const CustomTypes<R
   note_stretch_sets();
 }
 
-template <class Real> void ColoredSolver<Real>::note_stretch_sets() {
-  const auto& a = colored_.stretch;
-  stretch_sets_.assign(a.num_colors(), detail::kMixedSets);
-  for (Index c = 0; c < a.num_colors(); ++c) {
-    const auto first = a.items.begin() + a.offsets[c], last = a.items.begin() + a.offsets[c + 1];
-    if (first != last && std::all_of(first, last, [&](const auto& x) { return x.set == first->set; }))
-      stretch_sets_[c] = first->set;
+template <class Real> void ColoredSolver<Real>::note_stretch_sets(Index first) {
+  if constexpr (std::is_same_v<Real, float> && detail::kPaddedStretch) {  // only the float kernel reads them
+    const auto& a = colored_.stretch;
+    stretch_sets_.resize(a.num_colors(), detail::kMixedSets);
+    for (Index c = first; c < a.num_colors(); ++c) {
+      const auto b = a.items.begin() + a.offsets[c], e = a.items.begin() + a.offsets[c + 1];
+      const bool one = b != e && std::all_of(b, e, [&](const auto& x) { return x.set == b->set; });
+      stretch_sets_[c] = one ? b->set : detail::kMixedSets;
+    }
   }
 }
 

@@ -101,7 +101,8 @@ private:
   // True when some set of `coeff` has α̃ ≠ 0; then λ may be written this sub-step (begin_substep must reset it).
   bool note_compliance(std::span<const SolveCoefficients<Real>> coeff);
   void unpad(Real* p, bool parallel, const ParallelConfig& config);  // padded copy → p
-  void note_stretch_sets();  // stretch_sets_ from colored_.stretch (after any change to it)
+  // stretch_sets_ for stretch colors [first, num_colors) from colored_.stretch, after a change to them (float only).
+  void note_stretch_sets(Index first = 0);
   void project_volumes(const Real* p, Real* out, const Real* w, std::span<const SolveCoefficients<Real>> coeff,
                        bool parallel, const ParallelConfig& config, std::size_t& part);
   bool built_ = false;
