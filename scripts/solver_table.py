@@ -51,6 +51,9 @@ def main(path):
             n = name.split("n:")[1] if "n:" in name else None
             if name.startswith("BM_ColoredScaling"):
                 label, unit = f"colored sub-step, {n}² cloth (ns per projection)", "ns"
+            elif name.startswith("BM_SharedNothingHalvesScaling"):
+                label, unit = (f"two independent cloths of {int(b['side'])}², one per thread: the data of one {n}² cloth,"
+                               " nothing shared (ns per projection): the ceiling for the colored solver at that size"), "ns"
             elif name.startswith("BM_SharedNothingScaling"):
                 label, unit = f"two independent {n}² cloths, one per thread (ns per projection): the ceiling at that size", "ns"
             else:

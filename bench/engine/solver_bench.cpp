@@ -3,7 +3,8 @@
 // One benchmark iteration is one sub-step's solve as World::step runs it: λ reset (begin_substep), kSweeps sweeps,
 // and end_substep (which may copy positions back from the solver's padded copy). Counter ns_per_projection = wall
 // time of one iteration / (constraints × kSweeps) (medians: use --benchmark_repetitions). BM_ColoredScaling,
-// BM_SharedNothingScaling and BM_ComputeScaling measure 2T vs 1T paired, sub-step by sub-step (see paired_scaling).
+// BM_SharedNothingScaling, BM_SharedNothingHalvesScaling and BM_ComputeScaling measure 2T vs 1T paired, sub-step
+// by sub-step (see paired_scaling).
 #include "cloth_fixture.hpp"
 
 #include <benchmark/benchmark.h>
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -174,6 +176,32 @@ void BM_SharedNothingScaling(benchmark::State& state) {
       2.0 * double(f[0].constraints()) * kSweeps);
 }
 
+// The same ceiling for the data of one n² cloth: two independent cloths of side round(n/√2), so about n²/2
+// particles each, both on one thread or one per thread at once (every color inline). Each thread then holds half of
+// an n² cloth's data, as each of the colored solver's two threads does, so what the colored solver loses against
+// this is what cooperating on one cloth costs (fork/join per color, waiting for the slower thread, shared particles).
+void BM_SharedNothingHalvesScaling(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const int side = int(std::lround(double(n) / std::sqrt(2.0)));
+  ClothFixture f[4] = {ClothFixture(side), ClothFixture(side), ClothFixture(side), ClothFixture(side)};
+  pbd::ColoredSolver<Real> solver[4];
+  pbd::CustomTypes<Real> custom[4];
+  for (int k = 0; k < 4; ++k)
+    solver[k].build(f[k].world.constraints(), pbd::VectorX<Real>(f[k].world.inverse_masses()), {}, custom[k]);
+  const pbd::ParallelConfig inline_all{std::size_t(-1), std::size_t(-1)};
+  paired_scaling(
+      state,
+      [&](int half) {
+        tbb::parallel_for(0, 2, [&](int k) {
+          pbd::bench::colored_substep(f[2 * half + k], solver[2 * half + k], custom[2 * half + k], false, inline_all);
+        }, tbb::static_partitioner());
+        benchmark::ClobberMemory();
+      },
+      2.0 * double(f[0].constraints()) * kSweeps);
+  state.counters["side"] = side;
+  state.counters["constraints"] = 2.0 * double(f[0].constraints());
+}
+
 // The machine's own 2T/1T ceiling for work that touches no memory: two independent chains of floating-point
 // multiply-adds in registers (about 5 ms on one thread), paired like BM_ColoredScaling. No solver can be expected to
 // scale better than this in the same run.
@@ -206,6 +234,8 @@ BENCHMARK(BM_JacobiSweep)->ArgNames({"n", "threads"})->ArgsProduct({{30, 100, 30
 BENCHMARK(BM_ColoredScaling)->ArgName("n")->Arg(300)->Iterations(40)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ColoredScaling)->ArgName("n")->Arg(1000)->Iterations(8)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SharedNothingScaling)->ArgName("n")->Arg(300)->Iterations(20)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SharedNothingHalvesScaling)->ArgName("n")->Arg(300)->Iterations(40)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SharedNothingHalvesScaling)->ArgName("n")->Arg(1000)->Iterations(8)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ComputeScaling)->Iterations(40)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StreamTriad)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();
