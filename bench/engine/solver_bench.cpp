@@ -153,37 +153,12 @@ void BM_ColoredScaling(benchmark::State& state) {
   state.counters["constraints"] = double(f[0].constraints());
 }
 
-// The ceiling for the solver at size n when the two threads share nothing: a unit of work is one sub-step of each
-// of two independent n² cloths, both on one thread, or one per thread at once (every color inline, so no fork, no
-// join, no particle shared). Paired like BM_ColoredScaling; what it loses against 2× is what the two cores cost
-// each other (shared cache and memory) and how unequal their speeds are at that moment, on data of the solver's size.
-void BM_SharedNothingScaling(benchmark::State& state) {
-  const int n = int(state.range(0));
-  ClothFixture f[4] = {ClothFixture(n), ClothFixture(n), ClothFixture(n), ClothFixture(n)};  // two per half
-  pbd::ColoredSolver<Real> solver[4];
-  pbd::CustomTypes<Real> custom[4];
-  for (int k = 0; k < 4; ++k)
-    solver[k].build(f[k].world.constraints(), pbd::VectorX<Real>(f[k].world.inverse_masses()), {}, custom[k]);
-  const pbd::ParallelConfig inline_all{std::size_t(-1), std::size_t(-1)};
-  paired_scaling(
-      state,
-      [&](int half) {
-        tbb::parallel_for(0, 2, [&](int k) {
-          pbd::bench::colored_substep(f[2 * half + k], solver[2 * half + k], custom[2 * half + k], false, inline_all);
-        }, tbb::static_partitioner());
-        benchmark::ClobberMemory();
-      },
-      2.0 * double(f[0].constraints()) * kSweeps);
-}
-
-// The same ceiling for the data of one n² cloth: two independent cloths of side round(n/√2), so about n²/2
-// particles each, both on one thread or one per thread at once (every color inline). Each thread then holds half of
-// an n² cloth's data, as each of the colored solver's two threads does, so what the colored solver loses against
-// this is what cooperating on one cloth costs (fork/join per color, waiting for the slower thread, shared particles).
-void BM_SharedNothingHalvesScaling(benchmark::State& state) {
-  const int n = int(state.range(0));
-  const int side = int(std::lround(double(n) / std::sqrt(2.0)));
-  ClothFixture f[4] = {ClothFixture(side), ClothFixture(side), ClothFixture(side), ClothFixture(side)};
+// Two threads that share nothing: a unit of work is one sub-step of each of two independent cloths of side `side`,
+// both on one thread, or one per thread at once (every color inline, so no fork, no join, no particle shared).
+// Paired like BM_ColoredScaling; what it loses against 2× is what the two cores cost each other (shared cache and
+// memory) and how unequal their speeds are at that moment.
+void shared_nothing_scaling(benchmark::State& state, int side) {
+  ClothFixture f[4] = {ClothFixture(side), ClothFixture(side), ClothFixture(side), ClothFixture(side)};  // two per half
   pbd::ColoredSolver<Real> solver[4];
   pbd::CustomTypes<Real> custom[4];
   for (int k = 0; k < 4; ++k)
@@ -200,6 +175,17 @@ void BM_SharedNothingHalvesScaling(benchmark::State& state) {
       2.0 * double(f[0].constraints()) * kSweeps);
   state.counters["side"] = side;
   state.counters["constraints"] = 2.0 * double(f[0].constraints());
+}
+
+// The ceiling at size n for work of the solver's kind that shares nothing: two n² cloths, one per thread (each
+// thread holds a whole cloth, twice what each of the colored solver's threads holds).
+void BM_SharedNothingScaling(benchmark::State& state) { shared_nothing_scaling(state, int(state.range(0))); }
+
+// The same ceiling for the data of one n² cloth: two cloths of side round(n/√2), about n²/2 particles each, so each
+// thread holds half of an n² cloth's data, as each of the colored solver's threads does; what the colored solver
+// loses against this is what cooperating on one cloth costs (fork/join per color, waiting for the slower thread).
+void BM_SharedNothingHalvesScaling(benchmark::State& state) {
+  shared_nothing_scaling(state, int(std::lround(double(state.range(0)) / std::sqrt(2.0))));
 }
 
 // The machine's own 2T/1T ceiling for work that touches no memory: two independent chains of floating-point
