@@ -53,7 +53,7 @@ def main(path):
                 label, unit = f"colored sub-step, {n}² cloth (ns per projection)", "ns"
             elif name.startswith("BM_SharedNothingHalvesScaling"):
                 label, unit = (f"two independent cloths of {int(b['side'])}², one per thread: the data of one {n}² cloth,"
-                               " nothing shared (ns per projection): the ceiling for the colored solver at that size"), "ns"
+                               " nothing shared (ns per projection)"), "ns"
             elif name.startswith("BM_SharedNothingScaling"):
                 label, unit = f"two independent {n}² cloths, one per thread (ns per projection): the ceiling at that size", "ns"
             else:
