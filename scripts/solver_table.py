@@ -3,11 +3,14 @@ import json
 import sys
 
 
-def main(path):
+def load(path):
+    """The medians of one bench_solvers JSON: (context, sweeps, triad, paired).
+
+    sweeps: (kind, n, threads) -> (ns per projection, constraints, colors); triad: threads -> GB/s; paired: benchmark
+    name without "/iterations:K" (e.g. "BM_ColoredScaling/n:300") -> its median counters.
+    """
     data = json.load(open(path))
-    med = {}
-    triad = {}
-    paired = {}  # BM_ColoredScaling / BM_ComputeScaling: name -> median counters
+    med, triad, paired = {}, {}, {}
     for b in data["benchmarks"]:
         if b.get("aggregate_name") != "median":
             continue
@@ -22,7 +25,11 @@ def main(path):
         kind = name.split("/")[0].replace("BM_", "").replace("Sweep", "").lower()
         key = (kind, int(parts["n"]), int(parts.get("threads", 1)))
         med[key] = (b["ns_per_projection"], int(b["constraints"]), int(b["colors"]))  # the counter is already ns
-    ctx = data["context"]
+    return data["context"], med, triad, paired
+
+
+def main(path):
+    ctx, med, triad, paired = load(path)
     print(f"machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, date {ctx.get('date')}")
     print()
     print("| cloth | constraints | colors | serial | colored 1T | colored 2T | Jacobi 1T | Jacobi 2T |"
