@@ -40,6 +40,7 @@ def main(paths):
         s30, c30_2 = ns[("serial", 30, 1)], ns[("colored", 30, 2)]
         add("unpaired 300² 2T vs 1T", r2(c300_1 / c300_2))
         add("unpaired 1000² 2T vs 1T", r2(c1000_1 / c1000_2))
+        add("unpaired 300² 1T ns", r2(c300_1))
         add("unpaired 300² 2T ns", r2(c300_2))
         add("unpaired 1000² 2T ns", r2(c1000_2))
         add("300² 2T vs serial", r2(s300 / c300_2))
