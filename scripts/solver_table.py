@@ -62,7 +62,7 @@ def main(path):
                 label, unit = (f"two independent cloths of {int(b['side'])}², one per thread: the data of one {n}² cloth,"
                                " nothing shared (ns per projection)"), "ns"
             elif name.startswith("BM_SharedNothingScaling"):
-                label, unit = f"two independent {n}² cloths, one per thread (ns per projection): the ceiling at that size", "ns"
+                label, unit = f"two independent {n}² cloths, one per thread, nothing shared (ns per projection)", "ns"
             else:
                 label, unit = "compute only, no memory (ms): the machine's own ceiling", "ms"
             print(f"| {label} | {b[unit + '_1T']:.2f} | {b[unit + '_2T']:.2f} | {b['speedup']:.2f}× |")
