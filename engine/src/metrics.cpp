@@ -7,16 +7,7 @@
 namespace pbd {
 namespace {
 
-struct Accumulator {
-  double sum2 = 0.0, max = 0.0;
-  std::size_t count = 0;
-  void add(double e) {
-    sum2 += e * e;
-    max = std::max(max, e);
-    ++count;
-  }
-  Violation result() const { return {count ? std::sqrt(sum2 / double(count)) : 0.0, max, count}; }
-};
+using Accumulator = ViolationAccumulator;
 
 template <class Real> Eigen::Vector3d col(const PositionsView<Real>& x, Index i) {
   return x.col(Eigen::Index(i)).template cast<double>();
@@ -49,7 +40,7 @@ template <class Real> double violation(const AreaConstraint<Real>& c, const Posi
 template <class Real> Violation stretch_violation(const World<Real>& world) {
   const auto x = world.positions();
   Accumulator acc;
-  for (const auto& c : world.constraints().stretch) acc.add(violation(c, x));
+  for (const auto& c : world.template constraints<StretchConstraint<Real>>()) acc.add(violation(c, x));
   return acc.result();
 }
 
@@ -69,7 +60,7 @@ template <class Real> Violation penetration(const World<Real>& world) {
 }
 
 template <class Real> Violation volume_violation(const World<Real>& world) {
-  const auto& v = world.constraints().volume;
+  const auto& v = world.volumes();
   Accumulator acc;
   if (v.empty()) return acc.result();
   const Matrix3X<double> x = world.positions().template cast<double>();
@@ -84,8 +75,8 @@ template <class Real> Violation volume_violation(const World<Real>& world) {
 template <class Real> std::vector<NamedViolation> constraint_violations(const World<Real>& world) {
   std::vector<NamedViolation> out;
   const auto x = world.positions();
-  world.constraints().for_each([&](const auto& array) {
-    using Constraint = typename std::decay_t<decltype(array)>::value_type;
+  world.for_each_builtin([&](const auto& array) {
+    using Constraint = typename std::decay_t<decltype(array)>::iterator::value_type;
     if (array.empty()) return;
     Accumulator acc;
     for (const Constraint& c : array) {
@@ -94,20 +85,15 @@ template <class Real> std::vector<NamedViolation> constraint_violations(const Wo
     }
     out.push_back({Constraint::kName, acc.result()});
   });
-  if (!world.constraints().volume.empty()) out.push_back({"volume", volume_violation(world)});
+  if (!world.volumes().empty()) out.push_back({"volume", volume_violation(world)});
   if (!world.colliders().empty()) out.push_back({CollisionConstraint<Real>::kName, penetration(world)});
   return out;
 }
 
 Violation pooled(const std::vector<NamedViolation>& v) {
-  double sum2 = 0.0, max = 0.0;
-  std::size_t count = 0;
-  for (const auto& t : v) {
-    sum2 += t.value.rms * t.value.rms * double(t.value.count);
-    max = std::max(max, t.value.max);
-    count += t.value.count;
-  }
-  return {count ? std::sqrt(sum2 / double(count)) : 0.0, max, count};
+  Accumulator acc;
+  for (const auto& t : v) acc.add(t.value);
+  return acc.result();
 }
 
 template <class Real> Energy energy(const World<Real>& world) {

@@ -1,6 +1,6 @@
 #include "pbd/constraints/volume.hpp"
 
-#include "volume_projection.hpp"
+#include "solve/volume_projection.hpp"
 
 #include <algorithm>
 

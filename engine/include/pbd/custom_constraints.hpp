@@ -1,17 +1,17 @@
 #pragma once
 /// \file custom_constraints.hpp
-/// User-defined fixed-arity constraint types, projected by the same serial, colored and Jacobi machinery as the
-/// built-in ones.
+/// User-defined fixed-arity constraint types: stored, colored and projected by the same store, coloring and sweep
+/// driver as the built-in ones.
 ///
 /// A host type C needs what the built-in types have (see constraints/stretch.hpp): `static constexpr int kArity`,
 /// `static constexpr bool kInequality`, `static constexpr const char* kName`, `std::array<Index, kArity> particles`,
 /// `Index set`, optionally `static constexpr bool kUnitGradients = true` when every |∇_i C| is 1, and a free function
-/// `bool evaluate(const C&, const Vec3<Real> (&p)[kArity], Real& C,
-/// Vec3<Real> (&grad)[kArity])` found by argument-dependent lookup. Each type is stored as its own contiguous array;
-/// the only virtual call is one per color range (never per constraint), so a custom type runs the same tight,
-/// inlined loop as a built-in one and is just as deterministic.
-#include "pbd/colored_constraints.hpp"
+/// `bool evaluate(const C&, const Vec3<Real> (&p)[kArity], Real& C, Vec3<Real> (&grad)[kArity])` found by
+/// argument-dependent lookup (optionally also its own `correction`, as stretch has). Each type lives in a
+/// detail::Store<C> like a built-in one; the only virtual call is one per color range (never per constraint), so a
+/// user type runs the same tight, inlined loop as a built-in one and is just as deterministic.
 #include "pbd/constraints/projection.hpp"
+#include "pbd/detail/constraint_store.hpp"
 
 #include <memory>
 #include <typeindex>
@@ -19,116 +19,130 @@
 
 namespace pbd {
 
-/// One user-defined constraint type's constraints (type-erased), in insertion and in color order.
-template <class Real> class CustomConstraintsBase {
+/// The requirements on a user-defined constraint type C of precision Real (see the file comment).
+template <class C, class Real>
+concept UserConstraint = requires(const C& c, const Vec3<Real> (&p)[C::kArity], Real& value,
+                                  Vec3<Real> (&grad)[C::kArity]) {
+  { C::kArity } -> std::convertible_to<int>;
+  { C::kInequality } -> std::convertible_to<bool>;
+  { C::kName } -> std::convertible_to<const char*>;
+  { c.set } -> std::convertible_to<Index>;
+  { evaluate(c, p, value, grad) } -> std::convertible_to<bool>;
+} && (C::kArity >= 1);
+
+namespace detail {
+
+/// One user-defined type's store behind a type-erased interface: what the coloring and the sweep driver need.
+/// `lambda` is the type's λ array in stored order (kept in the world's State).
+template <class Real> class UserStoreBase {
 public:
-  virtual ~CustomConstraintsBase() = default;
-  virtual std::unique_ptr<CustomConstraintsBase> clone() const = 0;  ///< deep copy
-  virtual std::type_index type() const = 0;                          ///< the host type C
-  virtual const char* name() const = 0;                              ///< C::kName
-  virtual std::size_t size() const = 0;                              ///< number of constraints
-  virtual bool colored_up_to_date() const = 0;                       ///< color order covers every constraint
-  virtual void color(const std::vector<std::uint8_t>& fixed, const coloring::Options& o) = 0;  ///< colors all
-  virtual bool color_appended(const std::vector<std::uint8_t>& fixed) = 0;  ///< colors only new ones (false: all)
-  virtual Index num_colors() const = 0;                                     ///< colors of the color order
-  virtual Index color_begin(Index c) const = 0;                             ///< first constraint of color c
-  virtual void count_particles(std::vector<Index>& count) const = 0;  ///< adds 1 per constraint at each particle
-  virtual std::size_t erase_touching(Index particle) = 0;  ///< removes every constraint on `particle`; returns how many
-  virtual void reset_lambda() = 0;                                    ///< sets every λ to 0 (both orders)
-  /// Gauss-Seidel over all constraints in insertion order (serial reference).
-  virtual void project_serial(Real* p, const Real* w, const SolveCoefficients<Real>* coeff) = 0;
-  /// Gauss-Seidel over color-order constraints [b, e) (inside one color).
-  virtual void project_colored(Index b, Index e, Real* p, const Real* w, const SolveCoefficients<Real>* coeff) = 0;
-  /// Jacobi: adds the corrections of color-order constraints [b, e) to delta (3 per particle).
-  virtual void accumulate_colored(Index b, Index e, const Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
-                                  Real* delta) = 0;
+  virtual ~UserStoreBase() = default;
+  virtual std::unique_ptr<UserStoreBase> clone() const = 0;  ///< deep copy
+  virtual std::type_index type() const = 0;                  ///< the host type C
+  virtual const char* name() const = 0;                      ///< C::kName
+  virtual std::size_t size() const = 0;                      ///< number of constraints
+  virtual bool up_to_date() const = 0;                       ///< every constraint has a color
+  virtual void color_all(const std::vector<std::uint8_t>& fixed, const coloring::Options& o) = 0;  ///< colors all
+  virtual bool color_tail(const std::vector<std::uint8_t>& fixed) = 0;  ///< colors the appended ones (false: all)
+  virtual Index num_colors() const = 0;                                  ///< colors laid out
+  virtual Index color_begin(Index c) const = 0;                          ///< first stored position of color c
+  /// Adds 1 per constraint at each of its particles, for the constraints with user index ≥ first.
+  virtual void count_particles(std::vector<Index>& count, Index first) const = 0;
+  virtual std::size_t erase_touching(Index particle) = 0;  ///< removes every constraint on `particle`; how many
+  virtual void validate(const std::vector<std::uint8_t>& fixed) const = 0;  ///< Store::validate
+  /// Every constraint in insertion order, each projected into `out` (out = p: Gauss-Seidel; else Jacobi deltas).
+  virtual void project_insertion(const Real* p, const Real* w, const SolveCoefficients<Real>* coeff, Real* lambda,
+                                 Real* out) const = 0;
+  /// Stored positions [b, e) (inside one color), each projected into `out`.
+  virtual void project_range(Index b, Index e, const Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
+                             Real* lambda, Real* out) const = 0;
 };
 
-/// The constraints of host type C.
-template <class C, class Real> class CustomConstraints final : public CustomConstraintsBase<Real> {
+/// The store of host type C.
+template <class C, class Real> class UserStore final : public UserStoreBase<Real> {
 public:
-  std::vector<C> items;        ///< insertion order
-  ColoredArray<C> colored;     ///< color order
-  std::vector<Real> lambda;    ///< λ in insertion order (serial solver)
-  std::vector<Real> lambda_c;  ///< λ in color order (colored and Jacobi solvers)
+  Store<C> store;  ///< the constraints
 
-  std::unique_ptr<CustomConstraintsBase<Real>> clone() const override { return std::make_unique<CustomConstraints>(*this); }
+  std::unique_ptr<UserStoreBase<Real>> clone() const override { return std::make_unique<UserStore>(*this); }
   std::type_index type() const override { return typeid(C); }
   const char* name() const override { return C::kName; }
-  std::size_t size() const override { return items.size(); }
-  bool colored_up_to_date() const override { return colored.color.size() == items.size(); }
-  void color(const std::vector<std::uint8_t>& fixed, const coloring::Options& o) override {
-    colored = color_array(items, fixed, o);
+  std::size_t size() const override { return store.size(); }
+  bool up_to_date() const override { return store.up_to_date(); }
+  void color_all(const std::vector<std::uint8_t>& fixed, const coloring::Options& o) override {
+    detail::color_all(store, fixed, o);
   }
-  bool color_appended(const std::vector<std::uint8_t>& fixed) override {
-    return pbd::color_appended(colored, items, fixed);
-  }
-  Index num_colors() const override { return colored.num_colors(); }
-  Index color_begin(Index c) const override { return colored.offsets[c]; }
-  void count_particles(std::vector<Index>& count) const override {
-    for (const C& c : items)
-      for (Index p : c.particles) ++count[p];
+  bool color_tail(const std::vector<std::uint8_t>& fixed) override { return detail::color_tail(store, fixed); }
+  Index num_colors() const override { return store.num_colors(); }
+  Index color_begin(Index c) const override { return store.offsets[c]; }
+  void count_particles(std::vector<Index>& count, Index first) const override {
+    for (Index u = first; u < Index(store.size()); ++u)
+      for (Index p : store.at(u).particles) ++count[p];
   }
   std::size_t erase_touching(Index particle) override {
-    const std::size_t before = items.size();
-    std::erase_if(items, [&](const C& c) {
-      for (Index p : c.particles)
-        if (p == particle) return true;
-      return false;
-    });
-    if (items.size() != before) colored = {};
-    return before - items.size();
+    std::vector<std::uint8_t> drop(store.size(), 0);
+    std::size_t n = 0;
+    for (Index u = 0; u < Index(store.size()); ++u)
+      for (Index p : store.at(u).particles)
+        if (p == particle) {
+          drop[u] = 1;
+          ++n;
+          break;
+        }
+    if (n) {
+      detail::erase(store, drop);
+      store.uncolor();  // the world recolors everything after removing a particle
+    }
+    return n;
   }
-  void reset_lambda() override {
-    lambda.assign(items.size(), Real(0));
-    lambda_c.assign(items.size(), Real(0));
+  void validate(const std::vector<std::uint8_t>& fixed) const override { store.validate(fixed, C::kName); }
+  void project_insertion(const Real* p, const Real* w, const SolveCoefficients<Real>* coeff, Real* lambda,
+                         Real* out) const override {
+    for (Index u = 0; u < Index(store.size()); ++u) {
+      const Index i = store.stored(u);
+      project_into(store.items[i], p, w, coeff[store.items[i].set], lambda[i], out);
+    }
   }
-  void project_serial(Real* p, const Real* w, const SolveCoefficients<Real>* coeff) override {
-    for (std::size_t i = 0; i < items.size(); ++i) project(items[i], p, w, coeff[items[i].set], lambda[i]);
-  }
-  void project_colored(Index b, Index e, Real* p, const Real* w, const SolveCoefficients<Real>* coeff) override {
-    for (Index i = b; i < e; ++i) project(colored.items[i], p, w, coeff[colored.items[i].set], lambda_c[i]);
-  }
-  void accumulate_colored(Index b, Index e, const Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
-                          Real* delta) override {
-    for (Index i = b; i < e; ++i) accumulate(colored.items[i], p, w, coeff[colored.items[i].set], lambda_c[i], delta);
+  void project_range(Index b, Index e, const Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
+                     Real* lambda, Real* out) const override {
+    for (Index i = b; i < e; ++i) project_into(store.items[i], p, w, coeff[store.items[i].set], lambda[i], out);
   }
 };
 
-/// All user-defined constraint types of a world; copying deep-copies them.
-template <class Real> class CustomTypes {
+/// All user-defined constraint types of a world, in the order they were first added (their sweep order); copying
+/// deep-copies them.
+template <class Real> class UserTypes {
 public:
-  CustomTypes() = default;
-  CustomTypes(const CustomTypes& o) { *this = o; }  ///< deep copy
-  CustomTypes& operator=(const CustomTypes& o) {   ///< deep copy
+  UserTypes() = default;
+  UserTypes(const UserTypes& o) { *this = o; }  ///< deep copy
+  UserTypes& operator=(const UserTypes& o) {   ///< deep copy
     if (this != &o) {
       types_.clear();
       for (const auto& t : o.types_) types_.push_back(t->clone());
     }
     return *this;
   }
-  CustomTypes(CustomTypes&&) noexcept = default;             ///< move
-  CustomTypes& operator=(CustomTypes&&) noexcept = default;  ///< move
+  UserTypes(UserTypes&&) noexcept = default;             ///< move
+  UserTypes& operator=(UserTypes&&) noexcept = default;  ///< move
 
-  /// The storage of type C, created on first use.
-  template <class C> CustomConstraints<C, Real>& of() {
-    for (auto& t : types_)
-      if (t->type() == typeid(C)) return static_cast<CustomConstraints<C, Real>&>(*t);
-    types_.push_back(std::make_unique<CustomConstraints<C, Real>>());
-    return static_cast<CustomConstraints<C, Real>&>(*types_.back());
+  /// The store of type C, created on first use.
+  template <class C> Store<C>& of() {
+    if (auto* s = find<C>()) return const_cast<Store<C>&>(*s);
+    types_.push_back(std::make_unique<UserStore<C, Real>>());
+    return static_cast<UserStore<C, Real>&>(*types_.back()).store;
   }
-  /// The storage of type C, or nullptr if none was added.
-  template <class C> const CustomConstraints<C, Real>* find() const {
+  /// The store of type C, or nullptr if none was added.
+  template <class C> const Store<C>* find() const {
     for (const auto& t : types_)
-      if (t->type() == typeid(C)) return static_cast<const CustomConstraints<C, Real>*>(t.get());
+      if (t->type() == typeid(C)) return &static_cast<const UserStore<C, Real>*>(t.get())->store;
     return nullptr;
   }
-  /// Every type, in the order they were first added (their solver order).
-  const std::vector<std::unique_ptr<CustomConstraintsBase<Real>>>& types() const { return types_; }
+  /// Every type, in sweep order.
+  const std::vector<std::unique_ptr<UserStoreBase<Real>>>& types() const { return types_; }
   bool empty() const { return types_.empty(); }  ///< true when the world has no user-defined constraints
 
 private:
-  std::vector<std::unique_ptr<CustomConstraintsBase<Real>>> types_;
+  std::vector<std::unique_ptr<UserStoreBase<Real>>> types_;
 };
 
+}  // namespace detail
 }  // namespace pbd

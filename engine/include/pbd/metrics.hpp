@@ -10,6 +10,7 @@
 ///   area       |A − A0| / A0                      relative area error (absolute area in m² where A0 = 0)
 ///   volume     |V − V_target(t)| / V_target(t)    relative volume error against the target at world.time()
 ///   collision  max(0, depth)                      penetration in metres, per (movable particle, collider)
+#include "pbd/violation.hpp"
 #include "pbd/world.hpp"
 
 #include <cstdint>
@@ -18,19 +19,6 @@
 #include <vector>
 
 namespace pbd {
-
-/// RMS and maximum of a normalized violation over the constraints of one type (0 and 0 when there are none).
-struct Violation {
-  double rms = 0.0;        ///< root mean square
-  double max = 0.0;        ///< maximum
-  std::size_t count = 0;   ///< constraints measured
-};
-
-/// The violation of one constraint type, named as the type's kName ("stretch", ..., "volume", "collision").
-struct NamedViolation {
-  std::string type;  ///< constraint type
-  Violation value;   ///< its RMS, maximum and count
-};
 
 /// Read-only view of 3×N positions (a Matrix3X or the map World::positions() returns), no copy.
 /// (Non-deduced, so Real comes from the constraint and any matrix or map converts.)
@@ -54,7 +42,7 @@ template <class Real> Violation penetration(const World<Real>& world);
 /// Relative error |V − V_target| / V_target of every volume constraint, target taken at world.time().
 template <class Real> Violation volume_violation(const World<Real>& world);
 
-/// One entry per constraint type the world has (fixed-arity types in solver order, then "volume", then "collision"
+/// One entry per constraint type the world has (built-in fixed-arity types in solver order, then "volume", then "collision"
 /// if it has colliders); types without constraints are left out.
 template <class Real> std::vector<NamedViolation> constraint_violations(const World<Real>& world);
 

@@ -1,18 +1,25 @@
 #pragma once
 /// \file world.hpp
-/// A simulated world: particles, constraints, colliders and the PBD step (Müller et al. 2006).
+/// A simulated world: particles, constraints, colliders and the PBD step (Müller et al. 2006). The host API.
 ///
 /// Typical use: add particles, constraint sets and constraints, colliders, set the step parameters, then call
 /// step() as often as needed and read positions()/velocities() (Eigen maps, no copies). Every mutating call
-/// validates its input first and throws pbd::Error naming the offending item, leaving the world unchanged.
+/// validates its input first and throws pbd::Error naming the offending item, leaving the world unchanged. What a
+/// step runs, in what order and in parallel how: engine/src/solve/solver.hpp.
 #include "pbd/colliders.hpp"
-#include "pbd/colored_solver.hpp"
-#include "pbd/constraint_arrays.hpp"
+#include "pbd/constraint_types.hpp"
+#include "pbd/constraint_view.hpp"
+#include "pbd/custom_constraints.hpp"
+#include "pbd/detail/model.hpp"
 #include "pbd/error.hpp"
 #include "pbd/solver.hpp"
+#include "pbd/step_params.hpp"
 #include "pbd/types.hpp"
 
+#include <pbd/graph_coloring/stats.hpp>
+
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -20,73 +27,54 @@
 
 namespace pbd {
 
-/// Parameters of step(); validated by World::set_params.
-template <class Real> struct StepParams {
-  Real dt = Real(1) / Real(60);              ///< time step in seconds, > 0
-  int substeps = 1;                          ///< sub-steps per step, ≥ 1, each with its own sweeps
-  int iterations = 10;                       ///< Gauss-Seidel sweeps per sub-step, ≥ 0
-  Vec3<Real> gravity{Real(0), Real(0), Real(-9.81)};  ///< acceleration applied to every movable particle
-  Real damping = 0;                          ///< velocity damping rate in 1/s, ≥ 0: v ← v·max(0, 1 − damping·h)
-  Real collision_margin = Real(0.01);        ///< contacts are generated for particles ending within this distance, ≥ 0
-  Solver solver = Solver::colored;           ///< which solver step() runs
-  Real jacobi_omega = 1;                     ///< Jacobi over-relaxation factor ω, in (0, 2)
+namespace detail {
+template <class Real> struct Scratch;
+/// Deletes a Scratch (defined where Scratch is complete).
+template <class Real> struct ScratchDeleter {
+  void operator()(Scratch<Real>* s) const;  ///< deletes s
 };
-
-/// Violation of one constraint type after a step, normalized as metrics.hpp defines it (relative stretch, angle
-/// error in radians, relative area and volume, penetration depth; anchors: distance to the target).
-struct TypeViolation {
-  std::string name;        ///< the constraint type (kName), "volume" or "collision"
-  std::size_t count = 0;   ///< items measured
-  double rms = 0.0;        ///< root mean square
-  double max = 0.0;        ///< maximum
-};
-
-/// What the last step() did and how long each phase took (wall-clock seconds, summed over sub-steps).
-struct StepStats {
-  double seconds = 0.0;             ///< the whole step
-  double seconds_integrate = 0.0;   ///< forces, damping, prediction and velocity update
-  double seconds_collisions = 0.0;  ///< generating (and coloring) collision constraints
-  double seconds_coloring = 0.0;    ///< coloring persistent constraints (only when they changed)
-  double seconds_solve = 0.0;       ///< the sweeps
-  int substeps = 0;                 ///< sub-steps taken
-  int sweeps = 0;                   ///< sweeps taken (substeps × iterations)
-  Index colors = 0;                 ///< colors of the persistent constraints (0 for the serial solver)
-  std::size_t collisions = 0;       ///< collision constraints of the last sub-step
-  std::vector<TypeViolation> violation;  ///< per type, at the end of the step (only with measure_violation on)
-};
+}  // namespace detail
 
 /// Particles, constraints and colliders of one simulation, in precision Real (float or double).
 template <class Real> class World {
 public:
-  using Vec = Vec3<Real>;          ///< 3-vector
+  using Vec = Vec3<Real>;            ///< 3-vector
   using Positions = Matrix3X<Real>;  ///< 3×N particle data
 
   /// Mass value meaning "pinned": inverse mass 0, never moved by the solver.
   static constexpr Real kPinned = std::numeric_limits<Real>::infinity();
 
-  /// An empty world with default parameters.
-  World() = default;
-  /// A copy of `other` converted to precision Real (e.g. a float world from a double scene); throws naming the
-  /// first value that does not fit in Real (e.g. a position of 1e300 as float).
-  template <class Other> explicit World(const World<Other>& other);
+  World();                                   ///< an empty world with default parameters
+  World(const World& other);                 ///< a copy (its per-step scratch starts empty)
+  World& operator=(const World& other);      ///< a copy (its per-step scratch starts empty)
+  World(World&&) noexcept;                   ///< move
+  World& operator=(World&&) noexcept;        ///< move
+  ~World();                                  ///< destroys the world
 
-  /// Adds a particle; mass > 0 (kPinned for a fixed particle). Returns its index (indices never change).
+  // ---- particles ----
+  /// Adds a particle; mass in kg, > 0 (kPinned for a fixed particle). Returns its index (indices never change).
   Index add_particle(const Vec& position, Real mass, const Vec& velocity = Vec::Zero());
   /// Adds many particles at once (all validated before any is added); returns the index of the first.
   Index add_particles(const Positions& positions, const VectorX<Real>& masses);
-  /// Sets a particle's mass (kPinned pins it).
+  /// As add_particles, given inverse masses in 1/kg (finite, ≥ 0; 0 = pinned), e.g. computed in another precision.
+  Index add_particles_by_inverse_mass(const Positions& positions, const VectorX<Real>& inverse_masses);
+  /// Sets a particle's mass in kg (kPinned pins it).
   void set_mass(Index particle, Real mass);
+  /// Removes a particle from the simulation: every constraint on it is removed, it is pinned where it is and never
+  /// moves or collides again. Its index stays valid (indices never shift). An error if a volume constraint uses it.
+  void remove_particle(Index particle);
 
+  // ---- constraints ----
   /// Adds a constraint set with its own stiffness; constraints name it by the returned id.
   Index add_constraint_set(const Stiffness& stiffness);
-  /// Adds a stretch constraint between a and b; rest distance defaults to their current distance.
+  /// Adds a stretch constraint between a and b; rest distance in m, default: their current distance.
   Index add_stretch(Index a, Index b, Index set, std::optional<Real> rest = std::nullopt);
   /// Adds an anchor pulling `particle` to `target` (default: its current position).
   Index add_anchor(Index particle, Index set, std::optional<Vec> target = std::nullopt);
   /// Adds a dihedral bending constraint on triangles (p1, p2, p3) and (p1, p2, p4) sharing edge p1–p2; the rest
-  /// angle defaults to the current one (an error if a triangle is degenerate there).
+  /// angle in radians defaults to the current one (an error if a triangle is degenerate there).
   Index add_bending(Index p1, Index p2, Index p3, Index p4, Index set, std::optional<Real> rest = std::nullopt);
-  /// Adds a triangle area constraint; the rest area defaults to the current one.
+  /// Adds a triangle area constraint; the rest area in m² defaults to the current one.
   Index add_area(Index a, Index b, Index c, Index set, std::optional<Real> rest = std::nullopt);
   /// Adds a volume constraint on a closed, consistently oriented mesh (counter-clockwise seen from outside); the
   /// target is pressure.at(time()) × rest, rest in the 6V unit of constraints/volume.hpp (default: the current one).
@@ -94,44 +82,66 @@ public:
   /// flat or inside-out mesh.
   Index add_volume(std::span<const std::array<Index, 3>> triangles, Index set, const PressureSchedule& pressure = {},
                    std::optional<Real> rest = std::nullopt);
-
-  /// Adds a constraint of a user-defined type C (see custom_constraints.hpp for what C provides); it is colored and
-  /// projected like the built-in types. Returns its index among the constraints of type C.
+  /// Adds a constraint of a user-defined type C (custom_constraints.hpp says what C provides); it is stored,
+  /// colored and projected like the built-in types, after them. Returns its index among the constraints of type C.
   template <class C> Index add_custom(const C& constraint);
-  /// The constraints of user-defined type C, in insertion order (empty if none).
-  template <class C> std::span<const C> custom() const {
-    const auto* t = custom_.template find<C>();
-    return t ? std::span<const C>(t->items) : std::span<const C>();
-  }
 
   /// Removes stretch constraints by index (each at most once; later indices move down, as with std::vector::erase).
   /// The colors of the remaining constraints are kept: nothing is recolored.
-  void remove_stretch(std::span<const Index> indices);
-  void remove_anchor(std::span<const Index> indices);   ///< as remove_stretch, for anchors
-  void remove_bending(std::span<const Index> indices);  ///< as remove_stretch, for bending constraints
-  void remove_area(std::span<const Index> indices);     ///< as remove_stretch, for area constraints
-  /// Removes a particle from the simulation: every constraint on it is removed, it is pinned where it is and never
-  /// moves or collides again. Its index stays valid (indices never shift). An error if a volume constraint uses it.
-  void remove_particle(Index particle);
+  void remove_stretch(std::span<const Index> indices) { remove<StretchConstraint<Real>>(indices, "remove_stretch"); }
+  /// As remove_stretch, for anchors.
+  void remove_anchor(std::span<const Index> indices) { remove<AnchorConstraint<Real>>(indices, "remove_anchor"); }
+  /// As remove_stretch, for bending constraints.
+  void remove_bending(std::span<const Index> indices) { remove<BendingConstraint<Real>>(indices, "remove_bending"); }
+  /// As remove_stretch, for area constraints.
+  void remove_area(std::span<const Index> indices) { remove<AreaConstraint<Real>>(indices, "remove_area"); }
 
-  /// Adds an infinite plane n·x ≥ offset (n is normalized).
+  /// The constraints of type C (built in, or user-defined) in insertion order.
+  template <class C> ConstraintView<C> constraints() const {
+    if constexpr (is_builtin_v<C, Real>) return ConstraintView<C>(&model_.template store<C>());
+    else return ConstraintView<C>(model_.user.template find<C>());
+  }
+  /// The constraints of user-defined type C in insertion order (empty if none): constraints<C>().
+  template <class C> ConstraintView<C> custom() const { return constraints<C>(); }
+  /// The volume constraints and the meshes they span, in insertion order.
+  const VolumeConstraints<Real>& volumes() const { return model_.volume.table; }
+  /// The stiffness of each constraint set, by set id.
+  std::span<const Stiffness> constraint_sets() const { return model_.sets; }
+  /// Number of persistent constraints of every type (user-defined and volume included).
+  std::size_t num_constraints() const;
+  /// Calls f(constraints<C>()) for each built-in fixed-arity type, in solver order.
+  template <class F> void for_each_builtin(F&& f) const {
+    detail::for_each_store(model_.stores, [&](const auto& s, auto) {
+      f(ConstraintView<typename std::decay_t<decltype(s)>::value_type>(&s));
+    });
+  }
+
+  // ---- colliders ----
+  /// Adds an infinite plane n·x ≥ offset (n is normalized; offset in m).
   void add_plane(const Vec& normal, Real offset);
-  /// Adds a solid sphere.
+  /// Adds a solid sphere (center in m, radius in m, > 0).
   void add_sphere(const Vec& center, Real radius);
+  /// The colliders.
+  const Colliders<Real>& colliders() const { return model_.colliders; }
 
+  // ---- coloring ----
   /// Sets how constraints are colored for the colored and Jacobi solvers (recolors at the next step).
   void set_coloring(const coloring::Options& options);
   /// Sets how parallel loops are cut (never changes results).
   void set_parallel_config(const ParallelConfig& config) { parallel_ = config; }
-  /// The colored constraints (colors them now if needed): each type's array in color order with its ranges
-  /// and the insertion→color-order index map.
-  const ColoredConstraints<Real>& colored_constraints();
+  /// Colors now if needed and gives type C's colors (built in or user-defined).
+  template <class C> ConstraintColors colors();
+  /// Colors of the persistent constraints as the colored solvers run them (colors now if needed).
+  Index num_colors();
+  /// Colors each constraint type's conflict graph anew with `options`, checks each coloring, and returns its
+  /// statistics per type (kName), without changing the world's own colors.
+  std::vector<coloring::NamedStats> color_statistics(const coloring::Options& options) const;
 
+  // ---- stepping ----
   /// Sets the step parameters after validating them.
   void set_params(const StepParams<Real>& params);
   /// The current step parameters.
   const StepParams<Real>& params() const { return params_; }
-
   /// Advances the world by params().dt: substeps × (forces, predict, collisions, sweeps, velocity update).
   void step();
   /// step() with external forces (N, 3×N, one column per particle) applied during the whole step: v += h·w·f.
@@ -141,76 +151,60 @@ public:
   using ForceCallback = std::function<void(double time, Eigen::Ref<const Positions> x, Eigen::Ref<Positions> forces)>;
   /// Sets (or with an empty function clears) the force callback used by step().
   void set_force_callback(ForceCallback callback) { force_callback_ = std::move(callback); }
-
   /// Statistics of the last step().
   const StepStats& last_step_stats() const { return stats_; }
   /// Whether step() measures the per-type violation at its end (one extra pass over the constraints; off by default).
   void set_measure_violation(bool on) { measure_violation_ = on; }
 
+  // ---- state ----
   /// Simulated time in seconds: params().dt per step() (drives volume pressure schedules).
-  double time() const { return time_; }
-
+  double time() const { return state_.time; }
   /// Number of particles.
-  Index num_particles() const { return Index(x_.cols()); }
-  /// Positions, 3×N (no copy). Writing through the mutable map is allowed between steps.
-  Eigen::Map<const Positions> positions() const { return {x_.data(), 3, x_.cols()}; }
-  Eigen::Map<Positions> positions() { return {x_.data(), 3, x_.cols()}; }  ///< mutable positions
-  /// Velocities, 3×N (no copy).
-  Eigen::Map<const Positions> velocities() const { return {v_.data(), 3, v_.cols()}; }
-  Eigen::Map<Positions> velocities() { return {v_.data(), 3, v_.cols()}; }  ///< mutable velocities
-  /// Inverse masses, N (0 = pinned).
-  Eigen::Map<const VectorX<Real>> inverse_masses() const { return {w_.data(), w_.size()}; }
+  Index num_particles() const { return Index(state_.x.cols()); }
+  /// Positions in m, 3×N (no copy). Writing through the mutable map is allowed between steps.
+  Eigen::Map<const Positions> positions() const { return {state_.x.data(), 3, state_.x.cols()}; }
+  Eigen::Map<Positions> positions() { return {state_.x.data(), 3, state_.x.cols()}; }  ///< mutable positions
+  /// Velocities in m/s, 3×N (no copy).
+  Eigen::Map<const Positions> velocities() const { return {state_.v.data(), 3, state_.v.cols()}; }
+  Eigen::Map<Positions> velocities() { return {state_.v.data(), 3, state_.v.cols()}; }  ///< mutable velocities
+  /// Inverse masses in 1/kg, N (0 = pinned).
+  Eigen::Map<const VectorX<Real>> inverse_masses() const {
+    return {model_.inverse_mass.data(), model_.inverse_mass.size()};
+  }
+  /// Collision constraints generated by the last sub-step (for inspection and error measures), in solver order.
+  std::span<const CollisionConstraint<Real>> last_collisions() const;
 
-  /// The persistent constraints, one array per type, in solver order.
-  const ConstraintArrays<Real>& constraints() const { return constraints_; }
-  /// The colliders.
-  const Colliders<Real>& colliders() const { return colliders_; }
-  /// Collision constraints generated by the last sub-step (for inspection and error measures).
-  const std::vector<CollisionConstraint<Real>>& last_collisions() const { return collisions_; }
+  /// Checks every invariant of the model (stores, color ranges, maps, no particle twice in a color, λ zero where
+  /// no set is compliant); throws pbd::Error naming the first broken one. Tests call it; debug builds also assert
+  /// cheap invariants as they go.
+  void validate() const;
+
+  /// The cooked model (engine internals: for benchmarks and tests that drive the solver directly).
+  const detail::Model<Real>& model() const { return model_; }
 
 private:
-  template <class> friend class World;
   void check_particle(Index i, const char* item, std::size_t index) const;  // throws naming "item index"
   void check_set(Index set, const char* item, std::size_t index) const;
-  void substep(Real h, double time, const Real* forces);
+  template <class C> void remove(std::span<const Index> indices, const char* what);
   void ensure_colored();
   void advance(const Real* forces);
-  void measure_violation();
-  template <class C> void erase(std::vector<C>& items, ColoredArray<C>& colored, std::span<const Index> indices,
-                                const char* what);
+  detail::Scratch<Real>& scratch();
 
-  // Runtime state.
-  Positions x_;      ///< positions
-  Positions v_;      ///< velocities
-  // Model.
-  VectorX<Real> w_;  ///< inverse masses
-  ConstraintArrays<Real> constraints_;
-  Colliders<Real> colliders_;
+  detail::Model<Real> model_;   // cooked model: particles' inverse masses, constraints with their colors, colliders
+  detail::State<Real> state_;   // x, v, time, λ
+  std::unique_ptr<detail::Scratch<Real>, detail::ScratchDeleter<Real>> scratch_;  // per-step scratch (made on demand)
   StepParams<Real> params_;
-  double time_ = 0.0;  ///< simulated time
-  // Per-step scratch, kept to avoid reallocation.
-  Positions p_;      ///< predicted positions
-  std::vector<CollisionConstraint<Real>> collisions_;
-  Multipliers<Real> lambda_;
-  VolumeScratch<Real> volume_scratch_;  ///< serial solver: volume targets and gradients
-  std::vector<SolveCoefficients<Real>> coeff_;
-  // Colored and Jacobi solvers: the colored copy of the constraints, rebuilt when constraints or pins change.
-  ColoredSolver<Real> colored_;
-  CustomTypes<Real> custom_;  ///< user-defined constraint types
-  ForceCallback force_callback_;
-  Positions callback_forces_;  ///< scratch filled by the force callback
-  void check_converted() const;  // after a precision conversion: every value still finite
-  Positions rollback_x_, rollback_v_;  ///< state at the start of a step with a callback and sub-steps (restored if it throws)
   StepStats stats_;
   bool measure_violation_ = false;
-  coloring::Options coloring_;
   ParallelConfig parallel_;
-  PartitionerPool particle_partitioners_;
+  ForceCallback force_callback_;
 };
 
 template <class Real> template <class C> Index World<Real>::add_custom(const C& c) {
-  static_assert(C::kArity >= 1, "a user-defined constraint type needs kArity >= 1");
-  const std::size_t index = custom_.template find<C>() ? custom_.template find<C>()->items.size() : 0;
+  static_assert(UserConstraint<C, Real>, "a user-defined constraint type must provide what custom_constraints.hpp lists");
+  static_assert(!is_builtin_v<C, Real>, "add_custom is for user-defined types; use add_stretch etc. for built-in ones");
+  const auto* s = model_.user.template find<C>();
+  const std::size_t index = s ? s->size() : 0;
   const char* item = "add_custom: constraint";
   for (int i = 0; i < C::kArity; ++i) {
     check_particle(c.particles[i], item, index);
@@ -220,8 +214,22 @@ template <class Real> template <class C> Index World<Real>::add_custom(const C& 
                     std::to_string(c.particles[i]) + " twice");
   }
   check_set(c.set, item, index);
-  custom_.template of<C>().items.push_back(c);
+  const bool first_of_type = s == nullptr;
+  model_.user.template of<C>().append(c);
+  if (first_of_type) {
+    state_.user_lambda.emplace_back();
+    model_.colors_current = false;  // a new type: colored with everything at the next colored step
+  }
   return Index(index);
+}
+
+template <class Real> template <class C> ConstraintColors World<Real>::colors() {
+  ensure_colored();
+  const detail::Store<C>* s;
+  if constexpr (is_builtin_v<C, Real>) s = &model_.template store<C>();
+  else s = model_.user.template find<C>();
+  if (!s) return {};
+  return {s->num_colors(), s->color, s->slot, s->offsets};
 }
 
 extern template class World<float>;

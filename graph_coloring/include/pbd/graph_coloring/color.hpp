@@ -44,6 +44,14 @@ struct Options {
 /// on the input and options, never on the number of threads.
 [[nodiscard]] Coloring color(const Hypergraph& graph, const Options& options = {});
 
+/// Continues a first-fit coloring with every item of `graph`, in index order, against colors already in use:
+/// used[node] has bit c set when color c is taken at that node (num_nodes entries). Each item takes the lowest color
+/// below max_colors (at most 64) free at all its non-fixed nodes, written to color[item], and marks it in `used`.
+/// Returns false as soon as an item finds no such color (the caller then colors everything anew). O(incidences);
+/// no validation beyond what the caller guarantees (node indices below num_nodes).
+bool first_fit_extend(const Hypergraph& graph, std::span<std::uint64_t> used, std::uint32_t max_colors,
+                      std::span<std::uint32_t> color);
+
 /// Moves items from large regular colors to small ones where they fit, never adding a color, until
 /// the largest batch is at most target x mean batch or nothing more moves. Deterministic; keeps the
 /// coloring proper and regroups it. Returns the achieved largest / mean batch size.

@@ -7,6 +7,7 @@
 // so that each constraint takes the same path whatever the thread count.
 // Requires: no two constraints of a range share a movable particle (true within a color).
 #include "pbd/constraints/stretch.hpp"
+#include "pbd/detail/model.hpp"  // kMixedSets
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -14,8 +15,6 @@
 
 namespace pbd::detail {
 
-/// "The constraints of this range belong to more than one set" (project_stretch_range).
-inline constexpr Index kMixedSets = ~Index(0);
 
 /// Constraints per SIMD block: parallel ranges of the stretch colors are cut at multiples of this.
 inline constexpr Index kStretchBlock = 4;

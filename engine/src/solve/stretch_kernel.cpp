@@ -1,4 +1,4 @@
-#include "stretch_block.hpp"
+#include "stretch_kernel.hpp"
 
 #include <cstdint>
 #include <cstdlib>

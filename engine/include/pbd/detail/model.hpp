@@ -1,0 +1,80 @@
+#pragma once
+/// \file detail/model.hpp
+/// The cooked model of a world and its runtime state (engine internals, held by World; a host reads them through
+/// World's accessors). Jolt's soft bodies keep the same three kinds of data apart (shared settings / motion
+/// properties / update context): the Model is what the scene describes (particles' inverse masses, constraint sets,
+/// one store per constraint type with its colors, volumes, colliders) plus what is cooked from it for the solvers;
+/// the State is what a step advances (x, v, time, λ); per-step scratch lives in engine/src/solve/scratch.hpp.
+#include "pbd/colliders.hpp"
+#include "pbd/constraint_types.hpp"
+#include "pbd/constraints/volume.hpp"
+#include "pbd/custom_constraints.hpp"
+#include "pbd/stiffness.hpp"
+
+#include <array>
+#include <tuple>
+#include <vector>
+
+namespace pbd::detail {
+
+/// std::tuple<Store<C>...> for a tuple of constraint types.
+template <class Types> struct StoresOf;
+template <class... Cs> struct StoresOf<std::tuple<Cs...>> {
+  using type = std::tuple<Store<Cs>...>;
+};
+
+/// Calls f(store, index) for each built-in store, in solver order (index: position in BuiltinConstraintTypes).
+template <class Stores, class F> void for_each_store(Stores& stores, F&& f) {
+  [&]<std::size_t... I>(std::index_sequence<I...>) { (f(std::get<I>(stores), std::integral_constant<std::size_t, I>{}), ...); }(
+      std::make_index_sequence<std::tuple_size_v<std::remove_const_t<Stores>>>{});
+}
+
+/// Volume constraints (each spans a whole mesh) and the order the colored solvers project them in.
+template <class Real> struct VolumeStore {
+  VolumeConstraints<Real> table;  ///< the constraints and the meshes they span, in insertion order
+  std::vector<Index> order;       ///< volume indices color by color (graph_coloring on their particles)
+  std::vector<Index> offsets;     ///< color c is order[offsets[c], offsets[c + 1])
+  Index num_colors() const { return offsets.empty() ? 0 : Index(offsets.size() - 1); }  ///< colors laid out
+};
+
+/// What the scene describes, and what is cooked from it for the solvers.
+template <class Real> struct Model {
+  VectorX<Real> inverse_mass;                                     ///< per particle, 1/kg (0 = pinned)
+  std::vector<Stiffness> sets;                                    ///< stiffness of each constraint set
+  typename StoresOf<BuiltinConstraintTypes<Real>>::type stores;  ///< one store per built-in type
+  UserTypes<Real> user;                                          ///< one store per user-defined type
+  VolumeStore<Real> volume;                                      ///< volume constraints
+  Colliders<Real> colliders;                                     ///< static colliders
+  coloring::Options coloring;                                    ///< how the colored and Jacobi solvers color
+
+  // Cooked for the colored and Jacobi solvers (schedule.cpp), valid while colors_current is set.
+  bool colors_current = false;         ///< every store's colors match its constraints and the pins below
+  std::vector<std::uint8_t> fixed;     ///< pinned flags the colors were made with, one per particle then
+  std::vector<Index> touch_count;      ///< Jacobi: persistent constraints touching each particle
+  std::vector<Index> stretch_sets;     ///< per stretch color: the set all its constraints share, or kMixedSets
+
+  /// The store of built-in type C.
+  template <class C> Store<C>& store() { return std::get<TypeIndex<C, BuiltinConstraintTypes<Real>>::value>(stores); }
+  template <class C> const Store<C>& store() const {  ///< read-only store()
+    return std::get<TypeIndex<C, BuiltinConstraintTypes<Real>>::value>(stores);
+  }
+  /// Number of particles.
+  Index num_particles() const { return Index(inverse_mass.size()); }
+};
+
+/// "The constraints of a stretch color belong to more than one set" (Model::stretch_sets).
+inline constexpr Index kMixedSets = ~Index(0);
+
+/// What a step advances.
+template <class Real> struct State {
+  Matrix3X<Real> x;   ///< positions, m
+  Matrix3X<Real> v;   ///< velocities, m/s
+  double time = 0.0;  ///< simulated time, s
+  std::array<std::vector<Real>, kNumBuiltinTypes> lambda;  ///< XPBD λ per built-in type, in stored order
+  std::vector<std::vector<Real>> user_lambda;               ///< λ per user-defined type, in stored order
+  std::vector<Real> volume_lambda;                          ///< λ per volume constraint
+  /// Some λ may be non-zero: a sweep since the last reset had α̃ ≠ 0 (λ changes only there, projection.hpp).
+  bool lambda_dirty = true;
+};
+
+}  // namespace pbd::detail

@@ -1,0 +1,402 @@
+// World: adding, changing and removing particles, constraints and colliders (each validated first, so a bad call
+// throws pbd::Error naming the offending item and leaves the world unchanged), parameters, and validate().
+#include "pbd/world.hpp"
+
+#include "message.hpp"
+#include "pbd/mesh.hpp"
+#include "solve/schedule.hpp"
+
+#include <pbd/graph_coloring/validate.hpp>
+
+#include <cmath>
+
+namespace pbd {
+namespace {
+
+template <class Real> bool finite(const Vec3<Real>& v) { return v.allFinite(); }
+
+// Inverse mass of a validated mass: 0 for kPinned (infinity).
+template <class Real> Real inverse_mass(Real mass) { return std::isinf(mass) ? Real(0) : Real(1) / mass; }
+
+// Throws "<fn>: particle <index>: mass must be ..." unless mass > 0 (infinity = pinned is allowed).
+template <class Real> void check_mass(Real mass, const char* fn, std::size_t index) {
+  if (std::isnan(mass) || !(mass > Real(0)))
+    throw Error(detail::message(fn, ": particle ", index, ": mass must be > 0 (or kPinned), got ", mass));
+}
+
+void check_stiffness(const Stiffness& s, const std::string& what) {
+  if (s.mode == StiffnessMode::xpbd) {
+    if (!(s.compliance >= 0.0) || !std::isfinite(s.compliance))
+      throw Error(detail::message(what, ": compliance must be finite and >= 0, got ", s.compliance));
+  } else if (!(s.k >= 0.0 && s.k <= 1.0)) {
+    throw Error(detail::message(what, ": stiffness k must be in [0, 1], got ", s.k));
+  }
+}
+
+}  // namespace
+
+template <class Real> void World<Real>::check_particle(Index i, const char* item, std::size_t index) const {
+  if (i >= num_particles())
+    throw Error(detail::message(item, " ", index, ": particle index ", i, " out of range (the world has ",
+                                num_particles(), " particles)"));
+}
+
+template <class Real> void World<Real>::check_set(Index set, const char* item, std::size_t index) const {
+  if (set >= model_.sets.size())
+    throw Error(detail::message(item, " ", index, ": constraint set ", set, " does not exist (", model_.sets.size(),
+                                " sets)"));
+}
+
+// ---- particles ----
+
+template <class Real> Index World<Real>::add_particle(const Vec& position, Real mass, const Vec& velocity) {
+  const Index i = num_particles();
+  if (!finite(position)) throw Error(detail::message("add_particle: particle ", i, ": position is not finite"));
+  if (!finite(velocity)) throw Error(detail::message("add_particle: particle ", i, ": velocity is not finite"));
+  check_mass(mass, "add_particle", i);
+  state_.x.conservativeResize(3, i + 1);
+  state_.v.conservativeResize(3, i + 1);
+  model_.inverse_mass.conservativeResize(i + 1);
+  state_.x.col(i) = position;
+  state_.v.col(i) = velocity;
+  model_.inverse_mass[i] = inverse_mass(mass);
+  return i;
+}
+
+template <class Real> Index World<Real>::add_particles(const Positions& positions, const VectorX<Real>& masses) {
+  const Index first = num_particles();
+  if (positions.cols() != masses.size())
+    throw Error(detail::message("add_particles: ", positions.cols(), " positions but ", masses.size(), " masses"));
+  VectorX<Real> w(masses.size());
+  for (Eigen::Index j = 0; j < positions.cols(); ++j) {
+    if (!finite<Real>(positions.col(j)))
+      throw Error(detail::message("add_particles: particle ", first + j, ": position is not finite"));
+    check_mass(masses[j], "add_particles", first + j);
+    w[j] = inverse_mass(masses[j]);
+  }
+  return add_particles_by_inverse_mass(positions, w);
+}
+
+template <class Real>
+Index World<Real>::add_particles_by_inverse_mass(const Positions& positions, const VectorX<Real>& w) {
+  const Index first = num_particles();
+  const char* fn = "add_particles_by_inverse_mass";
+  if (positions.cols() != w.size())
+    throw Error(detail::message(fn, ": ", positions.cols(), " positions but ", w.size(), " inverse masses"));
+  for (Eigen::Index j = 0; j < positions.cols(); ++j) {
+    if (!finite<Real>(positions.col(j)))
+      throw Error(detail::message(fn, ": particle ", first + j, ": position is not finite"));
+    if (!std::isfinite(w[j]) || !(w[j] >= Real(0)))
+      throw Error(detail::message(fn, ": particle ", first + j, ": inverse mass must be finite and >= 0, got ", w[j]));
+  }
+  const Eigen::Index n = first + positions.cols();
+  state_.x.conservativeResize(3, n);
+  state_.v.conservativeResize(3, n);
+  model_.inverse_mass.conservativeResize(n);
+  state_.x.rightCols(positions.cols()) = positions;
+  state_.v.rightCols(positions.cols()).setZero();
+  model_.inverse_mass.tail(w.size()) = w;
+  return first;
+}
+
+template <class Real> void World<Real>::set_mass(Index particle, Real mass) {
+  check_particle(particle, "set_mass: particle", particle);
+  check_mass(mass, "set_mass", particle);
+  if ((model_.inverse_mass[particle] == Real(0)) != (inverse_mass(mass) == Real(0)))
+    model_.colors_current = false;  // pins changed: so did the conflicts
+  model_.inverse_mass[particle] = inverse_mass(mass);
+}
+
+template <class Real> void World<Real>::remove_particle(Index particle) {
+  check_particle(particle, "remove_particle: particle", particle);
+  for (Index p : model_.volume.table.particles)
+    if (p == particle)
+      throw Error(detail::message("remove_particle: particle ", particle,
+                                  " belongs to a volume constraint; volume meshes cannot lose particles"));
+  detail::for_each_store(model_.stores, [&](auto& s, auto) {
+    using C = typename std::decay_t<decltype(s)>::value_type;
+    std::vector<Index> touching;
+    for (Index u = 0; u < Index(s.size()); ++u)
+      for (Index p : s.at(u).particles)
+        if (p == particle) {
+          touching.push_back(u);
+          break;
+        }
+    remove<C>(touching, "remove_particle");
+  });
+  for (const auto& t : model_.user.types()) t->erase_touching(particle);
+  model_.inverse_mass[particle] = Real(0);  // pinned: never moves, never collides
+  state_.v.col(particle).setZero();
+  model_.colors_current = false;  // a particle became pinned: conflicts changed
+}
+
+// ---- constraints ----
+
+template <class Real> Index World<Real>::add_constraint_set(const Stiffness& stiffness) {
+  check_stiffness(stiffness, detail::message("add_constraint_set: set ", model_.sets.size()));
+  model_.sets.push_back(stiffness);
+  return Index(model_.sets.size() - 1);
+}
+
+template <class Real> Index World<Real>::add_stretch(Index a, Index b, Index set, std::optional<Real> rest) {
+  // Messages are built only when something is wrong: adding must stay cheap for millions of constraints.
+  auto& store = model_.template store<StretchConstraint<Real>>();
+  const char* item = "add_stretch: stretch constraint";
+  const std::size_t index = store.size();
+  auto what = [&] { return detail::message(item, " ", index); };
+  check_particle(a, item, index);
+  check_particle(b, item, index);
+  check_set(set, item, index);
+  if (a == b) throw Error(detail::message(what(), ": names particle ", a, " twice"));
+  const Real d = rest ? *rest : (state_.x.col(a) - state_.x.col(b)).norm();
+  if (!std::isfinite(d) || d < Real(0))
+    throw Error(detail::message(what(), ": rest distance must be finite and >= 0, got ", d));
+  store.append({{a, b}, set, d});
+  return Index(index);
+}
+
+template <class Real> Index World<Real>::add_anchor(Index particle, Index set, std::optional<Vec> target) {
+  auto& store = model_.template store<AnchorConstraint<Real>>();
+  const char* item = "add_anchor: anchor";
+  const std::size_t index = store.size();
+  check_particle(particle, item, index);
+  check_set(set, item, index);
+  const Vec t = target ? *target : Vec(state_.x.col(particle));
+  if (!finite(t)) throw Error(detail::message(item, " ", index, ": target is not finite"));
+  store.append({{particle}, set, t});
+  return Index(index);
+}
+
+template <class Real>
+Index World<Real>::add_bending(Index p1, Index p2, Index p3, Index p4, Index set, std::optional<Real> rest) {
+  auto& store = model_.template store<BendingConstraint<Real>>();
+  const char* item = "add_bending: bending constraint";
+  const std::size_t index = store.size();
+  auto what = [&] { return detail::message(item, " ", index); };
+  const std::array<Index, 4> ids{p1, p2, p3, p4};
+  for (Index i : ids) check_particle(i, item, index);
+  check_set(set, item, index);
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b)
+      if (ids[a] == ids[b]) throw Error(detail::message(what(), ": names particle ", ids[a], " twice"));
+  Real phi;
+  if (rest) {
+    phi = *rest;
+  } else {
+    const auto& x = state_.x;
+    phi = dihedral_angle<Real>(x.col(p1), x.col(p2), x.col(p3), x.col(p4));
+    if (phi < Real(0))
+      throw Error(detail::message(what(), ": a triangle is degenerate, so the rest angle is undefined (give it)"));
+  }
+  if (!(phi >= Real(0) && phi <= Real(3.14159265358979323846)))
+    throw Error(detail::message(what(), ": rest angle must be in [0, pi], got ", phi));
+  store.append({ids, set, phi});
+  return Index(index);
+}
+
+template <class Real> Index World<Real>::add_area(Index a, Index b, Index c, Index set, std::optional<Real> rest) {
+  auto& store = model_.template store<AreaConstraint<Real>>();
+  const char* item = "add_area: area constraint";
+  const std::size_t index = store.size();
+  for (Index i : {a, b, c}) check_particle(i, item, index);
+  check_set(set, item, index);
+  if (a == b || b == c || a == c) throw Error(detail::message(item, " ", index, ": names a particle twice"));
+  const Real area = rest ? *rest : triangle_area<Real>(state_.x.col(a), state_.x.col(b), state_.x.col(c));
+  if (!std::isfinite(area) || area < Real(0))
+    throw Error(detail::message(item, " ", index, ": rest area must be finite and >= 0, got ", area));
+  store.append({{a, b, c}, set, area});
+  return Index(index);
+}
+
+template <class Real>
+Index World<Real>::add_volume(std::span<const std::array<Index, 3>> triangles, Index set,
+                              const PressureSchedule& pressure, std::optional<Real> rest) {
+  auto& table = model_.volume.table;
+  const char* item = "add_volume: volume constraint";
+  const std::size_t index = table.size();
+  auto what = [&] { return detail::message(item, " ", index); };
+  check_set(set, item, index);
+  if (const auto defect = closed_mesh_defect(triangles, num_particles())) throw Error(what() + ": " + *defect);
+  if (!std::isfinite(pressure.from) || !std::isfinite(pressure.to) || !(pressure.from > 0.0) ||
+      !(pressure.to > 0.0) || !std::isfinite(pressure.duration) || pressure.duration < 0.0)
+    throw Error(what() + ": pressure from/to must be finite and > 0, duration finite and >= 0");
+  // Flat or inside-out: the enclosed volume must be clearly positive against the mesh's extent (scale-free).
+  const auto& x = state_.x;
+  Vec lo = x.col(triangles[0][0]), hi = lo;
+  for (const auto& t : triangles)
+    for (Index i : t) {
+      lo = lo.cwiseMin(Vec(x.col(i)));
+      hi = hi.cwiseMax(Vec(x.col(i)));
+    }
+  const Real extent = (hi - lo).norm();
+  const Real six_v = six_volume<Real>(triangles, x);
+  if (!rest) {
+    if (six_v < Real(0))
+      throw Error(detail::message(what(), ": the mesh encloses a negative volume (", six_v / Real(6),
+                                  "): it is inside out; its triangles must wind counter-clockwise seen from outside"));
+    if (!(six_v > Real(6) * parallel_sine<Real>() * extent * extent * extent))
+      throw Error(detail::message(what(), ": the mesh is flat (volume ", six_v / Real(6), " for an extent of ",
+                                  extent, "): it encloses nothing to keep"));
+  }
+  const Real r = rest ? *rest : six_v;
+  if (!std::isfinite(r) || !(r > Real(0)))
+    throw Error(detail::message(what(), ": rest volume must be finite and > 0, got ", r));
+  table.add(triangles, set, r, pressure);
+  return Index(index);
+}
+
+template <class Real>
+template <class C>
+void World<Real>::remove(std::span<const Index> indices, const char* what) {
+  auto& store = model_.template store<C>();
+  std::vector<std::uint8_t> drop(store.size(), 0);
+  for (Index i : indices) {
+    if (i >= store.size())
+      throw Error(detail::message(what, ": constraint index ", i, " out of range (", store.size(), " constraints)"));
+    if (drop[i]) throw Error(detail::message(what, ": constraint index ", i, " given twice"));
+    drop[i] = 1;
+  }
+  if (indices.empty()) return;
+  const bool kept_colors = detail::erase(store, drop);
+  if (!kept_colors) model_.colors_current = false;
+  else if (model_.colors_current) detail::note_layout(model_);
+}
+
+template <class Real> std::size_t World<Real>::num_constraints() const {
+  std::size_t n = model_.volume.table.size();
+  detail::for_each_store(model_.stores, [&](const auto& s, auto) { n += s.size(); });
+  for (const auto& t : model_.user.types()) n += t->size();
+  return n;
+}
+
+// ---- colliders ----
+
+template <class Real> void World<Real>::add_plane(const Vec& normal, Real offset) {
+  auto& planes = model_.colliders.planes;
+  const std::string what = detail::message("add_plane: plane ", planes.size());
+  if (!finite(normal) || !std::isfinite(offset)) throw Error(what + ": normal and offset must be finite");
+  const Real len = normal.norm();
+  if (!(len > Real(0))) throw Error(what + ": normal has zero length");
+  planes.push_back({normal / len, offset / len});
+}
+
+template <class Real> void World<Real>::add_sphere(const Vec& center, Real radius) {
+  auto& spheres = model_.colliders.spheres;
+  const std::string what = detail::message("add_sphere: sphere ", spheres.size());
+  if (!finite(center)) throw Error(what + ": center is not finite");
+  if (!std::isfinite(radius) || !(radius > Real(0)))
+    throw Error(detail::message(what, ": radius must be finite and > 0, got ", radius));
+  spheres.push_back({center, radius});
+}
+
+// ---- parameters and coloring ----
+
+template <class Real> void World<Real>::set_params(const StepParams<Real>& p) {
+  if (!std::isfinite(p.dt) || !(p.dt > Real(0)))
+    throw Error(detail::message("set_params: dt must be finite and > 0, got ", p.dt));
+  if (p.substeps < 1) throw Error(detail::message("set_params: substeps must be >= 1, got ", p.substeps));
+  if (p.iterations < 0) throw Error(detail::message("set_params: iterations must be >= 0, got ", p.iterations));
+  if (!finite(p.gravity)) throw Error("set_params: gravity is not finite");
+  if (!std::isfinite(p.damping) || p.damping < Real(0))
+    throw Error(detail::message("set_params: damping must be finite and >= 0, got ", p.damping));
+  if (!std::isfinite(p.collision_margin) || p.collision_margin < Real(0))
+    throw Error(detail::message("set_params: collision_margin must be finite and >= 0, got ", p.collision_margin));
+  if (!(p.jacobi_omega > Real(0) && p.jacobi_omega < Real(2)))
+    throw Error(detail::message("set_params: jacobi_omega must be in (0, 2), got ", p.jacobi_omega));
+  if (name(p.solver) == "?") throw Error("set_params: unknown solver");
+  params_ = p;
+}
+
+template <class Real> void World<Real>::set_coloring(const coloring::Options& options) {
+  model_.coloring = options;
+  model_.colors_current = false;
+}
+
+template <class Real>
+std::vector<coloring::NamedStats> World<Real>::color_statistics(const coloring::Options& options) const {
+  const std::vector<std::uint8_t> fixed = detail::pinned_flags(model_.inverse_mass);
+  std::vector<coloring::NamedStats> rows;
+  detail::for_each_store(model_.stores, [&](const auto& s, auto) {
+    using C = typename std::decay_t<decltype(s)>::value_type;
+    if (s.empty()) return;  // a type the world does not use is not colored at all
+    const std::vector<C> items = s.in_insertion_order();
+    const detail::ConstraintGraph g = detail::constraint_graph(std::span<const C>(items), fixed);
+    const coloring::Coloring c = coloring::color(g.view(), options);
+    if (auto error = coloring::find_coloring_error(g.view(), c))
+      throw Error(std::string("color_statistics: improper coloring of ") + C::kName + " constraints: " + *error);
+    rows.push_back({C::kName, coloring::compute_stats(g.view(), c)});
+  });
+  return rows;
+}
+
+// ---- validation ----
+
+template <class Real> void World<Real>::validate() const {
+  const Index n = num_particles();
+  if (state_.v.cols() != n || model_.inverse_mass.size() != n)
+    throw Error("validate: positions, velocities and inverse masses disagree on the particle count");
+  const std::vector<std::uint8_t> fixed =
+      model_.colors_current ? model_.fixed : detail::pinned_flags(model_.inverse_mass);
+  auto check_particles = [&](const auto& items, const char* name) {
+    for (std::size_t i = 0; i < items.size(); ++i)
+      for (Index p : items[i].particles)
+        if (p >= n) throw Error(detail::message("validate: ", name, " constraint at ", i, ": particle ", p, " out of range"));
+  };
+  detail::for_each_store(model_.stores, [&](const auto& s, auto i) {
+    using C = typename std::decay_t<decltype(s)>::value_type;
+    check_particles(s.items, C::kName);
+    s.validate(fixed, C::kName);
+    if (model_.colors_current && s.color.size() > s.size())
+      throw Error(detail::message("validate: ", C::kName, " store: more colors than constraints"));
+    // λ is only ever written where α̃ ≠ 0: with no compliant set, every λ is 0.
+    const bool any_compliant = std::ranges::any_of(model_.sets, [](const Stiffness& st) {
+      return st.mode == StiffnessMode::xpbd && st.compliance != 0.0;
+    });
+    if (!any_compliant)
+      for (std::size_t k = 0; k < state_.lambda[i].size(); ++k)
+        if (state_.lambda[i][k] != Real(0))
+          throw Error(detail::message("validate: ", C::kName, " λ ", k, " is not 0 though no set is compliant"));
+  });
+  for (const auto& t : model_.user.types()) t->validate(fixed);
+  const auto& v = model_.volume;
+  if (!v.order.empty()) {
+    std::vector<std::uint8_t> seen(v.table.size(), 0);
+    for (Index i : v.order) {
+      if (i >= v.table.size() || seen[i]) throw Error("validate: volume order is not a permutation");
+      seen[i] = 1;
+    }
+  }
+}
+
+// The members defined in this file (the class itself is instantiated in world.cpp).
+#define PBD_EDIT_INSTANTIATE(Real)                                                                   \
+  template void World<Real>::check_particle(Index, const char*, std::size_t) const;                \
+  template void World<Real>::check_set(Index, const char*, std::size_t) const;                     \
+  template Index World<Real>::add_particle(const Vec3<Real>&, Real, const Vec3<Real>&);            \
+  template Index World<Real>::add_particles(const Matrix3X<Real>&, const VectorX<Real>&);          \
+  template Index World<Real>::add_particles_by_inverse_mass(const Matrix3X<Real>&, const VectorX<Real>&); \
+  template void World<Real>::set_mass(Index, Real);                                                \
+  template void World<Real>::remove_particle(Index);                                               \
+  template Index World<Real>::add_constraint_set(const Stiffness&);                                \
+  template Index World<Real>::add_stretch(Index, Index, Index, std::optional<Real>);               \
+  template Index World<Real>::add_anchor(Index, Index, std::optional<Vec3<Real>>);                 \
+  template Index World<Real>::add_bending(Index, Index, Index, Index, Index, std::optional<Real>);  \
+  template Index World<Real>::add_area(Index, Index, Index, Index, std::optional<Real>);            \
+  template Index World<Real>::add_volume(std::span<const std::array<Index, 3>>, Index, const PressureSchedule&, \
+                                         std::optional<Real>);                                      \
+  template std::size_t World<Real>::num_constraints() const;                                       \
+  template void World<Real>::add_plane(const Vec3<Real>&, Real);                                   \
+  template void World<Real>::add_sphere(const Vec3<Real>&, Real);                                  \
+  template void World<Real>::set_params(const StepParams<Real>&);                                  \
+  template void World<Real>::set_coloring(const coloring::Options&);                               \
+  template std::vector<coloring::NamedStats> World<Real>::color_statistics(const coloring::Options&) const; \
+  template void World<Real>::validate() const;                                                     \
+  template void World<Real>::remove<StretchConstraint<Real>>(std::span<const Index>, const char*); \
+  template void World<Real>::remove<AnchorConstraint<Real>>(std::span<const Index>, const char*);  \
+  template void World<Real>::remove<BendingConstraint<Real>>(std::span<const Index>, const char*); \
+  template void World<Real>::remove<AreaConstraint<Real>>(std::span<const Index>, const char*);
+PBD_EDIT_INSTANTIATE(float)
+PBD_EDIT_INSTANTIATE(double)
+#undef PBD_EDIT_INSTANTIATE
+
+}  // namespace pbd

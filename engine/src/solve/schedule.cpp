@@ -1,0 +1,148 @@
+#include "schedule.hpp"
+
+#include <algorithm>
+#include <cassert>
+
+namespace pbd::detail {
+namespace {
+
+// Jacobi counts from scratch: persistent constraints touching each particle.
+template <class Real> void count_touches(Model<Real>& m) {
+  m.touch_count.assign(m.num_particles(), 0);
+  for_each_store(m.stores, [&](const auto& s, auto) {
+    for (const auto& c : s.items)
+      for (Index k : c.particles) ++m.touch_count[k];
+  });
+  for (Index k : m.volume.table.particles) ++m.touch_count[k];
+  for (const auto& t : m.user.types()) t->count_particles(m.touch_count, 0);
+}
+
+// Model::stretch_sets for stretch colors [first, num_colors): the set a color's constraints share, or kMixedSets.
+// Only the float stretch kernel reads them.
+template <class Real> void note_stretch_sets(Model<Real>& m, Index first) {
+  const auto& s = m.template store<StretchConstraint<Real>>();
+  m.stretch_sets.resize(s.num_colors(), kMixedSets);
+  for (Index c = first; c < s.num_colors(); ++c) {
+    const auto b = s.items.begin() + s.offsets[c], e = s.items.begin() + s.offsets[c + 1];
+    const bool one = b != e && std::all_of(b, e, [&](const auto& x) { return x.set == b->set; });
+    m.stretch_sets[c] = one ? b->set : kMixedSets;
+  }
+}
+
+// Volume constraints colored on their particles (a volume on more than wide_threshold particles gets a color of its
+// own, and runs alone with parallelism inside it).
+template <class Real> void color_volumes(Model<Real>& m) {
+  auto& v = m.volume;
+  v.order.clear();
+  v.offsets.clear();
+  const auto& t = v.table;
+  if (t.empty()) return;
+  ConstraintGraph g;
+  g.num_particles = m.num_particles();
+  g.fixed = m.fixed;
+  g.offsets.push_back(0);
+  for (const auto& c : t.items) {
+    g.nodes.insert(g.nodes.end(), t.particles.begin() + c.row_begin, t.particles.begin() + c.row_end);
+    g.offsets.push_back(std::uint32_t(g.nodes.size()));
+  }
+  coloring::Coloring col;
+  try {
+    col = coloring::color(g.view(), m.coloring);
+  } catch (const coloring::Error& e) {
+    throw Error(std::string("coloring volume constraints: ") + e.what());
+  }
+  v.order.assign(col.items.begin(), col.items.end());
+  v.offsets.assign(col.color_offsets.begin(), col.color_offsets.end());
+}
+
+}  // namespace
+
+template <class Real> std::vector<std::uint8_t> pinned_flags(const VectorX<Real>& w) {
+  std::vector<std::uint8_t> fixed(std::size_t(w.size()));
+  for (Eigen::Index i = 0; i < w.size(); ++i) fixed[std::size_t(i)] = w[i] == Real(0);
+  return fixed;
+}
+
+template <class Real> void color_everything(Model<Real>& m) {
+  m.fixed = pinned_flags(m.inverse_mass);
+  for_each_store(m.stores, [&](auto& s, auto) { color_all(s, m.fixed, m.coloring); });
+  for (const auto& t : m.user.types()) t->color_all(m.fixed, m.coloring);
+  color_volumes(m);
+  count_touches(m);
+  note_stretch_sets(m, 0);
+  m.colors_current = true;
+}
+
+template <class Real> void update_colors(Model<Real>& m) {
+  if (!m.colors_current) return color_everything(m);
+  const Index n = m.num_particles();
+  for (Index i = Index(m.fixed.size()); i < n; ++i) m.fixed.push_back(m.inverse_mass[i] == Real(0));  // added ones
+  m.touch_count.resize(n, 0);  // particles added since: nothing touches them yet
+  bool ok = true;
+  for_each_store(m.stores, [&](auto& s, auto) {
+    const Index first = Index(s.color.size());
+    if (!ok || s.up_to_date()) return;
+    ok = color_tail(s, m.fixed);
+    for (Index u = first; ok && u < Index(s.size()); ++u)
+      for (Index k : s.at(u).particles) ++m.touch_count[k];
+  });
+  bool others_changed = false;
+  for (const auto& t : m.user.types())
+    if (ok && !t->up_to_date()) {
+      ok = t->color_tail(m.fixed);
+      others_changed = true;
+    }
+  if (!ok) return color_everything(m);
+  if (m.volume.offsets.empty() != m.volume.table.empty() || m.volume.order.size() != m.volume.table.size()) {
+    color_volumes(m);
+    others_changed = true;
+  }
+  if (others_changed) {
+    count_touches(m);
+    note_stretch_sets(m, 0);
+  } else {  // appended stretch constraints changed only the tail colors (they may have joined a color of another set)
+    const auto& s = m.template store<StretchConstraint<Real>>();
+    note_stretch_sets(m, std::min(s.tail_color, s.num_colors()));
+  }
+}
+
+template <class Real> void note_layout(Model<Real>& m) {
+  count_touches(m);
+  note_stretch_sets(m, 0);
+}
+
+template <class Real> void color_collisions(Store<CollisionConstraint<Real>>& s) {
+  assert(s.slot.empty() && s.color.empty());
+  const Index n = Index(s.size());
+  if (n == 0) return;
+  // Collisions arrive particle by particle: number the distinct particles so the graph has as many nodes as there
+  // are colliding particles, not as the world has particles.
+  ConstraintGraph g;
+  g.offsets = coloring::uniform_offsets(n, 1);
+  g.nodes.resize(n);
+  std::uint32_t node = 0;
+  for (Index i = 0; i < n; ++i) {
+    if (i > 0 && s.items[i].particles[0] != s.items[i - 1].particles[0]) ++node;
+    g.nodes[i] = node;
+  }
+  g.num_particles = node + 1;
+  coloring::Options first_fit;
+  first_fit.algorithm = coloring::Algorithm::greedy_input;  // first fit in generation order: the k-th one gets color k
+  first_fit.balance = false;
+  const coloring::Coloring col = coloring::color(g.view(), first_fit);
+  std::vector<CollisionConstraint<Real>> by_index = std::move(s.items);
+  s.color.assign(col.color.begin(), col.color.end());
+  layout_by_color(s, by_index);
+}
+
+#define PBD_SCHEDULE_INSTANTIATE(Real)                                                  \
+  template std::vector<std::uint8_t> pinned_flags(const VectorX<Real>&);                \
+  template void color_everything(Model<Real>&);                                         \
+  template void update_colors(Model<Real>&);                                            \
+  template void note_layout(Model<Real>&);                                              \
+  template void color_collisions(Store<CollisionConstraint<Real>>&);
+PBD_SCHEDULE_INSTANTIATE(float)
+PBD_SCHEDULE_INSTANTIATE(double)
+#undef PBD_SCHEDULE_INSTANTIATE
+
+}  // namespace pbd::detail

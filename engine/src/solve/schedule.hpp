@@ -1,0 +1,27 @@
+#pragma once
+// The colored solvers' schedule (private): every coloring goes through graph_coloring. Persistent constraints are
+// colored per type (full, or only the appended ones into tail colors), volume constraints as items spanning their
+// mesh, and each sub-step's collisions; the cooked per-color data (Jacobi counts, stretch sets) follows.
+#include "pbd/constraints/collision.hpp"
+#include "pbd/detail/model.hpp"
+
+namespace pbd::detail {
+
+/// Pinned flags (inverse mass 0) of every particle: pinned particles are never written, so they never conflict.
+template <class Real> std::vector<std::uint8_t> pinned_flags(const VectorX<Real>& inverse_mass);
+
+/// Colors every store of `m` anew (built-in, user-defined, volume), then the cooked data; sets colors_current.
+template <class Real> void color_everything(Model<Real>& m);
+
+/// Brings the colors up to date after constraints or particles were added (only the new constraints are colored,
+/// into tail colors) or colors everything when they are not current or a tail overflows.
+template <class Real> void update_colors(Model<Real>& m);
+
+/// After a store's layout changed without recoloring (a removal): the Jacobi counts and the stretch colors' sets.
+template <class Real> void note_layout(Model<Real>& m);
+
+/// Colors this sub-step's collisions (each touches one particle: the k-th collision of a particle gets color k) and
+/// lays them out color by color.
+template <class Real> void color_collisions(Store<CollisionConstraint<Real>>& collisions);
+
+}  // namespace pbd::detail

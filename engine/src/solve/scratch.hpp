@@ -1,0 +1,46 @@
+#pragma once
+// Per-step scratch of a world (private): what a step computes and throws away. Kept between steps only so that
+// nothing is reallocated; a copied world starts with an empty one.
+#include "pbd/constraints/collision.hpp"
+#include "pbd/constraints/volume.hpp"
+#include "pbd/detail/constraint_store.hpp"
+#include "pbd/stiffness.hpp"
+
+#include <oneapi/tbb/partitioner.h>
+
+#include <deque>
+
+namespace pbd::detail {
+
+/// Affinity partitioners, one per parallel loop of a sub-step (each color, each particle pass), created on first
+/// use: a thread tends to get the same slice every sweep. Only a cache hint: results never depend on it.
+class PartitionerPool {
+public:
+  /// The partitioner of slot i.
+  tbb::affinity_partitioner& operator[](std::size_t i) {
+    while (pool_.size() <= i) pool_.emplace_back();
+    return pool_[i];
+  }
+  void clear() { pool_.clear(); }  ///< forgets every partitioner
+
+private:
+  std::deque<tbb::affinity_partitioner> pool_;
+};
+
+template <class Real> struct Scratch {
+  Matrix3X<Real> p;                                 // predicted positions
+  Store<CollisionConstraint<Real>> collisions;      // this sub-step's collisions (color order for colored solvers)
+  std::vector<Real> collision_lambda;               // their λ, stored order
+  std::vector<SolveCoefficients<Real>> coeff;       // per constraint set, for this step's sub-step length
+  VolumeScratch<Real> volume;                       // volume targets, gradients, block sums
+  std::vector<Index> count;                         // Jacobi: constraints touching each particle this sub-step
+  std::vector<Real> count_inv;                      // Jacobi: 1 / count
+  std::vector<Real> delta;                          // Jacobi: accumulated corrections, 3 per particle
+  Eigen::Matrix<Real, 4, Eigen::Dynamic> padded;    // float stretch kernel: x y z w per particle
+  PartitionerPool partitioners;                     // one per color and pass of the sweeps
+  PartitionerPool particle_partitioners;            // the two per-particle passes of a sub-step
+  Matrix3X<Real> callback_forces;                   // filled by the force callback
+  Matrix3X<Real> rollback_x, rollback_v;            // state at the start of a step with a callback and sub-steps
+};
+
+}  // namespace pbd::detail

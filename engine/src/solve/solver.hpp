@@ -1,0 +1,36 @@
+#pragma once
+// The solver (private): what World::step() runs, in what order, what runs in parallel, and why.
+//
+// A step of length dt is `substeps` sub-steps of h = dt / substeps (Small Steps, Macklin et al. 2019: the error
+// falls with h², so n sub-steps of one sweep beat one step of n sweeps). Before the first sub-step, the colored
+// and Jacobi solvers bring the colors up to date (schedule.hpp: only constraints added since the last step are
+// colored, into tail colors; everything is recolored after pins change, a particle is removed or the coloring
+// options change). Each sub-step then runs, in order:
+//   1. forces and damping   v += h·(g + w·f), v ← v·max(0, 1 − damping·h); pinned particles keep v = 0
+//   2. predict              p = x + h·v
+//   3. collisions           one inequality per (movable particle, collider) whose path x → p enters the collider or
+//                           ends within the margin (colliders.hpp); colored for the colored solvers
+//   4. solve                `iterations` sweeps (sweep.hpp): each visits the built-in types in solver order
+//                           (constraint_types.hpp), the user-defined types, the volume constraints, the collisions
+//   5. update               v = (p − x) / h, x = p
+// Steps 1, 2 and 5 are per particle and run as parallel loops for the parallel solvers. In step 4 the colored
+// solver runs each color as a parallel loop: a color's constraints write no particle twice, so the result is the
+// serial color-order result bit for bit, whatever the thread count (pinned particles are never written, so they
+// never conflict). A volume constraint spans a mesh: its sums are reduced over fixed blocks in block order, so it
+// too gives the same bits on any thread count. Colors smaller than ParallelConfig::inline_below run inline: a
+// fork/join costs about as much as projecting a thousand constraints. Everything runs in the caller's
+// tbb::task_arena, so a host decides the thread count.
+#include "pbd/step_params.hpp"
+#include "pbd/detail/model.hpp"
+#include "scratch.hpp"
+
+namespace pbd::detail {
+
+/// Step 4 of a sub-step: λ reset where needed, `params.iterations` sweeps of `params.solver` on scratch.p, at time
+/// `time` (s, for volume targets). The collisions in scratch.collisions are those of this sub-step, in generation
+/// order; colored solvers lay them out by color first. The colors must be up to date (update_colors).
+template <class Real>
+void solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, const StepParams<Real>& params,
+           const ParallelConfig& config, double time);
+
+}  // namespace pbd::detail

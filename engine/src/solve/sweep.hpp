@@ -1,0 +1,207 @@
+#pragma once
+// The one sweep driver (private): every solver is a schedule × an update rule over the same projection functions.
+//   schedule  insertion: every constraint in the order the user added it (the serial reference)
+//             colors:    color after color; within a color no two constraints write the same movable particle, so a
+//                        color's constraints run in parallel (tbb::parallel_for) or one after the other with the
+//                        same bits
+//   update    in place:  Gauss-Seidel, each projection moves p at once
+//             Jacobi:    every projection reads the same p and adds its correction to a delta per particle; after
+//                        the sweep p += ω·delta / (constraints at the particle)
+// A sweep visits, in this order: the built-in types (constraint_types.hpp), the user-defined types (in the order
+// first added), the volume constraints, then the sub-step's collisions. The float stretch kernel (SIMD on padded
+// positions, stretch_kernel.hpp) is how the colors schedule projects stretch colors in place; it gives the scalar
+// projection's bits.
+#include "parallel_range.hpp"
+#include "pbd/constraints/projection.hpp"
+#include "scratch.hpp"
+#include "stretch_kernel.hpp"
+#include "volume_projection.hpp"
+
+#include <algorithm>
+
+namespace pbd::detail {
+
+enum class Schedule { insertion, colors };  // which order a sweep visits the constraints in
+enum class Update { in_place, jacobi };     // Gauss-Seidel or Jacobi
+
+/// One sub-step's sweeps over a model: begin(), sweep() × iterations, end().
+template <class Real> class Sweeper {
+public:
+  Sweeper(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, Schedule schedule, Update update,
+          bool parallel, const ParallelConfig& config)
+      : m_(model), s_(state), k_(scratch), schedule_(schedule), update_(update), parallel_(parallel), config_(config) {}
+
+  /// Starts a sub-step at `time` (s): volume targets, λ reset (only if some λ may be non-zero), Jacobi counts.
+  void begin(double time) {
+    k_.volume.set_targets(m_.volume.table, time);
+    const std::size_t collisions = k_.collisions.size();
+    bool sized = k_.collision_lambda.size() == collisions && s_.volume_lambda.size() == m_.volume.table.size() &&
+                 s_.user_lambda.size() == m_.user.types().size();
+    for_each_store(m_.stores, [&](const auto& st, auto i) { sized = sized && s_.lambda[i].size() == st.size(); });
+    for (std::size_t t = 0; sized && t < m_.user.types().size(); ++t)
+      sized = s_.user_lambda[t].size() == m_.user.types()[t]->size();
+    if (s_.lambda_dirty || !sized) {
+      for_each_store(m_.stores, [&](const auto& st, auto i) { s_.lambda[i].assign(st.size(), Real(0)); });
+      s_.user_lambda.resize(m_.user.types().size());
+      for (std::size_t t = 0; t < m_.user.types().size(); ++t) s_.user_lambda[t].assign(m_.user.types()[t]->size(), Real(0));
+      s_.volume_lambda.assign(m_.volume.table.size(), Real(0));
+      k_.collision_lambda.assign(collisions, Real(0));
+    }
+    s_.lambda_dirty = std::ranges::any_of(k_.coeff, [](const auto& c) { return c.alpha_tilde != Real(0); });
+    if (update_ == Update::jacobi) {
+      const Index n = m_.num_particles();
+      k_.count.assign(m_.touch_count.begin(), m_.touch_count.end());
+      for (const auto& c : k_.collisions.items) ++k_.count[c.particles[0]];
+      k_.count_inv.resize(n);
+      for (Index i = 0; i < n; ++i) k_.count_inv[i] = k_.count[i] ? Real(1) / Real(k_.count[i]) : Real(0);
+      k_.delta.resize(3 * std::size_t(n));
+    }
+    // Stretch alone (float): the kernel may keep the positions padded from one sweep to the next.
+    stretch_only_ = true;
+    for_each_store(m_.stores, [&](const auto& st, auto i) { stretch_only_ = stretch_only_ && (i == 0 || st.empty()); });
+    stretch_only_ = stretch_only_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0;
+    padded_ = false;
+  }
+
+  /// One sweep over every constraint, updating p (3 per particle).
+  void sweep(Real* p) {
+    const Real* w = m_.inverse_mass.data();
+    const SolveCoefficients<Real>* coeff = k_.coeff.data();
+    Real* out = p;
+    if (update_ == Update::jacobi) {
+      std::fill(k_.delta.begin(), k_.delta.end(), Real(0));
+      out = k_.delta.data();
+    }
+    part_ = 0;
+    for_each_store(m_.stores, [&](const auto& st, auto i) { project_store(st, s_.lambda[i].data(), p, w, coeff, out); });
+    for (std::size_t t = 0; t < m_.user.types().size(); ++t) {
+      const auto& type = *m_.user.types()[t];
+      Real* lam = s_.user_lambda[t].data();
+      if (schedule_ == Schedule::insertion) {
+        type.project_insertion(p, w, coeff, lam, out);
+      } else {
+        for (Index c = 0; c < type.num_colors(); ++c)  // one virtual call per color range, never per constraint
+          run_range(type.color_begin(c), type.color_begin(c + 1), parallel_, config_, k_.partitioners[part_++],
+                    [&](Index b, Index e) { type.project_range(b, e, p, w, coeff, lam, out); });
+      }
+    }
+    project_volumes(p, w, out);
+    project_store(k_.collisions, k_.collision_lambda.data(), p, w, coeff, out);
+    if (update_ == Update::jacobi) apply_deltas(p);
+  }
+
+  /// Ends the sub-step's sweeps: p holds the solved positions afterwards.
+  void end(Real* p) {
+    if (padded_) unpad(p);
+  }
+
+  /// Jacobi's over-relaxation factor ω.
+  Real omega = 1;
+
+private:
+  template <class C>
+  void project_store(const Store<C>& st, Real* lam, Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
+                     Real* out) {
+    auto coeff_of = [&](const C& c) {
+      if constexpr (requires { c.set; }) return coeff[c.set];
+      else return SolveCoefficients<Real>{Real(1), Real(0)};  // collisions are hard
+    };
+    if (schedule_ == Schedule::insertion) {
+      for (Index u = 0; u < Index(st.size()); ++u) {
+        const Index i = st.stored(u);
+        project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out);
+      }
+      return;
+    }
+    if constexpr (std::is_same_v<C, StretchConstraint<float>> && kPaddedStretch) {
+      if (update_ == Update::in_place) {
+        if (st.num_colors() > 0) project_stretch_padded_colors(st, lam, p, w, coeff);
+        return;
+      }
+    }
+    for (Index c = 0; c < st.num_colors(); ++c)
+      run_range(st.offsets[c], st.offsets[c + 1], parallel_, config_, k_.partitioners[part_++], [&](Index b, Index e) {
+        for (Index i = b; i < e; ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out);
+      });
+  }
+
+  // Every stretch color on padded positions (x y z w): one aligned load and store per particle in the kernel
+  // instead of three of each plus w. Copied in unless the last sweep left them there, copied back unless stretch is
+  // all the sweep projects (then end() copies them back). Partitioner slots are the same whichever copies run.
+  template <class C>
+  void project_stretch_padded_colors(const Store<C>& st, Real* lam, Real* p, const Real* w,
+                                     const SolveCoefficients<Real>* coeff) {
+    if constexpr (std::is_same_v<Real, float>) {
+      const Index n = m_.num_particles();
+      const std::size_t pad_slot = part_++;
+      unpad_slot_ = part_++;
+      if (!padded_) {
+        k_.padded.resize(4, n);
+        float* q = k_.padded.data();
+        run_range(0, n, parallel_, config_, k_.partitioners[pad_slot],
+                  [&](Index b, Index e) { pad_positions(p, w, b, e, q); });
+      }
+      float* q = k_.padded.data();
+      const bool any_xpbd = s_.lambda_dirty;
+      const bool sets_known = m_.stretch_sets.size() == std::size_t(st.num_colors());
+      for (Index c = 0; c < st.num_colors(); ++c) {
+        const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
+        run_blocks(st.offsets[c], st.offsets[c + 1], kStretchBlock, parallel_, config_, k_.partitioners[part_++],
+                   [&](Index b, Index e) { project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd, set); });
+      }
+      padded_ = true;
+      if (!stretch_only_) unpad(p);
+    }
+  }
+
+  void unpad(Real* p) {
+    if constexpr (std::is_same_v<Real, float>) {
+      const float* q = k_.padded.data();
+      run_range(0, m_.num_particles(), parallel_, config_, k_.partitioners[unpad_slot_],
+                [&](Index b, Index e) { unpad_positions(q, b, e, p); });
+    }
+    padded_ = false;
+  }
+
+  // Volume constraints: in insertion order, or color by color (a color's volumes share no particle, so they run
+  // one after the other with the same bits); each is projected with its fixed-shape parallel reduction.
+  void project_volumes(Real* p, const Real* w, Real* out) {
+    const auto& v = m_.volume;
+    const ParallelConfig blocks = per_block(config_, kVolumeBlock);
+    auto one = [&](Index i) {
+      tbb::affinity_partitioner& ap = k_.partitioners[part_++];
+      auto run = [&](Index b, Index e, const auto& body) { run_range(b, e, parallel_, blocks, ap, body); };
+      project_volume(v.table, i, p, out, w, k_.coeff[v.table.items[i].set], k_.volume.target[i], s_.volume_lambda[i],
+                     k_.volume, run);
+    };
+    if (schedule_ == Schedule::insertion)
+      for (Index i = 0; i < Index(v.table.size()); ++i) one(i);
+    else
+      for (Index i : v.order) one(i);
+  }
+
+  void apply_deltas(Real* p) {
+    const Real* delta = k_.delta.data();
+    const Real* count_inv = k_.count_inv.data();
+    run_range(0, m_.num_particles(), parallel_, config_, k_.partitioners[part_], [&](Index b, Index e) {
+      for (Index i = b; i < e; ++i) {
+        const Real s = omega * count_inv[i];
+        for (int d = 0; d < 3; ++d) p[3 * std::size_t(i) + d] += s * delta[3 * std::size_t(i) + d];
+      }
+    });
+  }
+
+  Model<Real>& m_;
+  State<Real>& s_;
+  Scratch<Real>& k_;
+  Schedule schedule_;
+  Update update_;
+  bool parallel_;
+  const ParallelConfig& config_;
+  std::size_t part_ = 0;        // next partitioner slot of this sweep
+  std::size_t unpad_slot_ = 0;  // partitioner slot of the copy back (the stretch colors reserve it)
+  bool stretch_only_ = false;   // stretch is all a sweep projects: positions may stay padded between sweeps
+  bool padded_ = false;         // k_.padded holds the positions and p is stale (until end())
+};
+
+}  // namespace pbd::detail
