@@ -1,6 +1,7 @@
-"""Summarises several runs of scripts/bench_solvers (one JSON each) against the targets of issue 4.
+"""Summarises several runs of scripts/bench_solvers (one JSON each) against the solver's speed targets.
 
-Usage: /usr/bin/python3 scripts/solver_runs.py RUN.json [RUN.json ...]   (runs in the order given)
+Usage: /usr/bin/python3 scripts/solver_runs.py RUN.json [RUN.json ...]   (runs in the order given; any JSON files
+written by `scripts/bench_solvers REPETITIONS RUN.json`, or by bench_solvers with --benchmark_out)
 
 Prints one row per run (unpaired medians, then the paired counters), then for each figure its range, its median
 over the runs and how many runs meet the target. Ratios are rounded to two digits before they are counted, as in
@@ -11,7 +12,8 @@ import sys
 
 from solver_table import load
 
-# The targets of issue 4, as (test, what the count says): each figure that has one also prints how many runs meet it.
+# The targets (docs/performance.md), as (test, what the count says): each figure that has one also prints how many
+# runs meet it.
 RATIO = (lambda v: v >= 1.85, "at 1.85× or more")        # colored 2T vs 1T, for >= 10^5 constraints
 NS = (lambda v: v <= 2.0, "at 2.0 ns or less")           # ns per stretch projection per sweep, 2 threads, 300²
 VS_SERIAL = (lambda v: v >= 4.0, "at 4× or more")       # colored 2T against the serial reference, 300²

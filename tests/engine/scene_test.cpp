@@ -79,7 +79,7 @@ TEST(Scene, ParsesMeshBodies) {
   EXPECT_EQ(c.area.size(), 80u + 8u);
   EXPECT_EQ(c.bending.size(), 120u + 21u + 8u);  // sphere edges, 4x4 grid interior edges, 3x3 cloth interior edges
   EXPECT_EQ(s.world.inverse_masses()[0], 0.0);
-  EXPECT_NEAR(s.world.positions().col(1).norm(), 0.0, 3.0);
+  EXPECT_NEAR((s.world.positions().col(1) - Vec3<double>(0, 0, 1)).norm(), 1.0, 1e-12);  // radius 0.5 × scale 2
   EXPECT_EQ(s.triangles.size(), 80u + 48u + 18u + 60u + 8u);
 }
 
