@@ -31,7 +31,7 @@ template <class Real> World<Real> prepared_world(const Scene& scene, Solver solv
   params.iterations = iterations;
   params.substeps = substeps;
   world.set_params(params);
-  if (solver != Solver::serial) world.colored_constraints();  // color now: not part of any timed step
+  if (solver != Solver::serial) world.num_colors();  // color now: not part of any timed step
   return world;
 }
 
@@ -87,8 +87,8 @@ template <class Real> Record run_typed(const Scene& scene, const Combination& c,
   arena.execute([&] {
     World<Real> initial = prepared_world<Real>(scene, c.solver.solver, c.iterations, c.substeps);
     r.particles = initial.num_particles();
-    r.constraints = initial.constraints().size();
-    r.colors = c.solver.solver == Solver::serial ? 0 : std::size_t(initial.colored_constraints().num_colors());
+    r.constraints = initial.num_constraints();
+    r.colors = c.solver.solver == Solver::serial ? 0 : std::size_t(initial.num_colors());
     const Energy e0 = energy(initial);
     std::vector<double> ms;
     // Warm-up run (caches, page faults, thread start-up), which also measures the per-step error.
@@ -123,7 +123,7 @@ template <class Real> Record run_typed(const Scene& scene, const Combination& c,
 }
 
 double scene_work(const Scene& scene) {
-  return double(scene.world.constraints().size() + scene.world.num_particles());
+  return double(scene.world.num_constraints() + scene.world.num_particles());
 }
 
 }  // namespace

@@ -34,10 +34,9 @@ void set_counters(benchmark::State& state, const ClothFixture& f, std::size_t co
 }
 
 void BM_SerialSweep(benchmark::State& state) {
-  ClothFixture f(int(state.range(0)));
-  pbd::Multipliers<Real> lambda;
+  ClothFixture f(int(state.range(0)), pbd::Solver::serial);
   for (auto _ : state) {
-    pbd::bench::serial_substep(f, lambda);
+    f.substep();
     benchmark::ClobberMemory();
   }
   set_counters(state, f, 0);
@@ -46,19 +45,16 @@ void BM_SerialSweep(benchmark::State& state) {
 // Colored Gauss-Seidel (jacobi = false) or Jacobi (true) in an arena of `threads` threads; `config` decides which
 // colors fork (default: those of at least 1024 constraints).
 void colored_sweep(benchmark::State& state, bool jacobi, const pbd::ParallelConfig& config = {}) {
-  ClothFixture f(int(state.range(0)));
+  ClothFixture f(int(state.range(0)), jacobi ? pbd::Solver::jacobi : pbd::Solver::colored);
   const int threads = int(state.range(1));
-  pbd::ColoredSolver<Real> solver;
-  pbd::CustomTypes<Real> custom;
-  solver.build(f.world.constraints(), pbd::VectorX<Real>(f.world.inverse_masses()), {}, custom);
   tbb::task_arena arena(threads);
   arena.execute([&] {
     for (auto _ : state) {
-      pbd::bench::colored_substep(f, solver, custom, jacobi, config);
+      f.substep(config);
       benchmark::ClobberMemory();
     }
   });
-  set_counters(state, f, solver.constraints().num_colors());
+  set_counters(state, f, f.colors());
   state.counters["threads"] = threads;
 }
 
@@ -136,19 +132,15 @@ template <class Work> void paired_scaling(benchmark::State& state, Work&& work, 
 // solver's bits do not depend on the thread count, so the two cloths must stay bitwise equal; checked at the end.
 void BM_ColoredScaling(benchmark::State& state) {
   const int n = int(state.range(0));
-  ClothFixture f[2] = {ClothFixture(n), ClothFixture(n)};
-  pbd::ColoredSolver<Real> solver[2];
-  pbd::CustomTypes<Real> custom[2];
-  for (int k = 0; k < 2; ++k)
-    solver[k].build(f[k].world.constraints(), pbd::VectorX<Real>(f[k].world.inverse_masses()), {}, custom[k]);
+  ClothFixture f[2] = {ClothFixture(n, pbd::Solver::colored), ClothFixture(n, pbd::Solver::colored)};
   paired_scaling(
       state,
       [&](int k) {
-        pbd::bench::colored_substep(f[k], solver[k], custom[k], false);
+        f[k].substep();
         benchmark::ClobberMemory();
       },
       double(f[0].constraints()) * kSweeps);
-  if (std::memcmp(f[0].p.data(), f[1].p.data(), sizeof(Real) * std::size_t(f[0].p.size())) != 0)
+  if (std::memcmp(f[0].p().data(), f[1].p().data(), sizeof(Real) * std::size_t(f[0].p().size())) != 0)
     state.SkipWithError("1-thread and 2-thread positions differ");
   state.counters["constraints"] = double(f[0].constraints());
 }
@@ -158,17 +150,15 @@ void BM_ColoredScaling(benchmark::State& state) {
 // Paired like BM_ColoredScaling; what it loses against 2× is what the two cores cost each other (shared cache and
 // memory) and how unequal their speeds are at that moment.
 void shared_nothing_scaling(benchmark::State& state, int side) {
-  ClothFixture f[4] = {ClothFixture(side), ClothFixture(side), ClothFixture(side), ClothFixture(side)};  // two per half
-  pbd::ColoredSolver<Real> solver[4];
-  pbd::CustomTypes<Real> custom[4];
-  for (int k = 0; k < 4; ++k)
-    solver[k].build(f[k].world.constraints(), pbd::VectorX<Real>(f[k].world.inverse_masses()), {}, custom[k]);
+  const pbd::Solver colored = pbd::Solver::colored;
+  ClothFixture f[4] = {ClothFixture(side, colored), ClothFixture(side, colored), ClothFixture(side, colored),
+                       ClothFixture(side, colored)};  // two per half
   const pbd::ParallelConfig inline_all{std::size_t(-1), std::size_t(-1)};
   paired_scaling(
       state,
       [&](int half) {
         tbb::parallel_for(0, 2, [&](int k) {
-          pbd::bench::colored_substep(f[2 * half + k], solver[2 * half + k], custom[2 * half + k], false, inline_all);
+          f[2 * half + k].substep(inline_all);
         }, tbb::static_partitioner());
         benchmark::ClobberMemory();
       },

@@ -21,19 +21,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s: expected serial|colored, N >= 2, SUBSTEPS >= 0\n", argv[0]);
     return 2;
   }
-  ClothFixture f(n);
-  pbd::Multipliers<Real> lambda;
-  pbd::ColoredSolver<Real> colored;
-  pbd::CustomTypes<Real> custom;
-  if (solver == "colored")
-    colored.build(f.world.constraints(), pbd::VectorX<Real>(f.world.inverse_masses()), {}, custom);
+  ClothFixture f(n, solver == "serial" ? pbd::Solver::serial : pbd::Solver::colored);
   tbb::task_arena(1).execute([&] {
-    for (int s = 0; s < substeps; ++s) {
-      if (solver == "serial") serial_substep(f, lambda);
-      else colored_substep(f, colored, custom, false);
-    }
+    for (int s = 0; s < substeps; ++s) f.substep();
   });
   std::printf("%zu constraints, %d sweeps per sub-step, first position %.9g\n", f.constraints(), kSweeps,
-              double(f.p(0, f.p.cols() - 1)));
+              double(f.p()(0, f.p().cols() - 1)));
   return 0;
 }

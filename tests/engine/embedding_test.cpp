@@ -2,6 +2,7 @@
 // between steps with limited recoloring, user-defined constraint types, running in the host's task_arena, and
 // per-step statistics.
 #include "constraint_checks.hpp"
+#include "world_access.hpp"
 #include "pbd/generators.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
@@ -83,10 +84,9 @@ std::vector<double> state(const World<double>& w) {
 
 // Every color of every type of `w` holds constraints on distinct movable particles.
 void expect_proper(World<double>& w) {
-  const auto& c = w.colored_constraints();
   const auto inv = w.inverse_masses();
-  c.for_each([&](const auto& a) {
-    for (Index col = 0; col < a.num_colors(); ++col) {
+  auto check = [&](const auto& a) {
+    for (Index col = 0; col < a.num_colors; ++col) {
       std::set<Index> seen;
       for (Index i = a.offsets[col]; i < a.offsets[col + 1]; ++i)
         for (Index p : a.items[i].particles)
@@ -94,7 +94,12 @@ void expect_proper(World<double>& w) {
             EXPECT_TRUE(seen.insert(p).second) << "particle " << p << " twice in color " << col;
           }
     }
-  });
+  };
+  check(w.colors<StretchConstraint<double>>());
+  check(w.colors<AnchorConstraint<double>>());
+  check(w.colors<BendingConstraint<double>>());
+  check(w.colors<AreaConstraint<double>>());
+  EXPECT_NO_THROW(w.validate());
 }
 
 TEST(ExternalForces, ConstantForceOnAFreeParticleFollowsTheClosedForm) {
@@ -160,8 +165,8 @@ TEST(ExternalForces, CallbackIsCalledEverySubstepWithTheTime) {
 TEST(Incremental, AddingConstraintsColorsOnlyTheNewOnesAndStaysDeterministic) {
   World<double> w = cloth(20);
   w.step();
-  const Index colors = w.colored_constraints().stretch.num_colors();
-  const auto colors_before = w.colored_constraints().stretch.color;
+  const Index colors = w.colors<StretchConstraint<double>>().num_colors;
+  const std::vector<Index> colors_before(w.colors<StretchConstraint<double>>().color.begin(), w.colors<StretchConstraint<double>>().color.end());
   std::mt19937 rng(5);
   std::uniform_int_distribution<Index> pick(0, 399);
   for (int k = 0; k < 40; ++k) {  // ~4% more constraints, random pairs
@@ -169,9 +174,9 @@ TEST(Incremental, AddingConstraintsColorsOnlyTheNewOnesAndStaysDeterministic) {
     if (a != b) w.add_stretch(a, b, 0);
   }
   expect_proper(w);
-  const auto& after = w.colored_constraints().stretch;
+  const auto after = w.colors<StretchConstraint<double>>();
   for (std::size_t i = 0; i < colors_before.size(); ++i) ASSERT_EQ(after.color[i], colors_before[i]) << "recolored " << i;
-  EXPECT_GE(after.num_colors(), colors);
+  EXPECT_GE(after.num_colors, colors);
   // The incrementally colored world still gives the same bits on 1 and 2 threads and in serial color order.
   World<double> serial = w;
   StepParams<double> p = serial.params();
@@ -196,10 +201,10 @@ TEST(Incremental, RepeatedAndLargeAdditionsStayProper) {
       if (a != b) w.add_stretch(a, b, 0);
     }
     expect_proper(w);
-    const auto& c = w.colored_constraints().stretch;
-    ASSERT_EQ(c.items.size(), w.constraints().stretch.size());
-    for (std::size_t i = 0; i < c.new_index.size(); ++i)
-      ASSERT_EQ(c.items[c.new_index[i]].particles, w.constraints().stretch[i].particles) << i;
+    const auto c = w.colors<StretchConstraint<double>>();
+    ASSERT_EQ(c.items.size(), test::stretch_of(w).size());
+    for (std::size_t i = 0; i < c.stored.size(); ++i)
+      ASSERT_EQ(c.items[c.stored[i]].particles, test::stretch_of(w)[i].particles) << i;
     w.step();
   }
 }
@@ -207,11 +212,12 @@ TEST(Incremental, RepeatedAndLargeAdditionsStayProper) {
 TEST(Incremental, RemovingConstraintsKeepsTheOthersColors) {
   World<double> w = cloth(10);
   w.step();
-  const auto colors = w.colored_constraints().stretch.color;
+  const std::vector<Index> colors(w.colors<StretchConstraint<double>>().color.begin(), w.colors<StretchConstraint<double>>().color.end());
   const std::vector<Index> gone = {3, 0, 17};
   w.remove_stretch(gone);
-  EXPECT_EQ(w.constraints().stretch.size(), colors.size() - 3);
-  const auto& after = w.colored_constraints().stretch.color;
+  EXPECT_EQ(test::stretch_of(w).size(), colors.size() - 3);
+  const auto after_span = w.colors<StretchConstraint<double>>().color;
+  const std::vector<Index> after(after_span.begin(), after_span.end());
   std::vector<Index> expected;
   for (std::size_t i = 0; i < colors.size(); ++i)
     if (i != 0 && i != 3 && i != 17) expected.push_back(colors[i]);
@@ -224,11 +230,11 @@ TEST(Incremental, RemovingConstraintsKeepsTheOthersColors) {
 
 TEST(Incremental, BadRemovalsAreRejectedAndChangeNothing) {
   World<double> w = cloth(5);
-  const std::size_t n = w.constraints().stretch.size();
+  const std::size_t n = test::stretch_of(w).size();
   const std::vector<Index> out_of_range = {1, Index(n)}, twice = {2, 2};
   EXPECT_THROW(w.remove_stretch(out_of_range), Error);
   EXPECT_THROW(w.remove_stretch(twice), Error);
-  EXPECT_EQ(w.constraints().stretch.size(), n);
+  EXPECT_EQ(test::stretch_of(w).size(), n);
 }
 
 TEST(Incremental, RemovedParticleLosesItsConstraintsAndNeverMovesAgain) {
@@ -236,7 +242,7 @@ TEST(Incremental, RemovedParticleLosesItsConstraintsAndNeverMovesAgain) {
   const Index p = 14;
   const Vec3<double> x = w.positions().col(p);
   w.remove_particle(p);
-  for (const auto& c : w.constraints().stretch) EXPECT_TRUE(c.particles[0] != p && c.particles[1] != p);
+  for (const auto& c : test::stretch_of(w)) EXPECT_TRUE(c.particles[0] != p && c.particles[1] != p);
   for (int s = 0; s < 10; ++s) w.step();
   EXPECT_EQ(w.positions().col(p), x);
   EXPECT_EQ(w.num_particles(), 36u);  // indices do not shift
@@ -246,10 +252,11 @@ TEST(Incremental, RemovedParticleLosesItsConstraintsAndNeverMovesAgain) {
 TEST(Incremental, AddingParticlesDoesNotRecolor) {
   World<double> w = cloth(6);
   w.step();
-  const auto colors = w.colored_constraints().stretch.color;
+  const std::vector<Index> colors(w.colors<StretchConstraint<double>>().color.begin(), w.colors<StretchConstraint<double>>().color.end());
   const Index q = w.add_particle({3, 3, 3}, 1.0);
   w.add_stretch(q, 0, 0);
-  const auto& after = w.colored_constraints().stretch.color;
+  const auto after_span = w.colors<StretchConstraint<double>>().color;
+  const std::vector<Index> after(after_span.begin(), after_span.end());
   for (std::size_t i = 0; i < colors.size(); ++i) EXPECT_EQ(after[i], colors[i]);
   w.step();
   EXPECT_TRUE(w.positions().allFinite());
@@ -262,14 +269,14 @@ TEST(CustomConstraints, HostTypeMatchesTheBuiltInStretchBitForBit) {
     hosted.add_particles(builtin.positions(), Eigen::VectorXd::Ones(64));
     for (Index i : {Index(56), Index(63)}) hosted.set_mass(i, World<double>::kPinned);
     const Index set = hosted.add_constraint_set(Stiffness::pbd_k(1.0));
-    for (const auto& c : builtin.constraints().stretch) hosted.add_custom(host::Distance<double>{c.particles, set, c.rest});
+    for (const auto& c : test::stretch_of(builtin)) hosted.add_custom(host::Distance<double>{c.particles, set, c.rest});
     hosted.set_params(builtin.params());
     for (int k = 0; k < 30; ++k) {
       builtin.step();
       hosted.step();
     }
     EXPECT_EQ(state(builtin), state(hosted)) << name(s);
-    EXPECT_EQ(hosted.custom<host::Distance<double>>().size(), builtin.constraints().stretch.size());
+    EXPECT_EQ(hosted.custom<host::Distance<double>>().size(), test::stretch_of(builtin).size());
   }
 }
 
@@ -324,7 +331,7 @@ TEST(StepStatistics, PhasesSweepsColorsAndViolation) {
   const StepStats& st = w.last_step_stats();
   EXPECT_EQ(st.substeps, 2);
   EXPECT_EQ(st.sweeps, 14);
-  EXPECT_EQ(st.colors, w.colored_constraints().num_colors());
+  EXPECT_EQ(st.colors, w.num_colors());
   EXPECT_GT(st.colors, 0u);
   EXPECT_GT(st.collisions, 0u);
   EXPECT_GT(st.seconds_integrate, 0.0);  // every phase that did work was timed
@@ -332,13 +339,13 @@ TEST(StepStatistics, PhasesSweepsColorsAndViolation) {
   EXPECT_GT(st.seconds_solve, 0.0);
   EXPECT_LE(st.seconds_integrate + st.seconds_collisions + st.seconds_coloring + st.seconds_solve, st.seconds);
   ASSERT_EQ(st.violation.size(), 2u);
-  EXPECT_EQ(st.violation[0].name, "stretch");
-  EXPECT_EQ(st.violation[0].count, w.constraints().stretch.size());
-  EXPECT_GT(st.violation[0].max, 0.0);
-  EXPECT_DOUBLE_EQ(st.violation[0].rms, stretch_violation(w).rms);  // the measures of the state the step left
-  EXPECT_DOUBLE_EQ(st.violation[0].max, stretch_violation(w).max);
-  EXPECT_EQ(st.violation[1].name, "collision");
-  EXPECT_LT(st.violation[1].max, 1e-9);
+  EXPECT_EQ(st.violation[0].type, "stretch");
+  EXPECT_EQ(st.violation[0].value.count, test::stretch_of(w).size());
+  EXPECT_GT(st.violation[0].value.max, 0.0);
+  EXPECT_DOUBLE_EQ(st.violation[0].value.rms, stretch_violation(w).rms);  // the measures of the state the step left
+  EXPECT_DOUBLE_EQ(st.violation[0].value.max, stretch_violation(w).max);
+  EXPECT_EQ(st.violation[1].type, "collision");
+  EXPECT_LT(st.violation[1].value.max, 1e-9);
   w.set_measure_violation(false);
   w.step();
   EXPECT_TRUE(w.last_step_stats().violation.empty());

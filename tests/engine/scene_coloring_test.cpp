@@ -1,6 +1,6 @@
 // graph_coloring on the engine's own scenes: every algorithm gives a proper, complete coloring of every constraint
 // type of every built-in scene, within the greedy bound, and the same coloring twice.
-#include "pbd/constraint_graph.hpp"
+#include "pbd/detail/constraint_store.hpp"
 #include "pbd/scene.hpp"
 
 #include <gtest/gtest.h>
@@ -13,7 +13,7 @@ namespace pbd {
 namespace {
 
 // Largest number of other constraints one constraint shares a movable particle with (computed independently).
-std::uint32_t max_conflict_degree(const ConstraintGraph& g) {
+std::uint32_t max_conflict_degree(const detail::ConstraintGraph& g) {
   std::vector<std::vector<std::uint32_t>> at(g.num_particles);
   const coloring::Hypergraph h = g.view();
   for (std::uint32_t i = 0; i < h.num_items(); ++i)
@@ -34,11 +34,13 @@ std::uint32_t max_conflict_degree(const ConstraintGraph& g) {
 TEST(SceneColoring, EveryAlgorithmOnEveryBuiltInSceneIsProperCompleteDeterministicAndWithinTheGreedyBound) {
   for (const std::string& name : builtin_scene_names()) {
     const Scene scene = load_scene_by_name(name);
-    const auto fixed = pinned_flags(VectorX<double>(scene.world.inverse_masses()));
-    scene.world.constraints().for_each([&](const auto& array) {
+    std::vector<std::uint8_t> fixed;
+    for (Index i = 0; i < scene.world.num_particles(); ++i) fixed.push_back(scene.world.inverse_masses()[i] == 0.0);
+    scene.world.for_each_builtin([&](const auto& array) {
       using Constraint = typename std::decay_t<decltype(array)>::value_type;
       if (array.empty()) return;
-      const ConstraintGraph g = constraint_graph(array, fixed);
+      const std::vector<Constraint> items(array.begin(), array.end());
+      const detail::ConstraintGraph g = detail::constraint_graph(std::span<const Constraint>(items), fixed);
       const std::uint32_t bound = max_conflict_degree(g) + 1;
       for (coloring::Algorithm a : coloring::all_algorithms) {
         coloring::Options o;

@@ -1,5 +1,6 @@
 // Scene files: the built-in scenes load; bad files give errors naming the file and the key.
 #include "error_checks.hpp"
+#include "world_access.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/scene.hpp"
 
@@ -32,11 +33,11 @@ TEST(Scene, EveryBuiltInSceneLoadsAndStepsUnderEverySolver) {
 TEST(Scene, ClothSceneHasWhatItAsksForAndNothingElse) {
   const Scene s = load_scene_by_name("cloth");
   EXPECT_EQ(s.world.num_particles(), 900u);
-  EXPECT_EQ(s.world.constraints().stretch.size(), std::size_t(2 * 30 * 29 + 29 * 29));
-  EXPECT_EQ(s.world.constraints().bending.size(), std::size_t(3 * 29 * 29 - 2 * 29));  // interior edges
-  EXPECT_TRUE(s.world.constraints().anchor.empty());
-  EXPECT_TRUE(s.world.constraints().area.empty());
-  EXPECT_TRUE(s.world.constraints().volume.empty());
+  EXPECT_EQ(test::stretch_of(s.world).size(), std::size_t(2 * 30 * 29 + 29 * 29));
+  EXPECT_EQ(test::bending_of(s.world).size(), std::size_t(3 * 29 * 29 - 2 * 29));  // interior edges
+  EXPECT_TRUE(test::anchor_of(s.world).empty());
+  EXPECT_TRUE(test::area_of(s.world).empty());
+  EXPECT_TRUE(s.world.volumes().empty());
   EXPECT_EQ(s.world.colliders().spheres.size(), 1u);
   EXPECT_EQ(s.world.colliders().planes.size(), 1u);
   EXPECT_EQ(s.triangles.size(), std::size_t(2 * 29 * 29));
@@ -44,14 +45,14 @@ TEST(Scene, ClothSceneHasWhatItAsksForAndNothingElse) {
 
 TEST(Scene, MeshScenesHaveTheirVolumesAndTriangles) {
   const Scene inflate = load_scene_by_name("inflate");
-  ASSERT_EQ(inflate.world.constraints().volume.size(), 1u);
-  EXPECT_DOUBLE_EQ(inflate.world.constraints().volume.items[0].pressure.to, 3.0);
+  ASSERT_EQ(inflate.world.volumes().size(), 1u);
+  EXPECT_DOUBLE_EQ(inflate.world.volumes().items[0].pressure.to, 3.0);
   EXPECT_EQ(inflate.triangles.size(), 60u);
   const Scene pig = load_scene_by_name("inflate-mesh");
-  EXPECT_EQ(pig.world.constraints().volume.size(), 1u);
-  EXPECT_EQ(pig.triangles.size(), pig.world.constraints().volume.triangles.size());
+  EXPECT_EQ(pig.world.volumes().size(), 1u);
+  EXPECT_EQ(pig.triangles.size(), pig.world.volumes().triangles.size());
   const Scene balls = load_scene_by_name("balls");
-  EXPECT_EQ(balls.world.constraints().volume.size(), 5u);
+  EXPECT_EQ(balls.world.volumes().size(), 5u);
   EXPECT_EQ(balls.triangles.size(), 5u * 320u);
   const Scene rope = load_scene_by_name("rope");
   const auto w = rope.world.inverse_masses();
@@ -71,13 +72,12 @@ const char* kMesh = R"({"name": "m", "dt": 0.01, "bodies": [
 
 TEST(Scene, ParsesMeshBodies) {
   const Scene s = parse_scene(kMesh, "mesh.json");
-  const auto& c = s.world.constraints();
   EXPECT_EQ(s.world.num_particles(), 42u + 26u + 16u + 32u + 9u);
-  EXPECT_EQ(c.volume.size(), 2u);
-  EXPECT_DOUBLE_EQ(c.volume.items[0].pressure.at(1.5), 1.5);
-  EXPECT_EQ(c.stretch.size(), 120u);
-  EXPECT_EQ(c.area.size(), 80u + 8u);
-  EXPECT_EQ(c.bending.size(), 120u + 21u + 8u);  // sphere edges, 4x4 grid interior edges, 3x3 cloth interior edges
+  EXPECT_EQ(s.world.volumes().size(), 2u);
+  EXPECT_DOUBLE_EQ(s.world.volumes().items[0].pressure.at(1.5), 1.5);
+  EXPECT_EQ(test::stretch_of(s.world).size(), 120u);
+  EXPECT_EQ(test::area_of(s.world).size(), 80u + 8u);
+  EXPECT_EQ(test::bending_of(s.world).size(), 120u + 21u + 8u);  // sphere edges, 4x4 grid interior edges, 3x3 cloth interior edges
   EXPECT_EQ(s.world.inverse_masses()[0], 0.0);
   EXPECT_NEAR((s.world.positions().col(1) - Vec3<double>(0, 0, 1)).norm(), 1.0, 1e-12);  // radius 0.5 × scale 2
   EXPECT_EQ(s.triangles.size(), 80u + 48u + 18u + 60u + 8u);
@@ -105,11 +105,11 @@ TEST(Scene, ParsesEveryFieldOfTheFormat) {
   EXPECT_EQ(w.inverse_masses()[0], 0.0);
   EXPECT_DOUBLE_EQ(w.inverse_masses()[2], 1.0 / 3.0);
   EXPECT_DOUBLE_EQ(w.velocities()(1, 1), 1.0);
-  ASSERT_EQ(w.constraints().stretch.size(), 2u);
-  EXPECT_EQ(w.constraints().sets[0].mode, StiffnessMode::xpbd);
-  EXPECT_EQ(w.constraints().sets[1].mode, StiffnessMode::pbd_iteration_independent);
-  ASSERT_EQ(w.constraints().anchor.size(), 1u);
-  EXPECT_EQ(w.constraints().anchor[0].particles[0], 2u);
+  ASSERT_EQ(test::stretch_of(w).size(), 2u);
+  EXPECT_EQ(w.constraint_sets()[0].mode, StiffnessMode::xpbd);
+  EXPECT_EQ(w.constraint_sets()[1].mode, StiffnessMode::pbd_iteration_independent);
+  ASSERT_EQ(test::anchor_of(w).size(), 1u);
+  EXPECT_EQ(test::anchor_of(w)[0].particles[0], 2u);
   ASSERT_EQ(w.colliders().planes.size(), 1u);
   EXPECT_DOUBLE_EQ(w.colliders().planes[0].offset, -1.0);  // normal normalized, offset is n·x with the unit normal
   EXPECT_EQ(w.colliders().spheres.size(), 1u);

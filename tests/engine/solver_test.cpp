@@ -6,6 +6,8 @@
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
 
+#include "world_access.hpp"
+
 #include <gtest/gtest.h>
 #include <oneapi/tbb/task_arena.h>
 
@@ -228,44 +230,48 @@ TYPED_TEST(SolverTest, JacobiIsBitwiseIdenticalForAnyThreadCount) {
 TEST(ColoredConstraints, EveryColorIsIndependentAndTheIndexMapIsExact) {
   for (unsigned seed : {1u, 2u, 3u}) {
     World<double> w = random_world<double>(seed);
-    const auto& colored = w.colored_constraints();
-    const auto& original = w.constraints();
+    const World<double> uncolored = w;  // never colored: its stores keep insertion order
     const auto inv_mass = w.inverse_masses();
-    auto check = [&](const auto& colored_array, const auto& original_array) {
-      ASSERT_EQ(colored_array.items.size(), original_array.size());
-      ASSERT_EQ(colored_array.offsets.back(), original_array.size());
-      for (std::size_t i = 0; i < original_array.size(); ++i) {
-        const auto& c = colored_array.items[colored_array.new_index[i]];
-        EXPECT_EQ(c.particles, original_array[i].particles) << i;
+    auto check = [&](const auto& colored, const auto& original) {
+      ASSERT_EQ(colored.items.size(), original.size());
+      ASSERT_EQ(colored.offsets.back(), original.size());
+      for (std::size_t i = 0; i < original.size(); ++i) {
+        EXPECT_EQ(colored.items[colored.stored[i]].particles, original[i].particles) << i;
+        EXPECT_EQ(colored.items[colored.stored[i]].set, original[i].set) << i;
       }
-      for (Index c = 0; c < colored_array.num_colors(); ++c) {
+      for (Index c = 0; c < colored.num_colors; ++c) {
         std::set<Index> moved;
-        for (Index i = colored_array.offsets[c]; i < colored_array.offsets[c + 1]; ++i)
-          for (Index p : colored_array.items[i].particles)
+        for (Index i = colored.offsets[c]; i < colored.offsets[c + 1]; ++i)
+          for (Index p : colored.items[i].particles)
             if (inv_mass[p] != 0) {
               EXPECT_TRUE(moved.insert(p).second) << "particle " << p << " twice in color " << c;
             }
       }
     };
-    check(colored.stretch, original.stretch);
-    check(colored.anchor, original.anchor);
-    EXPECT_GE(colored.stretch.num_colors(), 2u);
+    check(w.colors<StretchConstraint<double>>(), test::stretch_of(uncolored));
+    check(w.colors<AnchorConstraint<double>>(), test::anchor_of(uncolored));
+    EXPECT_GE(w.colors<StretchConstraint<double>>().num_colors, 2u);
+    // The user's view follows the map: the same constraints in the same order as the uncolored world's.
+    for (std::size_t i = 0; i < test::stretch_of(w).size(); ++i)
+      EXPECT_EQ(test::stretch_of(w)[i].particles, test::stretch_of(uncolored)[i].particles) << i;
+    EXPECT_NO_THROW(w.validate());
   }
 }
 
 TEST(ColoredConstraints, AddingAConstraintOrUnpinningRecolors) {
   World<double> w = cloth_world<double>(8);
-  const Index before = Index(w.colored_constraints().stretch.size());
+  const Index before = Index(w.colors<StretchConstraint<double>>().size());
   w.add_stretch(0, 63, 0);
-  EXPECT_EQ(w.colored_constraints().stretch.size(), before + 1u);
+  EXPECT_EQ(w.colors<StretchConstraint<double>>().size(), before + 1u);
   // Unpinning a corner makes constraints that shared it conflict: the coloring must still be proper.
   w.set_mass(56, 1.0);
-  const auto& c = w.colored_constraints().stretch;
-  for (Index col = 0; col < c.num_colors(); ++col) {
+  const auto c = w.colors<StretchConstraint<double>>();
+  for (Index col = 0; col < c.num_colors; ++col) {
     std::set<Index> seen;
     for (Index i = c.offsets[col]; i < c.offsets[col + 1]; ++i)
       for (Index p : c.items[i].particles) EXPECT_TRUE(seen.insert(p).second);
   }
+  EXPECT_NO_THROW(w.validate());
 }
 
 // Max relative stretch of a hanging rope after 60 damped steps with the given solver and sweeps.

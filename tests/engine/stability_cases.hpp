@@ -4,6 +4,7 @@
 //   STABILITY case=<name> solver=<serial|colored-1T|colored-2T|jacobi> real=<float|double> steps=<n>
 //             max_stretch=<x> max_ke=<J> energy_gain=<J> end=<case-specific measure>
 #include "pbd/generators.hpp"
+#include "world_access.hpp"
 #include "pbd/mesh_body.hpp"
 #include "pbd/mesh_generators.hpp"
 #include "pbd/metrics.hpp"
@@ -52,7 +53,7 @@ template <class Real> double max_relative_stretch(const World<Real>& w) {
   const auto x = w.positions();
   const auto inv = w.inverse_masses();
   double worst = 0.0;
-  for (const auto& c : w.constraints().stretch) {
+  for (const auto& c : test::stretch_of(w)) {
     if (!(c.rest > Real(0)) || (inv[c.particles[0]] == Real(0) && inv[c.particles[1]] == Real(0))) continue;
     worst = std::max(worst, violation(c, x));
   }
@@ -158,7 +159,7 @@ template <class Real> double sag_stretch(const World<Real>& w) {
   const StepParams<Real>& p = w.params();
   const double h = double(p.dt) / p.substeps;
   double sum = 0.0;
-  for (const auto& c : w.constraints().stretch) {
+  for (const auto& c : test::stretch_of(w)) {
     const bool pin0 = inv[c.particles[0]] == Real(0), pin1 = inv[c.particles[1]] == Real(0);
     if (pin0 == pin1) continue;
     sum += double(c.rest) / double(inv[pin0 ? c.particles[1] : c.particles[0]]);
@@ -166,7 +167,7 @@ template <class Real> double sag_stretch(const World<Real>& w) {
   double c_max = 1.0;
   if (p.solver == Solver::jacobi) {
     std::vector<int> count(w.num_particles(), 0);
-    w.constraints().for_each([&](const auto& array) {
+    w.for_each_builtin([&](const auto& array) {
       for (const auto& c : array)
         for (Index i : c.particles) ++count[i];
     });
@@ -187,7 +188,7 @@ template <class Real> double swing_stretch_bound(const World<Real>& w) { return 
 /// what Jacobi divides a correction by at most.
 template <class Real> int max_jacobi_count(const World<Real>& w) {
   std::vector<int> count(w.num_particles(), 0);
-  w.constraints().for_each([&](const auto& array) {
+  w.for_each_builtin([&](const auto& array) {
     for (const auto& c : array)
       for (Index i : c.particles) ++count[i];
   });
@@ -204,7 +205,7 @@ template <class Real> int max_jacobi_count(const World<Real>& w) {
 template <class Real> double rest_reach(const World<Real>& w) {
   const Index n = w.num_particles();
   std::vector<std::vector<std::pair<Index, double>>> adj(n);
-  for (const auto& c : w.constraints().stretch) {
+  for (const auto& c : test::stretch_of(w)) {
     adj[c.particles[0]].push_back({c.particles[1], double(c.rest)});
     adj[c.particles[1]].push_back({c.particles[0], double(c.rest)});
   }
@@ -235,7 +236,7 @@ template <class Real> double rest_reach(const World<Real>& w) {
 /// Shortest rest length of a stretch constraint with a movable particle.
 template <class Real> double min_rest_length(const World<Real>& w) {
   double l = std::numeric_limits<double>::infinity();
-  for (const auto& c : w.constraints().stretch)
+  for (const auto& c : test::stretch_of(w))
     if (c.rest > Real(0)) l = std::min(l, double(c.rest));
   return l;
 }
@@ -403,7 +404,7 @@ template <class Real> World<Real> volume_ball(int level, const PressureSchedule&
 
 /// 6V of the world's volume constraint 0 (the unit of VolumeConstraint::rest), in double.
 template <class Real> double six_volume_of(const World<Real>& w) {
-  const auto& v = w.constraints().volume;
+  const auto& v = w.volumes();
   return six_volume<double>(v.triangles, Matrix3X<double>(w.positions().template cast<double>()));
 }
 

@@ -22,6 +22,7 @@
 //             least a quarter of its energy kinetic on average (half for a harmonic swing), so its kinetic energy
 //             at the end is at most the peak's × e^(−d (T − t_peak) / 2).
 #include "stability_cases.hpp"
+#include "world_access.hpp"
 
 #include <gtest/gtest.h>
 
@@ -136,7 +137,7 @@ TYPED_TEST(Stability, WeldedRopeWithZeroLengthEdgesAndCoincidentParticles) {
     const double tol_e = energy_tolerance(w);
     auto gap = [&](const World<Real>& w) {
       double g = 0.0;
-      for (Index k : welds) g = std::max(g, violation(w.constraints().stretch[k], w.positions()));  // metres
+      for (Index k : welds) g = std::max(g, violation(test::stretch_of(w)[k], w.positions()));  // metres
       return g;
     };
     double max_gap = 0.0;
@@ -178,7 +179,7 @@ TYPED_TEST(Stability, CollapsedClothUnfolds) {
       }
     });
     double min_ratio = 1e300;  // shortest edge over its rest length: no pair may stay coincident
-    for (const auto& c : w.constraints().stretch)
+    for (const auto& c : test::stretch_of(w))
       min_ratio = std::min(min_ratio, (w.positions().col(c.particles[0]) - w.positions().col(c.particles[1]))
                                               .template cast<double>().norm() / double(c.rest));
     print_line<Real>("collapsed-cloth", run, f,
@@ -210,14 +211,14 @@ TYPED_TEST(Stability, ClothSquashedOntoALineUnfolds) {
     World<Real> w = line_cloth<Real>(10);
     const Figures f = simulate(w, run, 600);
     double min_area = 1e300;  // smallest triangle area over its rest area at the end
-    for (const auto& c : w.constraints().area) {
+    for (const auto& c : test::area_of(w)) {
       const double a = triangle_area<double>(w.positions().col(c.particles[0]).template cast<double>(),
                                              w.positions().col(c.particles[1]).template cast<double>(),
                                              w.positions().col(c.particles[2]).template cast<double>());
       min_area = std::min(min_area, a / double(c.rest));
     }
     double max_bend = 0.0;  // largest bending error at the end, radians (degenerate pairs are not measured)
-    for (const auto& c : w.constraints().bending) max_bend = std::max(max_bend, violation(c, w.positions()));
+    for (const auto& c : test::bending_of(w)) max_bend = std::max(max_bend, violation(c, w.positions()));
     print_line<Real>("line-cloth", run, f,
                      "end_stretch=" + fmt(max_relative_stretch(w)) + ",min_area_ratio=" + fmt(min_area) +
                          ",max_bend=" + fmt(max_bend) + ",end_ke=" + fmt(f.end.kinetic));
@@ -242,7 +243,7 @@ TYPED_TEST(Stability, BallSquashedFlatRecovers) {
   using Real = TypeParam;
   for (const SolverRun& run : kSolverRuns) {
     World<Real> w = volume_ball<Real>(1, {}, 1e-4);
-    const double rest = w.constraints().volume.items[0].rest;
+    const double rest = w.volumes().items[0].rest;
     w.positions().row(2).setZero();  // every vertex on the plane z = 0 (the top and bottom halves coincide)
     const Figures f = simulate(w, run, 240);  // 4 s
     const double ratio = six_volume_of(w) / rest;
@@ -269,9 +270,9 @@ TYPED_TEST(Stability, BallInflatedTenfold) {
   using Real = TypeParam;
   for (const SolverRun& run : kSolverRuns) {
     World<Real> w = volume_ball<Real>(2, {1.0, 10.0, 1.0}, 1e-3);  // target 1× → 10× over 1 s, then held
-    const double rest = w.constraints().volume.items[0].rest;
+    const double rest = w.volumes().items[0].rest;
     double area0 = 0.0;
-    for (const auto& t : w.constraints().volume.triangles)
+    for (const auto& t : w.volumes().triangles)
       area0 += triangle_area<double>(w.positions().col(t[0]).template cast<double>(),
                                      w.positions().col(t[1]).template cast<double>(),
                                      w.positions().col(t[2]).template cast<double>());

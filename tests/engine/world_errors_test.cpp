@@ -1,5 +1,6 @@
 // Bad input to the World API: a pbd::Error naming the offending item, and the world left unchanged.
 #include "pbd/mesh_generators.hpp"
+#include "world_access.hpp"
 #include "pbd/world.hpp"
 
 #include <gtest/gtest.h>
@@ -26,12 +27,12 @@ struct Fixture {
     EXPECT_EQ(w.positions(), before.positions());
     EXPECT_EQ(w.velocities(), before.velocities());
     EXPECT_EQ(w.inverse_masses(), before.inverse_masses());
-    EXPECT_EQ(w.constraints().sets.size(), before.constraints().sets.size());
-    EXPECT_EQ(w.constraints().stretch.size(), before.constraints().stretch.size());
-    EXPECT_EQ(w.constraints().anchor.size(), before.constraints().anchor.size());
-    EXPECT_EQ(w.constraints().bending.size(), before.constraints().bending.size());
-    EXPECT_EQ(w.constraints().area.size(), before.constraints().area.size());
-    EXPECT_EQ(w.constraints().volume.size(), before.constraints().volume.size());
+    EXPECT_EQ(w.constraint_sets().size(), before.constraint_sets().size());
+    EXPECT_EQ(test::stretch_of(w).size(), test::stretch_of(before).size());
+    EXPECT_EQ(test::anchor_of(w).size(), test::anchor_of(before).size());
+    EXPECT_EQ(test::bending_of(w).size(), test::bending_of(before).size());
+    EXPECT_EQ(test::area_of(w).size(), test::area_of(before).size());
+    EXPECT_EQ(w.volumes().size(), before.volumes().size());
     EXPECT_EQ(w.colliders().planes.size(), before.colliders().planes.size());
     EXPECT_EQ(w.colliders().spheres.size(), before.colliders().spheres.size());
     EXPECT_EQ(w.params().dt, before.params().dt);
@@ -249,8 +250,8 @@ TEST(World, ConvertsBetweenPrecisions) {
   Fixture f;
   const World<float> w(f.w);
   EXPECT_EQ(w.num_particles(), 3u);
-  EXPECT_EQ(w.constraints().stretch.size(), 1u);
-  EXPECT_FLOAT_EQ(w.constraints().stretch[0].rest, 1.0f);
+  EXPECT_EQ(test::stretch_of(w).size(), 1u);
+  EXPECT_FLOAT_EQ(test::stretch_of(w)[0].rest, 1.0f);
   EXPECT_EQ(w.inverse_masses()[2], 0.0f);
   EXPECT_FLOAT_EQ(w.inverse_masses()[1], 0.5f);
   EXPECT_EQ(w.colliders().planes.size(), 1u);

@@ -11,6 +11,7 @@ namespace pbd {
 /// engine stores them in color order; the view follows the map, so it costs one indirection per access.
 template <class C> class ConstraintView {
 public:
+  using value_type = C;  ///< the constraint type
   ConstraintView() = default;
   explicit ConstraintView(const detail::Store<C>* store) : store_(store) {}  ///< view of a store (nullptr: empty)
   std::size_t size() const { return store_ ? store_->size() : 0; }          ///< number of constraints
@@ -43,12 +44,14 @@ private:
   const detail::Store<C>* store_ = nullptr;
 };
 
-/// The colors of one constraint type as the colored solvers use them.
-struct ConstraintColors {
+/// The constraints of one type as the colored solvers store and run them.
+template <class C> struct ConstraintColors {
+  std::span<const C> items;       ///< the constraints in color order
   Index num_colors = 0;           ///< colors of the type
   std::span<const Index> color;   ///< color of each constraint, by user index
   std::span<const Index> stored;  ///< position of each constraint in color order, by user index (the old→new map)
   std::span<const Index> offsets; ///< color c holds color-order positions [offsets[c], offsets[c + 1])
+  std::size_t size() const { return items.size(); }  ///< number of constraints
 };
 
 }  // namespace pbd

@@ -38,6 +38,7 @@ template <class Real> struct ScratchDeleter {
 /// Particles, constraints and colliders of one simulation, in precision Real (float or double).
 template <class Real> class World {
 public:
+  using Scalar = Real;               ///< float or double
   using Vec = Vec3<Real>;            ///< 3-vector
   using Positions = Matrix3X<Real>;  ///< 3×N particle data
 
@@ -50,6 +51,8 @@ public:
   World(World&&) noexcept;                   ///< move
   World& operator=(World&&) noexcept;        ///< move
   ~World();                                  ///< destroys the world
+  /// TEMPORARY until scenes build worlds of either precision directly: a copy converted to precision Real.
+  template <class Other> explicit World(const World<Other>& other);
 
   // ---- particles ----
   /// Adds a particle; mass in kg, > 0 (kPinned for a fixed particle). Returns its index (indices never change).
@@ -130,7 +133,7 @@ public:
   /// Sets how parallel loops are cut (never changes results).
   void set_parallel_config(const ParallelConfig& config) { parallel_ = config; }
   /// Colors now if needed and gives type C's colors (built in or user-defined).
-  template <class C> ConstraintColors colors();
+  template <class C> ConstraintColors<C> colors();
   /// Colors of the persistent constraints as the colored solvers run them (colors now if needed).
   Index num_colors();
   /// Colors each constraint type's conflict graph anew with `options`, checks each coloring, and returns its
@@ -183,6 +186,7 @@ public:
   const detail::Model<Real>& model() const { return model_; }
 
 private:
+  template <class> friend class World;  // TEMPORARY: the converting constructor
   void check_particle(Index i, const char* item, std::size_t index) const;  // throws naming "item index"
   void check_set(Index set, const char* item, std::size_t index) const;
   template <class C> void remove(std::span<const Index> indices, const char* what);
@@ -223,13 +227,13 @@ template <class Real> template <class C> Index World<Real>::add_custom(const C& 
   return Index(index);
 }
 
-template <class Real> template <class C> ConstraintColors World<Real>::colors() {
+template <class Real> template <class C> ConstraintColors<C> World<Real>::colors() {
   ensure_colored();
   const detail::Store<C>* s;
   if constexpr (is_builtin_v<C, Real>) s = &model_.template store<C>();
   else s = model_.user.template find<C>();
   if (!s) return {};
-  return {s->num_colors(), s->color, s->slot, s->offsets};
+  return {s->items, s->num_colors(), s->color, s->slot, s->offsets};
 }
 
 extern template class World<float>;
