@@ -60,6 +60,6 @@ int main() {
   std::printf("lowest particle z = %.4f (floor 0.2), %u colors, %.3f ms last step (%.3f ms solving)\n",
               double(x.row(2).minCoeff()), st.colors, st.seconds * 1e3, st.seconds_solve * 1e3);
   for (const auto& v : st.violation)
-    std::printf("  %-13s %7zu constraints, max |C| %.3g\n", v.name.c_str(), v.count, v.max);
+    std::printf("  %-13s %7zu constraints, max |C| %.3g\n", v.type.c_str(), v.value.count, v.value.max);
   return x.row(2).minCoeff() >= 0.2f - 1e-4f ? 0 : 1;
 }
