@@ -280,6 +280,57 @@ TEST(CustomConstraints, HostTypeMatchesTheBuiltInStretchBitForBit) {
   }
 }
 
+// A user-defined type lives in the same kind of store as a built-in one, is colored by the same code (full, then
+// tail colors for constraints added later, kept across removals elsewhere) and is swept by the same driver: with
+// the same constraints as the built-in stretch type it gets the same colors, the same layout and the same bits.
+TEST(CustomConstraints, HostTypeGoesThroughTheSameStoreColoringAndSweepsAsBuiltIns) {
+  World<double> builtin = cloth(12);
+  World<double> hosted;
+  hosted.add_particles_by_inverse_mass(builtin.positions(), builtin.inverse_masses());
+  const Index set = hosted.add_constraint_set(Stiffness::pbd_k(1.0));
+  for (const auto& c : test::stretch_of(builtin)) hosted.add_custom(host::Distance<double>{c.particles, set, c.rest});
+  hosted.set_params(builtin.params());
+  hosted.set_parallel_config({1, 1});
+  auto same_layout = [&] {
+    const auto a = builtin.colors<StretchConstraint<double>>();
+    const auto b = hosted.colors<host::Distance<double>>();
+    ASSERT_EQ(a.num_colors, b.num_colors);
+    ASSERT_GE(b.num_colors, 2u);
+    EXPECT_TRUE(std::equal(a.offsets.begin(), a.offsets.end(), b.offsets.begin(), b.offsets.end()));
+    EXPECT_TRUE(std::equal(a.color.begin(), a.color.end(), b.color.begin(), b.color.end()));
+    EXPECT_TRUE(std::equal(a.stored.begin(), a.stored.end(), b.stored.begin(), b.stored.end()));
+    for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a.items[i].particles, b.items[i].particles) << i;
+    EXPECT_NO_THROW(hosted.validate());
+  };
+  same_layout();
+  for (int k = 0; k < 5; ++k) {
+    builtin.step();
+    tbb::task_arena(2).execute([&] { hosted.step(); });
+  }
+  // A few more constraints: both get tail colors the same way, without recoloring the others.
+  const Index before = hosted.colors<host::Distance<double>>().num_colors;
+  for (auto [a, b] : {std::pair<Index, Index>{0, 13}, {5, 30}, {40, 41}}) {
+    builtin.add_stretch(a, b, 0);
+    hosted.add_custom(host::Distance<double>{{a, b}, set, (builtin.positions().col(a) - builtin.positions().col(b)).norm()});
+  }
+  same_layout();
+  EXPECT_GT(hosted.colors<host::Distance<double>>().num_colors, before);  // the new ones went into tail colors
+  for (int k = 0; k < 5; ++k) {
+    builtin.step();
+    tbb::task_arena(2).execute([&] { hosted.step(); });
+  }
+  EXPECT_EQ(state(builtin), state(hosted));
+  // Removing a particle removes the user type's constraints on it, as it does the built-in ones.
+  builtin.remove_particle(20);
+  hosted.remove_particle(20);
+  EXPECT_EQ(hosted.custom<host::Distance<double>>().size(), test::stretch_of(builtin).size());
+  for (const auto& c : hosted.custom<host::Distance<double>>()) EXPECT_TRUE(c.particles[0] != 20 && c.particles[1] != 20);
+  same_layout();
+  builtin.step();
+  hosted.step();
+  EXPECT_EQ(state(builtin), state(hosted));
+}
+
 TEST(CustomConstraints, GradientOfTheHostTypeChecksOut) {
   std::mt19937 rng(9);
   for (int k = 0; k < 50; ++k) {

@@ -18,6 +18,7 @@
 #include "volume_projection.hpp"
 
 #include <algorithm>
+#include <cassert>
 
 namespace pbd::detail {
 
@@ -40,6 +41,12 @@ public:
     for_each_store(m_.stores, [&](const auto& st, auto i) { sized = sized && s_.lambda[i].size() == st.size(); });
     for (std::size_t t = 0; sized && t < m_.user.types().size(); ++t)
       sized = s_.user_lambda[t].size() == m_.user.types()[t]->size();
+#ifndef NDEBUG
+    if (!s_.lambda_dirty && sized)  // debug builds: λ is zero wherever no sweep had α̃ ≠ 0 since the last reset
+      for_each_store(m_.stores, [&](const auto&, auto i) {
+        assert(std::ranges::all_of(s_.lambda[i], [](Real l) { return l == Real(0); }));
+      });
+#endif
     if (s_.lambda_dirty || !sized) {
       for_each_store(m_.stores, [&](const auto& st, auto i) { s_.lambda[i].assign(st.size(), Real(0)); });
       s_.user_lambda.resize(m_.user.types().size());
@@ -106,6 +113,7 @@ private:
       if constexpr (requires { c.set; }) return coeff[c.set];
       else return SolveCoefficients<Real>{Real(1), Real(0)};  // collisions are hard
     };
+    assert(schedule_ == Schedule::insertion || st.empty() || (st.up_to_date() && st.offsets.back() == st.size()));
     if (schedule_ == Schedule::insertion) {
       for (Index u = 0; u < Index(st.size()); ++u) {
         const Index i = st.stored(u);

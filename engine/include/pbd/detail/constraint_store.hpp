@@ -95,6 +95,7 @@ void place_by_color(Store<C>& s, const std::vector<C>& by_user, Index first_user
   std::vector<Index> count(colors, 0);
   for (Index u = first_user; u < n; ++u) ++count[s.color[u] - first_color];
   for (Index c = 0; c < colors; ++c) s.offsets[first_color + c + 1] = s.offsets[first_color + c] + count[c];
+  assert(s.offsets[first_color + colors] == n - first_user + s.offsets[first_color]);
   std::vector<Index> next(s.offsets.begin() + first_color, s.offsets.begin() + first_color + colors);
   s.items.resize(n);
   s.slot.resize(n);
@@ -173,6 +174,9 @@ template <class C> void color_all(Store<C>& s, const std::vector<std::uint8_t>& 
   }
   s.color.assign(col.color.begin(), col.color.end());
   layout_by_color(s, by_user);
+#ifndef NDEBUG
+  s.validate(fixed, C::kName);  // debug builds: every color independent, the map a permutation
+#endif
 }
 
 /// Colors the constraints appended since `s` was last laid out, without touching the others: they go into tail
@@ -206,6 +210,10 @@ template <class C> bool color_tail(Store<C>& s, const std::vector<std::uint8_t>&
   if (s.slot.empty()) s.slot = Store<C>::identity(n);
   s.offsets.resize(std::size_t(s.tail_color) + tail_colors + 1, 0);
   place_by_color(s, by_user, s.tail_item, s.tail_color, tail_colors);
+  assert(s.up_to_date() && s.offsets.back() == n);
+#ifndef NDEBUG
+  s.validate(fixed, C::kName);
+#endif
   return true;
 }
 
