@@ -29,10 +29,10 @@ template <bool kLambda, bool kOneSet>
                                               const SolveCoefficients<float>* coeff, float* lambda, Index set) {
 #if defined(__SSE2__)
   if (e - b >= kStretchBlock) {
-    __m128 neg_k = _mm_setzero_ps(), alpha = _mm_setzero_ps();
+    wide::FloatW neg_k = wide::zero(), alpha = wide::zero();
     if constexpr (kOneSet) {
-      neg_k = _mm_set1_ps(-coeff[set].k);
-      alpha = _mm_set1_ps(coeff[set].alpha_tilde);
+      neg_k = wide::splat(-coeff[set].k);
+      alpha = wide::splat(coeff[set].alpha_tilde);
     }
     const StretchConstraint<float>* const last = c + (e - kStretchBlock);
     const StretchConstraint<float>* it = c + b;

@@ -1,0 +1,73 @@
+#pragma once
+// A thin wide-float layer (private) so that SIMD kernels read like the scalar math they match bit for bit: four
+// float lanes (SSE2) with the arithmetic operators, comparisons giving lane masks, select, and the loads, stores and
+// shuffles the kernels need. Every operation is one correctly rounded instruction per lane (no estimates, no fused
+// multiply-add), so an expression gives each lane the bits the same scalar expression gives. Box2D's b2FloatW
+// helpers (contact_solver.c) are the model.
+#if defined(__SSE2__)
+#include <emmintrin.h>
+
+namespace pbd::detail::wide {
+
+#define PBD_WIDE [[gnu::always_inline]] inline
+
+/// Four floats, one per lane.
+struct FloatW {
+  __m128 v;
+};
+/// Four lane masks (all bits set = true), from comparisons.
+struct MaskW {
+  __m128 v;
+};
+
+PBD_WIDE FloatW operator+(FloatW a, FloatW b) { return {_mm_add_ps(a.v, b.v)}; }
+PBD_WIDE FloatW operator-(FloatW a, FloatW b) { return {_mm_sub_ps(a.v, b.v)}; }
+PBD_WIDE FloatW operator*(FloatW a, FloatW b) { return {_mm_mul_ps(a.v, b.v)}; }
+PBD_WIDE FloatW operator/(FloatW a, FloatW b) { return {_mm_div_ps(a.v, b.v)}; }
+/// −a: flips the sign bit (exact, as the scalar unary minus).
+PBD_WIDE FloatW operator-(FloatW a) { return {_mm_xor_ps(a.v, _mm_set1_ps(-0.0f))}; }
+PBD_WIDE FloatW sqrt(FloatW a) { return {_mm_sqrt_ps(a.v)}; }
+
+PBD_WIDE MaskW operator>(FloatW a, FloatW b) { return {_mm_cmpgt_ps(a.v, b.v)}; }   ///< false for NaN
+PBD_WIDE MaskW operator==(FloatW a, FloatW b) { return {_mm_cmpeq_ps(a.v, b.v)}; }
+PBD_WIDE MaskW operator!=(FloatW a, FloatW b) { return {_mm_cmpneq_ps(a.v, b.v)}; }
+PBD_WIDE MaskW operator&(MaskW a, MaskW b) { return {_mm_and_ps(a.v, b.v)}; }
+PBD_WIDE MaskW operator|(MaskW a, MaskW b) { return {_mm_or_ps(a.v, b.v)}; }
+/// Bit k set when lane k is true.
+PBD_WIDE int bits(MaskW m) { return _mm_movemask_ps(m.v); }
+/// Lane by lane: m ? a : b.
+PBD_WIDE FloatW select(MaskW m, FloatW a, FloatW b) { return {_mm_or_ps(_mm_and_ps(m.v, a.v), _mm_andnot_ps(m.v, b.v))}; }
+
+PBD_WIDE FloatW zero() { return {_mm_setzero_ps()}; }
+PBD_WIDE FloatW splat(float a) { return {_mm_set1_ps(a)}; }                                      ///< a in every lane
+PBD_WIDE FloatW lanes(float a, float b, float c, float d) { return {_mm_setr_ps(a, b, c, d)}; }  ///< lanes 0..3
+PBD_WIDE FloatW load(const float* p) { return {_mm_load_ps(p)}; }     ///< 16-byte aligned
+PBD_WIDE FloatW loadu(const float* p) { return {_mm_loadu_ps(p)}; }   ///< unaligned
+PBD_WIDE void store(float* p, FloatW a) { _mm_store_ps(p, a.v); }     ///< 16-byte aligned
+PBD_WIDE void storeu(float* p, FloatW a) { _mm_storeu_ps(p, a.v); }   ///< unaligned
+/// Lane k of a in every lane.
+template <int k> PBD_WIDE FloatW broadcast(FloatW a) { return {_mm_shuffle_ps(a.v, a.v, _MM_SHUFFLE(k, k, k, k))}; }
+/// x y z of a point held as x y z w, with the w lane set to 0.
+PBD_WIDE FloatW xyz(FloatW a) { return {_mm_and_ps(a.v, _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)))}; }
+
+/// Three coordinates of four vectors, one vector per lane.
+struct Vec3W {
+  FloatW x, y, z;
+};
+/// Four points held as x y z w (one per argument) → their x, y and z across lanes.
+PBD_WIDE Vec3W transpose_xyz(FloatW a, FloatW b, FloatW c, FloatW d) {
+  const __m128 t0 = _mm_unpacklo_ps(a.v, b.v), t1 = _mm_unpacklo_ps(c.v, d.v);  // x0 x1 y0 y1 | x2 x3 y2 y3
+  const __m128 t2 = _mm_unpackhi_ps(a.v, b.v), t3 = _mm_unpackhi_ps(c.v, d.v);  // z0 z1 w0 w1 | z2 z3 w2 w3
+  return {{_mm_movelh_ps(t0, t1)}, {_mm_movehl_ps(t1, t0)}, {_mm_movelh_ps(t2, t3)}};
+}
+/// The w lanes of four points held as x y z w.
+PBD_WIDE FloatW transpose_w(FloatW a, FloatW b, FloatW c, FloatW d) {
+  return {_mm_movehl_ps(_mm_unpackhi_ps(c.v, d.v), _mm_unpackhi_ps(a.v, b.v))};
+}
+/// |v|² as Eigen computes it for a 3-vector: x² + (y² + z²).
+PBD_WIDE FloatW squared_norm(const Vec3W& v) { return v.x * v.x + (v.y * v.y + v.z * v.z); }
+
+#undef PBD_WIDE
+
+}  // namespace pbd::detail::wide
+#endif
