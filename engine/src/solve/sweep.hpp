@@ -25,6 +25,20 @@ namespace pbd::detail {
 enum class Schedule { insertion, colors };  // which order a sweep visits the constraints in
 enum class Update { in_place, jacobi };     // Gauss-Seidel or Jacobi
 
+/// Every constraint of `st` in insertion order, each projected into `out`. A function of its own (not inlined into
+/// the sweep), like each color's range, so that the projection is inlined into its loop.
+/// kInPlace: out is p (Gauss-Seidel), and the compiler sees it.
+template <bool kInPlace, class C, class Real, class CoeffOf>
+[[gnu::noinline]] void project_in_insertion_order(const Store<C>& st, Real* lam, Real* p, const Real* w,
+                                                  const CoeffOf& coeff_of, Real* out) {
+  if constexpr (kInPlace) out = p;
+  if (st.slot.empty()) {  // never colored: stored order is insertion order
+    for (Index i = 0; i < Index(st.size()); ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out);
+  } else {
+    for (Index i : st.slot) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out);
+  }
+}
+
 /// One sub-step's sweeps over a model: begin(), sweep() × iterations, end().
 template <class Real> class Sweeper {
 public:
@@ -72,15 +86,31 @@ public:
 
   /// One sweep over every constraint, updating p (3 per particle).
   void sweep(Real* p) {
+    if (update_ == Update::in_place) sweep_with<true>(p);
+    else sweep_with<false>(p);
+  }
+
+  /// Ends the sub-step's sweeps: p holds the solved positions afterwards.
+  void end(Real* p) {
+    if (padded_) unpad(p);
+  }
+
+  /// Jacobi's over-relaxation factor ω.
+  Real omega = 1;
+
+private:
+  // kInPlace: Gauss-Seidel, every projection writes p itself (known at compile time, so the compiler knows the
+  // writes and reads are of one array); otherwise Jacobi, the projections add to the deltas.
+  template <bool kInPlace> void sweep_with(Real* p) {
     const Real* w = m_.inverse_mass.data();
     const SolveCoefficients<Real>* coeff = k_.coeff.data();
     Real* out = p;
-    if (update_ == Update::jacobi) {
+    if constexpr (!kInPlace) {
       std::fill(k_.delta.begin(), k_.delta.end(), Real(0));
       out = k_.delta.data();
     }
     part_ = 0;
-    for_each_store(m_.stores, [&](const auto& st, auto i) { project_store(st, s_.lambda[i].data(), p, w, coeff, out); });
+    for_each_store(m_.stores, [&](const auto& st, auto i) { project_store<kInPlace>(st, s_.lambda[i].data(), p, w, coeff, out); });
     for (std::size_t t = 0; t < m_.user.types().size(); ++t) {
       const auto& type = *m_.user.types()[t];
       Real* lam = s_.user_lambda[t].data();
@@ -93,39 +123,26 @@ public:
       }
     }
     project_volumes(p, w, out);
-    project_store(k_.collisions, k_.collision_lambda.data(), p, w, coeff, out);
-    if (update_ == Update::jacobi) apply_deltas(p);
+    project_store<kInPlace>(k_.collisions, k_.collision_lambda.data(), p, w, coeff, out);
+    if constexpr (!kInPlace) apply_deltas(p);
   }
 
-  /// Ends the sub-step's sweeps: p holds the solved positions afterwards.
-  void end(Real* p) {
-    if (padded_) unpad(p);
-  }
-
-  /// Jacobi's over-relaxation factor ω.
-  Real omega = 1;
-
-private:
-  template <class C>
+  template <bool kInPlace, class C>
   void project_store(const Store<C>& st, Real* lam, Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
                      Real* out) {
+    if constexpr (kInPlace) out = p;  // the same array, visibly so
     auto coeff_of = [&](const C& c) {
       if constexpr (requires { c.set; }) return coeff[c.set];
       else return SolveCoefficients<Real>{Real(1), Real(0)};  // collisions are hard
     };
     assert(schedule_ == Schedule::insertion || st.empty() || (st.up_to_date() && st.offsets.back() == st.size()));
     if (schedule_ == Schedule::insertion) {
-      for (Index u = 0; u < Index(st.size()); ++u) {
-        const Index i = st.stored(u);
-        project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out);
-      }
+      project_in_insertion_order<kInPlace>(st, lam, p, w, coeff_of, out);
       return;
     }
-    if constexpr (std::is_same_v<C, StretchConstraint<float>> && kPaddedStretch) {
-      if (update_ == Update::in_place) {
-        if (st.num_colors() > 0) project_stretch_padded_colors(st, lam, p, w, coeff);
-        return;
-      }
+    if constexpr (kInPlace && std::is_same_v<C, StretchConstraint<float>> && kPaddedStretch) {
+      if (st.num_colors() > 0) project_stretch_padded_colors(st, lam, p, w, coeff);
+      return;
     }
     for (Index c = 0; c < st.num_colors(); ++c)
       run_range(st.offsets[c], st.offsets[c + 1], parallel_, config_, k_.partitioners[part_++], [&](Index b, Index e) {

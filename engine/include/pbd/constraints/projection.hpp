@@ -39,7 +39,7 @@ inline bool correction(const Constraint& c, const Vec3<Real> (&p)[Constraint::kA
 /// the solvers need not read or write it (every solver follows this rule, so all give the same bits).
 /// With out = p this is the Gauss-Seidel projection; with out = a separate buffer, the Jacobi accumulation.
 template <class Constraint, class Real>
-inline void project_into(const Constraint& c, const Real* p, const Real* w, SolveCoefficients<Real> coeff,
+[[gnu::always_inline]] inline void project_into(const Constraint& c, const Real* p, const Real* w, SolveCoefficients<Real> coeff,
                          Real& lambda, Real* out) {
   constexpr int n = Constraint::kArity;
   Vec3<Real> q[n];
