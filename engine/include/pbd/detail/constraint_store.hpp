@@ -157,17 +157,11 @@ ConstraintGraph constraint_graph(std::span<const C> items, const std::vector<std
 
 /// Colors every constraint of `s` anew with graph_coloring (pinned particles never conflict) and lays it out.
 template <class C> void color_all(Store<C>& s, const std::vector<std::uint8_t>& fixed, const coloring::Options& options) {
+  if (s.empty()) return s.clear();
   std::vector<C> by_user = s.in_insertion_order();
-  s.slot.clear();
-  s.color.clear();
-  s.offsets.clear();
-  s.tail_color = Store<C>::kNoTail;
-  s.tail_used.clear();
-  s.items = by_user;
-  if (by_user.empty()) return;
   const ConstraintGraph graph = constraint_graph(std::span<const C>(by_user), fixed);
   coloring::Coloring col;
-  try {
+  try {  // the store is untouched until the coloring succeeded
     col = coloring::color(graph.view(), options);
   } catch (const coloring::Error& e) {
     throw Error(std::string("coloring ") + C::kName + " constraints: " + e.what());
