@@ -348,14 +348,16 @@ template <class Real> void World<Real>::validate() const {
     s.validate(fixed, C::kName);
     if (model_.colors_current && s.color.size() > s.size())
       throw Error(detail::message("validate: ", C::kName, " store: more colors than constraints"));
-    // λ is only ever written where α̃ ≠ 0: with no compliant set, every λ is 0.
+    // λ is only ever written where α̃ ≠ 0: while no set is compliant, every λ is 0. (Per constraint it cannot be
+    // checked here: λ keeps the last sub-step's layout until the next one resets it.)
     const bool any_compliant = std::ranges::any_of(model_.sets, [](const Stiffness& st) {
       return st.mode == StiffnessMode::xpbd && st.compliance != 0.0;
     });
     if (!any_compliant)
       for (std::size_t k = 0; k < state_.lambda[i].size(); ++k)
         if (state_.lambda[i][k] != Real(0))
-          throw Error(detail::message("validate: ", C::kName, " λ ", k, " is not 0 though no set is compliant"));
+          throw Error(detail::message("validate: ", C::kName, " λ ", k, " is ", state_.lambda[i][k],
+                                      " though no set is compliant"));
   });
   for (const auto& t : model_.user.types()) t->validate(fixed);
   const auto& v = model_.volume;
