@@ -307,6 +307,11 @@ template <class Real> void World<Real>::set_params(const StepParams<Real>& p) {
   params_ = p;
 }
 
+template <class Real> void World<Real>::set_time(double seconds) {
+  if (!std::isfinite(seconds)) throw Error(detail::message("set_time: time must be finite, got ", seconds));
+  state_.time = seconds;
+}
+
 template <class Real> void World<Real>::set_coloring(const coloring::Options& options) {
   model_.coloring = options;
   model_.colors_current = false;
@@ -391,6 +396,7 @@ template <class Real> void World<Real>::validate() const {
   template void World<Real>::add_sphere(const Vec3<Real>&, Real);                                  \
   template void World<Real>::set_params(const StepParams<Real>&);                                  \
   template void World<Real>::set_coloring(const coloring::Options&);                               \
+  template void World<Real>::set_time(double);                               \
   template std::vector<coloring::NamedStats> World<Real>::color_statistics(const coloring::Options&) const; \
   template void World<Real>::validate() const;                                                     \
   template void World<Real>::remove<StretchConstraint<Real>>(std::span<const Index>, const char*); \

@@ -162,6 +162,8 @@ public:
   // ---- state ----
   /// Simulated time in seconds: params().dt per step() (drives volume pressure schedules).
   double time() const { return state_.time; }
+  /// Sets the simulated time in seconds (finite), e.g. to step a copy of another world from where it is.
+  void set_time(double seconds);
   /// Number of particles.
   Index num_particles() const { return Index(state_.x.cols()); }
   /// Positions in m, 3×N (no copy). Writing through the mutable map is allowed between steps.
