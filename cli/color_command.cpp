@@ -2,7 +2,7 @@
 // (colors, lower bound, batch sizes, time) per constraint type and overall; optionally as JSON.
 #include "commands.hpp"
 #include "pbd/constraint_graph.hpp"
-#include "pbd/scene.hpp"
+#include "scene_dir.hpp"
 
 #include <nlohmann/json.hpp>
 #include <pbd/graph_coloring/graph_coloring.hpp>
@@ -31,7 +31,7 @@ nlohmann::json to_json(const coloring::NamedStats& row) {
 }
 
 void run(const ColorOptions& o) {
-  const Scene scene = load_scene_by_name(o.scene);
+  const Scene scene = load_builtin_scene(o.scene);
   const auto algorithm = coloring::parse_algorithm(o.algorithm);
   coloring::Options options;
   options.algorithm = *algorithm;

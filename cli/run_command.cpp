@@ -1,9 +1,9 @@
 // `pbd run SCENE`: steps a scene and writes its frames as OBJ files; prints the time per step and, for every
 // volume constraint, the volume reached against its target.
 #include "commands.hpp"
-#include "pbd/frame_writer.hpp"
+#include "pbd/io/frame_writer.hpp"
 #include "pbd/metrics.hpp"
-#include "pbd/scene.hpp"
+#include "scene_dir.hpp"
 
 #include <oneapi/tbb/task_arena.h>
 
@@ -107,7 +107,7 @@ void add_run_command(CLI::App& app) {
       ->check(CLI::IsMember({"float", "double"}))
       ->capture_default_str();
   cmd->callback([o] {
-    const Scene scene = load_scene_by_name(o->scene);
+    const Scene scene = load_builtin_scene(o->scene);
     const int steps = o->steps > 0 ? o->steps : scene.steps;
     tbb::task_arena arena(o->threads > 0 ? o->threads : tbb::task_arena::automatic);
     arena.execute([&] {

@@ -2,7 +2,7 @@
 // The solver benchmarks' scene: the stretch constraints of an N×N hanging cloth (float, PBD k = 1) with positions
 // perturbed so every projection does work, and the solve of one sub-step as World::step runs it.
 #include "pbd/colored_solver.hpp"
-#include "pbd/generators.hpp"
+#include "pbd/io/generators.hpp"
 #include "pbd/serial_solver.hpp"
 
 #include <random>

@@ -3,7 +3,7 @@
 #include "message.hpp"
 #include "parallel_range.hpp"
 #include "pbd/metrics.hpp"
-#include "pbd/mesh.hpp"
+#include "pbd/closed_mesh.hpp"
 #include "pbd/serial_solver.hpp"
 
 #include <chrono>

@@ -2,7 +2,7 @@
 // between steps with limited recoloring, user-defined constraint types, running in the host's task_arena, and
 // per-step statistics.
 #include "constraint_checks.hpp"
-#include "pbd/generators.hpp"
+#include "pbd/io/generators.hpp"
 #include "pbd/world.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Error measures: zero at rest, known values for known deformations, energy, reference distance, hash.
-#include "pbd/generators.hpp"
-#include "pbd/mesh_body.hpp"
-#include "pbd/mesh_generators.hpp"
+#include "pbd/io/generators.hpp"
+#include "pbd/io/mesh_body.hpp"
+#include "pbd/io/mesh_generators.hpp"
 #include "pbd/metrics.hpp"
 
 #include <gtest/gtest.h>

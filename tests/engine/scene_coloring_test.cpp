@@ -1,7 +1,7 @@
 // graph_coloring on the engine's own scenes: every algorithm gives a proper, complete coloring of every constraint
 // type of every built-in scene, within the greedy bound, and the same coloring twice.
 #include "pbd/constraint_graph.hpp"
-#include "pbd/scene.hpp"
+#include "pbd/io/scene.hpp"
 
 #include <gtest/gtest.h>
 #include <pbd/graph_coloring/graph_coloring.hpp>
@@ -32,8 +32,8 @@ std::uint32_t max_conflict_degree(const ConstraintGraph& g) {
 }
 
 TEST(SceneColoring, EveryAlgorithmOnEveryBuiltInSceneIsProperCompleteDeterministicAndWithinTheGreedyBound) {
-  for (const std::string& name : builtin_scene_names()) {
-    const Scene scene = load_scene_by_name(name);
+  for (const std::string& name : scene_names(PBD_TEST_SCENE_DIR)) {
+    const Scene scene = load_scene_by_name(name, PBD_TEST_SCENE_DIR);
     const auto fixed = pinned_flags(VectorX<double>(scene.world.inverse_masses()));
     scene.world.constraints().for_each([&](const auto& array) {
       using Constraint = typename std::decay_t<decltype(array)>::value_type;

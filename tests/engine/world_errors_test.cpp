@@ -1,5 +1,5 @@
 // Bad input to the World API: a pbd::Error naming the offending item, and the world left unchanged.
-#include "pbd/mesh_generators.hpp"
+#include "pbd/io/mesh_generators.hpp"
 #include "pbd/world.hpp"
 
 #include <gtest/gtest.h>

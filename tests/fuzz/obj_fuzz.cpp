@@ -1,7 +1,7 @@
 // libFuzzer target: parse_obj on arbitrary bytes. A pbd::Error is the expected answer to bad input; anything else
 // (a crash, another exception, a sanitizer report, a hang, a huge allocation) is a bug.
 #include "pbd/error.hpp"
-#include "pbd/obj_loader.hpp"
+#include "pbd/io/obj_loader.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -1,4 +1,4 @@
-#include "pbd/generators.hpp"
+#include "pbd/io/generators.hpp"
 
 #include "message.hpp"
 

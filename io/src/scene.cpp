@@ -1,26 +1,18 @@
-#include "pbd/scene.hpp"
+#include "pbd/io/scene.hpp"
 
 #include "json_reader.hpp"
 #include "message.hpp"
-#include "pbd/generators.hpp"
-#include "pbd/mesh_body.hpp"
-#include "pbd/mesh_generators.hpp"
-#include "pbd/obj_loader.hpp"
+#include "pbd/io/generators.hpp"
+#include "pbd/io/mesh_body.hpp"
+#include "pbd/io/mesh_generators.hpp"
+#include "pbd/io/obj_loader.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string_view>
-
-#ifndef PBD_SOURCE_SCENE_DIR
-#define PBD_SOURCE_SCENE_DIR ""
-#endif
-#ifndef PBD_INSTALL_SCENE_DIR
-#define PBD_INSTALL_SCENE_DIR ""
-#endif
 
 namespace pbd {
 namespace {
@@ -353,29 +345,22 @@ Scene load_scene(const std::filesystem::path& file) {
   return parse_scene(text.str(), file.string());
 }
 
-std::filesystem::path builtin_scene_dir() {
-  if (const char* env = std::getenv("PBD_SCENE_DIR"); env && *env) return env;
-  for (const char* dir : {PBD_SOURCE_SCENE_DIR, PBD_INSTALL_SCENE_DIR})
-    if (*dir && std::filesystem::is_directory(dir)) return dir;
-  return "scenes";
-}
-
-std::vector<std::string> builtin_scene_names() {
+std::vector<std::string> scene_names(const std::filesystem::path& dir) {
   std::vector<std::string> names;
   std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(builtin_scene_dir(), ec))
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec))
     if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
   std::sort(names.begin(), names.end());
   return names;
 }
 
-Scene load_scene_by_name(const std::string& name) {
+Scene load_scene_by_name(const std::string& name, const std::filesystem::path& dir) {
   const std::filesystem::path as_file(name);
   if (as_file.has_extension() || name.find('/') != std::string::npos) return load_scene(as_file);
-  const auto path = builtin_scene_dir() / (name + ".json");
+  const auto path = dir / (name + ".json");
   if (!std::filesystem::exists(path)) {
     std::string known;
-    for (const auto& n : builtin_scene_names()) known += (known.empty() ? "" : ", ") + n;
+    for (const auto& n : scene_names(dir)) known += (known.empty() ? "" : ", ") + n;
     throw Error(message("unknown scene \"", name, "\" (built-in scenes: ", known, "; or give a .json file)"));
   }
   return load_scene(path);

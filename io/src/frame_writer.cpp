@@ -1,4 +1,4 @@
-#include "pbd/frame_writer.hpp"
+#include "pbd/io/frame_writer.hpp"
 
 #include "message.hpp"
 

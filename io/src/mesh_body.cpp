@@ -1,6 +1,7 @@
-#include "pbd/mesh_body.hpp"
+#include "pbd/io/mesh_body.hpp"
 
 #include "message.hpp"
+#include "pbd/closed_mesh.hpp"
 
 #include <cmath>
 

@@ -1,8 +1,9 @@
 // Meshes: generators (closed where they should be, counts), topology (edges, bending pairs), the mesh body, and
 // OBJ loading with its errors.
-#include "pbd/mesh_body.hpp"
-#include "pbd/mesh_generators.hpp"
-#include "pbd/obj_loader.hpp"
+#include "pbd/closed_mesh.hpp"
+#include "pbd/io/mesh_body.hpp"
+#include "pbd/io/mesh_generators.hpp"
+#include "pbd/io/obj_loader.hpp"
 #include "temp_dir.hpp"
 
 #include <gtest/gtest.h>

@@ -5,8 +5,8 @@
 // the inputs tests/fuzz found are kept here as regression cases.
 #include "error_checks.hpp"
 #include "temp_dir.hpp"
-#include "pbd/obj_loader.hpp"
-#include "pbd/scene.hpp"
+#include "pbd/io/obj_loader.hpp"
+#include "pbd/io/scene.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Scene files: the built-in scenes load; bad files give errors naming the file and the key.
 #include "error_checks.hpp"
 #include "pbd/metrics.hpp"
-#include "pbd/scene.hpp"
+#include "pbd/io/scene.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,11 +11,11 @@ namespace pbd {
 namespace {
 
 TEST(Scene, EveryBuiltInSceneLoadsAndStepsUnderEverySolver) {
-  const auto names = builtin_scene_names();
+  const auto names = scene_names(PBD_TEST_SCENE_DIR);
   for (const char* expected : {"balls", "cloth", "inflate", "inflate-mesh", "rope"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   for (const auto& name : names) {
-    const Scene s = load_scene_by_name(name);
+    const Scene s = load_scene_by_name(name, PBD_TEST_SCENE_DIR);
     EXPECT_EQ(s.name, name) << "a built-in scene's name should match its file name";
     EXPECT_GT(s.world.num_particles(), 0u) << name;
     for (Solver solver : {Solver::serial, Solver::colored, Solver::jacobi}) {
@@ -30,7 +30,7 @@ TEST(Scene, EveryBuiltInSceneLoadsAndStepsUnderEverySolver) {
 }
 
 TEST(Scene, ClothSceneHasWhatItAsksForAndNothingElse) {
-  const Scene s = load_scene_by_name("cloth");
+  const Scene s = load_scene_by_name("cloth", PBD_TEST_SCENE_DIR);
   EXPECT_EQ(s.world.num_particles(), 900u);
   EXPECT_EQ(s.world.constraints().stretch.size(), std::size_t(2 * 30 * 29 + 29 * 29));
   EXPECT_EQ(s.world.constraints().bending.size(), std::size_t(3 * 29 * 29 - 2 * 29));  // interior edges
@@ -43,17 +43,17 @@ TEST(Scene, ClothSceneHasWhatItAsksForAndNothingElse) {
 }
 
 TEST(Scene, MeshScenesHaveTheirVolumesAndTriangles) {
-  const Scene inflate = load_scene_by_name("inflate");
+  const Scene inflate = load_scene_by_name("inflate", PBD_TEST_SCENE_DIR);
   ASSERT_EQ(inflate.world.constraints().volume.size(), 1u);
   EXPECT_DOUBLE_EQ(inflate.world.constraints().volume.items[0].pressure.to, 3.0);
   EXPECT_EQ(inflate.triangles.size(), 60u);
-  const Scene pig = load_scene_by_name("inflate-mesh");
+  const Scene pig = load_scene_by_name("inflate-mesh", PBD_TEST_SCENE_DIR);
   EXPECT_EQ(pig.world.constraints().volume.size(), 1u);
   EXPECT_EQ(pig.triangles.size(), pig.world.constraints().volume.triangles.size());
-  const Scene balls = load_scene_by_name("balls");
+  const Scene balls = load_scene_by_name("balls", PBD_TEST_SCENE_DIR);
   EXPECT_EQ(balls.world.constraints().volume.size(), 5u);
   EXPECT_EQ(balls.triangles.size(), 5u * 320u);
-  const Scene rope = load_scene_by_name("rope");
+  const Scene rope = load_scene_by_name("rope", PBD_TEST_SCENE_DIR);
   const auto w = rope.world.inverse_masses();
   EXPECT_NEAR(w[1] / w[rope.world.num_particles() - 1], 1000.0, 1e-9) << "the rope keeps its 1000:1 end mass";
 }
@@ -186,7 +186,7 @@ TEST(SceneErrors, MeshBodies) {
 TEST(SceneErrors, MissingFileAndUnknownBuiltInName) {
   EXPECT_THROW(load_scene("/nonexistent/scene.json"), Error);
   try {
-    load_scene_by_name("no-such-scene");
+    load_scene_by_name("no-such-scene", PBD_TEST_SCENE_DIR);
     ADD_FAILURE();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("cloth"), std::string::npos) << "lists the built-in scenes: " << e.what();

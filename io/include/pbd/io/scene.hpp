@@ -30,13 +30,11 @@ Scene parse_scene(const std::string& json_text, const std::string& source);
 /// Loads a scene file.
 Scene load_scene(const std::filesystem::path& file);
 
-/// Folder of the built-in scenes: $PBD_SCENE_DIR if set, else the source tree's scenes/ (or the installed copy).
-std::filesystem::path builtin_scene_dir();
+/// Names of the scenes in folder `dir` (its files NAME.json), sorted; empty if `dir` cannot be read.
+std::vector<std::string> scene_names(const std::filesystem::path& dir);
 
-/// Names of the built-in scenes (files NAME.json in builtin_scene_dir()), sorted.
-std::vector<std::string> builtin_scene_names();
-
-/// Loads a scene by built-in name or by file path.
-Scene load_scene_by_name(const std::string& name_or_file);
+/// Loads a scene by name from folder `dir` (NAME.json) or, if `name_or_file` has an extension or a '/', from that
+/// file. An unknown name is an error listing the scenes of `dir`.
+Scene load_scene_by_name(const std::string& name_or_file, const std::filesystem::path& dir);
 
 }  // namespace pbd

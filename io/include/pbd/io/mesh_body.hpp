@@ -1,8 +1,8 @@
 #pragma once
 /// \file mesh_body.hpp
 /// A triangle mesh added to a world as a body, with the constraint sets generated from its topology on request.
-#include "pbd/generators.hpp"
-#include "pbd/mesh.hpp"
+#include "pbd/io/generators.hpp"
+#include "pbd/io/mesh.hpp"
 
 #include <span>
 

@@ -1,4 +1,4 @@
-#include "pbd/obj_loader.hpp"
+#include "pbd/io/obj_loader.hpp"
 
 #include "message.hpp"
 #include "pbd/error.hpp"
