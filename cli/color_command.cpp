@@ -2,6 +2,7 @@
 // (colors, lower bound, batch sizes, time) per constraint type and overall; optionally as JSON.
 #include "commands.hpp"
 #include "pbd/constraint_graph.hpp"
+#include "pbd/io/build_world.hpp"
 #include "scene_dir.hpp"
 
 #include <nlohmann/json.hpp>
@@ -36,20 +37,19 @@ void run(const ColorOptions& o) {
   coloring::Options options;
   options.algorithm = *algorithm;
   options.balance = o.balance;
-  const World<double>& world = scene.world;
+  const World<double> world = build_world<double>(scene.world);
   const auto fixed = pinned_flags(VectorX<double>(world.inverse_masses()));
   std::vector<coloring::NamedStats> rows;
   coloring::Stats all;
   std::uint64_t batches = 0;
-  world.constraints().for_each([&](const auto& array) {
+  auto color_type = [&](const auto& array) {
     using Constraint = typename std::decay_t<decltype(array)>::value_type;
     if (array.empty()) return;  // a type the scene does not use is not colored at all
     const ConstraintGraph g = constraint_graph(array, fixed);
     const coloring::Coloring c = coloring::color(g.view(), options);
     if (auto error = coloring::find_coloring_error(g.view(), c)) throw Error("pbd color: improper coloring: " + *error);
     const coloring::Stats s = coloring::compute_stats(g.view(), c);
-    if constexpr (requires { Constraint::kName; }) rows.push_back({Constraint::kName, s});
-    else rows.push_back({"type " + std::to_string(rows.size()), s});
+    rows.push_back({Constraint::kName, s});
     // Overall: the types are solved one after the other, so colors, bounds, items and time add up.
     all.num_items += s.num_items;
     all.num_colors += s.num_colors;
@@ -59,7 +59,12 @@ void run(const ColorOptions& o) {
     all.min_batch = batches ? std::min(all.min_batch, s.min_batch) : s.min_batch;
     all.max_batch = std::max(all.max_batch, s.max_batch);
     batches += s.num_colors - s.num_wide;
-  });
+  };
+  // The fixed-arity types in solver order.
+  color_type(world.constraints<StretchConstraint<double>>());
+  color_type(world.constraints<AnchorConstraint<double>>());
+  color_type(world.constraints<BendingConstraint<double>>());
+  color_type(world.constraints<AreaConstraint<double>>());
   if (batches) {
     all.mean_batch = double(all.num_items - all.num_wide) / double(batches);
     all.max_over_mean = all.max_batch / all.mean_batch;

@@ -1,6 +1,7 @@
 // `pbd run SCENE`: steps a scene and writes its frames as OBJ files; prints the time per step and, for every
 // volume constraint, the volume reached against its target.
 #include "commands.hpp"
+#include "pbd/io/build_world.hpp"
 #include "pbd/io/frame_writer.hpp"
 #include "pbd/metrics.hpp"
 #include "scene_dir.hpp"
@@ -28,7 +29,7 @@ struct RunOptions {
 };
 
 template <class Real> void run(const Scene& scene, const RunOptions& o, int steps) {
-  World<Real> world(scene.world);
+  World<Real> world = build_world<Real>(scene.world);
   StepParams<Real> params = world.params();
   params.solver = *parse_solver(o.solver);
   world.set_params(params);
@@ -48,10 +49,12 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     write_obj_frame(dir / name, world, topology);
     ++written;
   };
-  const auto& c = world.constraints();
+  const VolumeConstraints<Real>& volumes = world.volumes();
   std::printf("# scene %s: %u particles; constraints: %zu stretch, %zu bending, %zu area, %zu volume, %zu anchor\n",
-              scene.name.c_str(), world.num_particles(), c.stretch.size(), c.bending.size(), c.area.size(),
-              c.volume.size(), c.anchor.size());
+              scene.name.c_str(), world.num_particles(), world.template constraints<StretchConstraint<Real>>().size(),
+              world.template constraints<BendingConstraint<Real>>().size(),
+              world.template constraints<AreaConstraint<Real>>().size(), volumes.size(),
+              world.template constraints<AnchorConstraint<Real>>().size());
   std::printf("# solver %s on %d threads, %s, dt %.6g s, %d substeps x %d iterations, %d steps\n", o.solver.c_str(),
               tbb::this_task_arena::max_concurrency(), sizeof(Real) == 4 ? "float" : "double", double(params.dt),
               params.substeps, params.iterations, steps);
@@ -78,9 +81,9 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
   const Violation v = stretch_violation(world);
   if (v.count) std::printf("stretch error: rms %.3e, max %.3e (relative)\n", v.rms, v.max);
   const Matrix3X<Real> x = world.positions();
-  for (std::size_t i = 0; i < c.volume.size(); ++i) {
-    const auto& vc = c.volume.items[i];
-    const std::span<const std::array<Index, 3>> tris(c.volume.triangles.data() + vc.triangle_begin,
+  for (std::size_t i = 0; i < volumes.size(); ++i) {
+    const auto& vc = volumes.items[i];
+    const std::span<const std::array<Index, 3>> tris(volumes.triangles.data() + vc.triangle_begin,
                                                      vc.triangle_end - vc.triangle_begin);
     const double target = double(vc.rest) * vc.pressure.at(world.time());
     const double now = double(six_volume<Real>(tris, x));

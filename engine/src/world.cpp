@@ -79,6 +79,29 @@ template <class Real> Index World<Real>::add_particles(const Positions& position
   return first;
 }
 
+template <class Real>
+Index World<Real>::add_particles_by_inverse_mass(const Positions& positions, const VectorX<Real>& inverse_masses) {
+  const Index first = num_particles();
+  if (positions.cols() != inverse_masses.size())
+    throw Error(detail::message("add_particles_by_inverse_mass: ", positions.cols(), " positions but ",
+                                inverse_masses.size(), " inverse masses"));
+  for (Eigen::Index j = 0; j < positions.cols(); ++j) {
+    if (!finite<Real>(positions.col(j)))
+      throw Error(detail::message("add_particles_by_inverse_mass: particle ", first + j, ": position is not finite"));
+    if (!std::isfinite(inverse_masses[j]) || !(inverse_masses[j] >= Real(0)))
+      throw Error(detail::message("add_particles_by_inverse_mass: particle ", first + j,
+                                  ": inverse mass must be finite and >= 0 (0 = pinned), got ", inverse_masses[j]));
+  }
+  const Eigen::Index n = first + positions.cols();
+  x_.conservativeResize(3, n);
+  v_.conservativeResize(3, n);
+  w_.conservativeResize(n);
+  x_.rightCols(positions.cols()) = positions;
+  v_.rightCols(positions.cols()).setZero();
+  w_.tail(positions.cols()) = inverse_masses;
+  return first;
+}
+
 template <class Real> void World<Real>::set_mass(Index particle, Real mass) {
   check_particle(particle, "set_mass: particle", particle);
   check_mass(mass, "set_mass", particle);
@@ -224,6 +247,11 @@ template <class Real> void World<Real>::set_params(const StepParams<Real>& p) {
     throw Error(detail::message("set_params: jacobi_omega must be in (0, 2), got ", p.jacobi_omega));
   if (name(p.solver) == "?") throw Error("set_params: unknown solver");
   params_ = p;
+}
+
+template <class Real> void World<Real>::set_time(double seconds) {
+  if (!std::isfinite(seconds)) throw Error(detail::message("set_time: time must be finite, got ", seconds));
+  time_ = seconds;
 }
 
 template <class Real> void World<Real>::step() { advance(nullptr); }
@@ -443,72 +471,7 @@ template <class Real> void World<Real>::remove_particle(Index particle) {
   colored_.invalidate();   // a particle became pinned: conflicts changed
 }
 
-// A value finite in one precision may overflow in the other (1e300 as float): name the first one that did.
-template <class Real> void World<Real>::check_converted() const {
-  auto bad = [](const std::string& what) { throw Error("World: converting precision, " + what + " is not finite (out of range)"); };
-  for (Eigen::Index i = 0; i < x_.cols(); ++i) {
-    if (!x_.col(i).allFinite()) bad(detail::message("the position of particle ", i));
-    if (!v_.col(i).allFinite()) bad(detail::message("the velocity of particle ", i));
-    if (!std::isfinite(w_[i])) bad(detail::message("the inverse mass of particle ", i));
-  }
-  const auto& c = constraints_;
-  for (std::size_t i = 0; i < c.stretch.size(); ++i)
-    if (!std::isfinite(c.stretch[i].rest)) bad(detail::message("the rest length of stretch constraint ", i));
-  for (std::size_t i = 0; i < c.anchor.size(); ++i)
-    if (!c.anchor[i].target.allFinite()) bad(detail::message("the target of anchor ", i));
-  for (std::size_t i = 0; i < c.area.size(); ++i)
-    if (!std::isfinite(c.area[i].rest)) bad(detail::message("the rest area of area constraint ", i));
-  for (std::size_t i = 0; i < c.volume.items.size(); ++i)
-    if (!std::isfinite(c.volume.items[i].rest)) bad(detail::message("the rest volume of volume constraint ", i));
-  for (std::size_t i = 0; i < colliders_.planes.size(); ++i)
-    if (!std::isfinite(colliders_.planes[i].offset)) bad(detail::message("the offset of plane ", i));
-  for (std::size_t i = 0; i < colliders_.spheres.size(); ++i)
-    if (!colliders_.spheres[i].center.allFinite() || !std::isfinite(colliders_.spheres[i].radius))
-      bad(detail::message("sphere ", i));
-  if (!params_.gravity.allFinite() || !std::isfinite(params_.dt) || !std::isfinite(params_.damping))
-    bad("a step parameter (dt, gravity or damping)");
-}
-
 template class World<float>;
 template class World<double>;
-
-}  // namespace pbd
-
-namespace pbd {
-
-template <class Real>
-template <class Other>
-World<Real>::World(const World<Other>& o)
-    : x_(o.x_.template cast<Real>()), v_(o.v_.template cast<Real>()), w_(o.w_.template cast<Real>()) {
-  if (!o.custom_.empty())
-    throw Error("World: a world with user-defined constraint types cannot be converted to another precision");
-  constraints_.sets = o.constraints_.sets;
-  for (const auto& c : o.constraints_.stretch) constraints_.stretch.push_back({c.particles, c.set, Real(c.rest)});
-  for (const auto& c : o.constraints_.anchor)
-    constraints_.anchor.push_back({c.particles, c.set, c.target.template cast<Real>()});
-  for (const auto& c : o.constraints_.bending) constraints_.bending.push_back({c.particles, c.set, Real(c.rest)});
-  for (const auto& c : o.constraints_.area) constraints_.area.push_back({c.particles, c.set, Real(c.rest)});
-  const auto& ov = o.constraints_.volume;
-  auto& v = constraints_.volume;
-  v.triangles = ov.triangles;
-  v.particles = ov.particles;
-  v.ring_offsets = ov.ring_offsets;
-  v.ring = ov.ring;
-  for (const auto& c : ov.items)
-    v.items.push_back({c.set, c.triangle_begin, c.triangle_end, c.row_begin, c.row_end, Real(c.rest), c.pressure});
-  time_ = o.time_;
-  for (const auto& pl : o.colliders_.planes)
-    colliders_.planes.push_back({pl.normal.template cast<Real>(), Real(pl.offset)});
-  for (const auto& s : o.colliders_.spheres)
-    colliders_.spheres.push_back({s.center.template cast<Real>(), Real(s.radius)});
-  params_ = {Real(o.params_.dt), o.params_.substeps, o.params_.iterations, o.params_.gravity.template cast<Real>(),
-             Real(o.params_.damping), Real(o.params_.collision_margin), o.params_.solver, Real(o.params_.jacobi_omega)};
-  coloring_ = o.coloring_;
-  parallel_ = o.parallel_;
-  check_converted();
-}
-
-template World<float>::World(const World<double>&);
-template World<double>::World(const World<float>&);
 
 }  // namespace pbd

@@ -14,7 +14,7 @@ FrameTopology frame_topology(const World<Real>& world, const std::vector<std::ar
   std::vector<std::uint8_t> on_surface(world.num_particles(), 0);
   for (const auto& tri : triangles)
     for (Index i : tri) on_surface[i] = 1;
-  for (const auto& c : world.constraints().stretch)
+  for (const auto& c : world.template constraints<StretchConstraint<Real>>())
     if (!on_surface[c.particles[0]] && !on_surface[c.particles[1]]) t.lines.push_back(c.particles);
   return t;
 }

@@ -10,7 +10,7 @@ template <class Real> Body add_cloth(World<Real>& world, const ClothOptions& o, 
   if (o.resolution < 2) throw Error(detail::message("add_cloth: resolution must be >= 2, got ", o.resolution));
   if (!(o.size > 0.0) || !std::isfinite(o.size)) throw Error(detail::message("add_cloth: size must be > 0"));
   if (!(o.mass > 0.0) || !std::isfinite(o.mass)) throw Error(detail::message("add_cloth: mass must be > 0"));
-  if (stretch_set && *stretch_set >= world.constraints().sets.size())
+  if (stretch_set && *stretch_set >= world.constraint_sets().size())
     throw Error(detail::message("add_cloth: constraint set ", *stretch_set, " does not exist"));
   const Index n = Index(o.resolution);
   const Real m = Real(o.mass / double(n * n));
@@ -53,7 +53,7 @@ template <class Real> Body add_rope(World<Real>& world, const RopeOptions& o, st
   if (!(o.length > 0.0) || !std::isfinite(o.length)) throw Error("add_rope: length must be > 0");
   if (!(o.mass > 0.0) || !std::isfinite(o.mass)) throw Error("add_rope: mass must be > 0");
   if (!(o.end_mass > 0.0) || !std::isfinite(o.end_mass)) throw Error("add_rope: end_mass must be > 0");
-  if (stretch_set && *stretch_set >= world.constraints().sets.size())
+  if (stretch_set && *stretch_set >= world.constraint_sets().size())
     throw Error(detail::message("add_rope: constraint set ", *stretch_set, " does not exist"));
   const Eigen::Vector3d dir(o.direction[0], o.direction[1], o.direction[2]);
   if (!(dir.norm() > 0.0) || !dir.allFinite()) throw Error("add_rope: direction must be non-zero and finite");

@@ -2,6 +2,7 @@
 
 #include "json_reader.hpp"
 #include "message.hpp"
+#include "pbd/io/describe_world.hpp"
 #include "pbd/io/generators.hpp"
 #include "pbd/io/mesh_body.hpp"
 #include "pbd/io/mesh_generators.hpp"
@@ -296,6 +297,9 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   const nlohmann::json root = detail::parse_json(text, source);
   const std::string& f = source;
   const JsonObject o(root, f, "");
+  // The world is built in double as the scene is read: World validates every item (its errors get the file and key
+  // path in front, at_path) and computes the rest values; the scene keeps its description.
+  World<double> world;
   Scene scene;
   scene.source = source;
   scene.name = o.string("name");
@@ -308,27 +312,28 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   p.gravity = vec(o.vec3("gravity", {0.0, 0.0, -9.81}));
   p.damping = o.number("damping", 0.0, 1e6, 0.0);
   p.collision_margin = o.number("collision_margin", 0.0, 1e6, p.collision_margin);
-  at_path(f, "", [&] { scene.world.set_params(p); });
+  at_path(f, "", [&] { world.set_params(p); });
   for (const auto& [v, path] : o.array("bodies")) {
     at_path(f, path, [&, &v = v, &path = path] {
       const JsonObject b(*v, f, path);
       const std::string type = b.string("type");
       Body body;
-      if (type == "cloth") body = read_cloth(b, scene.world);
-      else if (type == "rope") body = read_rope(b, scene.world);
-      else if (type == "particles") body = read_particles(b, scene.world);
-      else if (type == "mesh") body = read_mesh(b, scene.world);
+      if (type == "cloth") body = read_cloth(b, world);
+      else if (type == "rope") body = read_rope(b, world);
+      else if (type == "particles") body = read_particles(b, world);
+      else if (type == "mesh") body = read_mesh(b, world);
       else b.fail("type", message("unknown body type ", detail::quoted(type),
                                   " (expected \"cloth\", \"rope\", \"particles\" or \"mesh\")"));
-      read_anchors(b, scene.world, body);
+      read_anchors(b, world, body);
       b.reject_unknown_keys();
       scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());
     });
   }
   if (o.has("colliders"))
     for (const auto& [v, path] : o.array("colliders"))
-      at_path(f, path, [&, &v = v, &path = path] { read_collider(*v, f, path, scene.world); });
+      at_path(f, path, [&, &v = v, &path = path] { read_collider(*v, f, path, world); });
   o.reject_unknown_keys();
+  scene.world = describe_world(world);
   return scene;
 }
 

@@ -39,7 +39,7 @@ World<double> blob(unsigned seed, int level = 1) {
 TEST(Volume, GradientMatchesFiniteDifferences) {
   for (unsigned seed : {1u, 2u, 3u}) {
     World<double> w = blob(seed);
-    const auto& v = w.constraints().volume;
+    const auto& v = w.volumes();
     Matrix3X<double> x = w.positions();
     x.colwise() += Eigen::Vector3d(0.3, -2, 1);  // away from the origin
     const Matrix3X<double> g = ring_gradient(v, x);
@@ -76,9 +76,9 @@ TEST(Volume, ConservesLinearMomentumWithEqualAndUnequalMasses) {
     const Matrix3X<double> before = p;
     std::vector<double> lambda(1, 0.0);
     VolumeScratch<double> scratch;
-    scratch.target = {2.0 * w.constraints().volume.items[0].rest};
+    scratch.target = {2.0 * w.volumes().items[0].rest};
     const SolveCoefficients<double> coeff[1] = {{1, 0}};
-    project_volumes<double>(w.constraints().volume, coeff, p.data(), inv.data(), lambda, scratch);
+    project_volumes<double>(w.volumes(), coeff, p.data(), inv.data(), lambda, scratch);
     Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
     double scale = 0;
     for (Index i = 0; i < w.num_particles(); ++i) {
@@ -122,7 +122,7 @@ template <class Real> World<Real> inflating_dodecahedron(Solver solver) {
 TEST(Volume, DodecahedronReachesItsTargetWithinOnePercentAndStaysThere) {
   for (Solver s : {Solver::serial, Solver::serial_colored, Solver::colored, Solver::jacobi}) {
     World<float> w = inflating_dodecahedron<float>(s);
-    const auto& v = w.constraints().volume;
+    const auto& v = w.volumes();
     const double v0 = v.items[0].rest;
     double worst = 0;
     for (int k = 0; k < 180; ++k) {  // 3 s
@@ -162,7 +162,7 @@ TEST(VolumeGuards, OpenNonManifoldAndMisorientedMeshesAreRejectedNamingTheEdge) 
   doubled.insert(doubled.end(), m.triangles.begin(), m.triangles.begin() + 1);
   doubled.push_back({m.triangles[0][1], m.triangles[0][0], m.triangles[0][2]});
   expect(doubled, "manifold");
-  EXPECT_TRUE(w.constraints().volume.empty());
+  EXPECT_TRUE(w.volumes().empty());
 }
 
 TEST(VolumeGuards, FlatAndInsideOutMeshesAreRejected) {
@@ -206,11 +206,11 @@ template <class Real> void squash_and_step(const char* how, Solver solver) {
   if (h == "flat") x.row(2).setZero();
   if (h == "inverted") x.row(0) *= Real(-1);
   if (h == "collapsed") x.colwise() = Vec3<Real>(1, 2, 3);
-  const Real before = six_volume<Real>(w.constraints().volume.triangles, Matrix3X<Real>(x));
+  const Real before = six_volume<Real>(w.volumes().triangles, Matrix3X<Real>(x));
   for (int k = 0; k < 5; ++k) w.step();
   ASSERT_TRUE(w.positions().allFinite()) << how << " " << name(solver);
-  const Real after = six_volume<Real>(w.constraints().volume.triangles, Matrix3X<Real>(w.positions()));
-  const Real rest = w.constraints().volume.items[0].rest;
+  const Real after = six_volume<Real>(w.volumes().triangles, Matrix3X<Real>(w.positions()));
+  const Real rest = w.volumes().items[0].rest;
   if (h == "collapsed") {
     EXPECT_EQ(after, before) << "nothing can move a mesh collapsed to a point";
   } else {
@@ -259,7 +259,7 @@ TEST(VolumeGuards, OneCentimetreTetrahedronIsKept) {
   p.gravity.setZero();
   w.set_params(p);
   w.step();
-  EXPECT_NEAR(six_volume<double>(tris, w.positions()) / w.constraints().volume.items[0].rest, 1.0, 1e-3);
+  EXPECT_NEAR(six_volume<double>(tris, w.positions()) / w.volumes().items[0].rest, 1.0, 1e-3);
 }
 
 }  // namespace

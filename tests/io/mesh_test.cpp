@@ -62,10 +62,10 @@ TEST(MeshBody, GeneratesOnlyTheRequestedSets) {
   o.pinned = {0};
   const Body b = add_mesh(w, icosphere_mesh(1, 1.0), o, sets);
   EXPECT_EQ(b.num_particles, 42u);
-  EXPECT_TRUE(w.constraints().stretch.empty());
-  EXPECT_EQ(w.constraints().bending.size(), 120u);
-  EXPECT_EQ(w.constraints().area.size(), 80u);
-  EXPECT_TRUE(w.constraints().volume.empty());
+  EXPECT_TRUE(w.constraints<StretchConstraint<double>>().empty());
+  EXPECT_EQ(w.constraints<BendingConstraint<double>>().size(), 120u);
+  EXPECT_EQ(w.constraints<AreaConstraint<double>>().size(), 80u);
+  EXPECT_TRUE(w.volumes().empty());
   EXPECT_EQ(w.inverse_masses()[0], 0.0);
   EXPECT_DOUBLE_EQ(w.inverse_masses()[1], 42.0 / 4.0);
   EXPECT_NEAR(w.positions().row(2).mean(), 2.0, 1e-9);
@@ -109,7 +109,7 @@ TEST_F(ObjFiles, ClosedTetrahedronLoadsAndTakesAVolume) {
   MeshConstraintSets sets;
   sets.volume = w.add_constraint_set(Stiffness::pbd_k(1.0));
   add_mesh(w, m, {}, sets);
-  EXPECT_NEAR(w.constraints().volume.items[0].rest, 1.0, 1e-12);  // 6 × 1/6
+  EXPECT_NEAR(w.volumes().items[0].rest, 1.0, 1e-12);  // 6 × 1/6
 }
 
 TEST_F(ObjFiles, QuadsAreTriangulatedAndNegativeIndicesAreRelative) {

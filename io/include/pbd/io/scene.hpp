@@ -6,7 +6,7 @@
 /// given twice in one object or arrays and objects nested more than 64 deep. Malformed JSON (also a number beyond
 /// double range such as 1e400) names the line and column. Limits, checked before anything is allocated: a scene text
 /// of at most 64 MiB and 50 million particles in all (a body that would pass it is refused by its size key).
-#include "pbd/world.hpp"
+#include "pbd/io/world_description.hpp"
 
 #include <filesystem>
 #include <string>
@@ -14,12 +14,13 @@
 
 namespace pbd {
 
-/// A loaded scene: the world it builds (double precision; convert with World<float>(scene.world)) and metadata.
+/// A loaded scene: the world it describes, without a precision (build it with build_world<Real>(scene.world),
+/// build_world.hpp), and metadata.
 struct Scene {
   std::string name;                              ///< the scene's name
   std::string description;                       ///< one line saying what it shows
   std::string source;                            ///< file it came from (or the name given to parse_scene)
-  World<double> world;                           ///< particles, constraints, colliders and step parameters
+  WorldDescription world;                        ///< particles, constraints with rest values, colliders, step parameters
   int steps = 100;                               ///< the scene's suggested number of steps
   std::vector<std::array<Index, 3>> triangles;   ///< surface triangles of its bodies, for output and pictures
 };
