@@ -1,49 +1,95 @@
 #include "pbd/io/mesh.hpp"
 
+#include "message.hpp"
+#include "pbd/error.hpp"
+
+#include <algorithm>
 #include <cstdint>
-#include <unordered_map>
+#include <limits>
+#include <utility>
 
 namespace pbd {
 namespace {
 
-std::uint64_t key(Index a, Index b) { return (std::uint64_t(a) << 32) | b; }
-std::uint64_t undirected(Index a, Index b) { return a < b ? key(a, b) : key(b, a); }
+// Half-edge h = 3t + k of triangle t runs from t[k] to t[(k + 1) % 3]; its opposite corner is t[(k + 2) % 3].
+Index from(std::span<const std::array<Index, 3>> tris, std::size_t h) { return tris[h / 3][h % 3]; }
+Index to(std::span<const std::array<Index, 3>> tris, std::size_t h) { return tris[h / 3][(h + 1) % 3]; }
+Index opposite(std::span<const std::array<Index, 3>> tris, std::size_t h) { return tris[h / 3][(h + 2) % 3]; }
+
+// Numbers the undirected edges in the order the triangles first name them: edge[h] for every half-edge h. The
+// half-edges are bucketed by their smaller endpoint (a counting sort, so each bucket keeps triangle order) and
+// matched by their larger one inside the bucket. No hashing and no sort of all edges: linear in the triangles, a few
+// compares per half-edge.
+std::vector<std::uint32_t> edge_numbers(std::span<const std::array<Index, 3>> tris, std::uint32_t& edges) {
+  const std::size_t halves = 3 * tris.size();
+  if (halves >= std::numeric_limits<std::uint32_t>::max())
+    throw Error(detail::message("mesh topology: ", tris.size(), " triangles are too many"));
+  Index vertices = 0;
+  for (const auto& t : tris) vertices = std::max({vertices, t[0] + 1, t[1] + 1, t[2] + 1});
+  auto low = [&](std::size_t h) { return std::min(from(tris, h), to(tris, h)); };
+  auto high = [&](std::size_t h) { return std::max(from(tris, h), to(tris, h)); };
+  // bucket v is bucket[begin[v], begin[v + 1]): counted into begin[v + 2], summed, filled through begin[v + 1].
+  std::vector<std::uint32_t> begin(std::size_t(vertices) + 2, 0);
+  for (std::size_t h = 0; h < halves; ++h) ++begin[low(h) + 2];
+  for (std::size_t v = 2; v < begin.size(); ++v) begin[v] += begin[v - 1];
+  std::vector<std::uint32_t> bucket(halves);
+  for (std::size_t h = 0; h < halves; ++h) bucket[begin[low(h) + 1]++] = std::uint32_t(h);
+  // number[h]: first the first half-edge on h's edge, then (in place, in half-edge order) that edge's number.
+  std::vector<std::uint32_t> number(halves);
+  std::vector<std::pair<Index, std::uint32_t>> sorted;  // (larger endpoint, half-edge) of a big bucket
+  for (std::size_t v = 0; v < vertices; ++v) {
+    const std::uint32_t b = begin[v], e = begin[v + 1];
+    if (e - b <= 32) {  // a usual vertex: compare with the earlier half-edges of its bucket
+      for (std::uint32_t i = b; i < e; ++i) {
+        std::uint32_t j = b;
+        while (high(bucket[j]) != high(bucket[i])) ++j;  // stops at i at the latest
+        number[bucket[i]] = bucket[j];
+      }
+    } else {  // a hub (the centre of a large fan): sort its bucket by the other endpoint, ties in triangle order
+      sorted.clear();
+      for (std::uint32_t i = b; i < e; ++i) sorted.emplace_back(high(bucket[i]), bucket[i]);
+      std::sort(sorted.begin(), sorted.end());
+      for (std::size_t i = 0; i < sorted.size(); ++i)
+        number[sorted[i].second] = i > 0 && sorted[i].first == sorted[i - 1].first ? number[sorted[i - 1].second]
+                                                                                     : sorted[i].second;
+    }
+  }
+  edges = 0;
+  for (std::size_t h = 0; h < halves; ++h) number[h] = number[h] == h ? edges++ : number[number[h]];
+  return number;
+}
 
 }  // namespace
 
+MeshTopology mesh_topology(std::span<const std::array<Index, 3>> triangles) {
+  std::uint32_t num_edges = 0;
+  const std::vector<std::uint32_t> number = edge_numbers(triangles, num_edges);
+  MeshTopology m;
+  m.edges.resize(num_edges);
+  // Per edge: how many triangles name it (counted up to 3) and the corners opposite its first two half-edges.
+  std::vector<std::uint8_t> count(num_edges, 0);
+  std::vector<std::array<Index, 2>> opposite_corners(num_edges);
+  for (std::size_t h = 0; h < number.size(); ++h) {
+    const std::uint32_t e = number[h];
+    if (count[e] == 0) m.edges[e] = {from(triangles, h), to(triangles, h)};
+    if (count[e] < 2) opposite_corners[e][count[e]] = opposite(triangles, h);
+    if (count[e] < 3) ++count[e];
+  }
+  std::size_t interior = 0;
+  for (std::uint8_t c : count) interior += c == 2;
+  m.bending_pairs.reserve(interior);
+  for (std::uint32_t e = 0; e < num_edges; ++e)
+    if (count[e] == 2)
+      m.bending_pairs.push_back({m.edges[e][0], m.edges[e][1], opposite_corners[e][0], opposite_corners[e][1]});
+  return m;
+}
+
 std::vector<std::array<Index, 2>> mesh_edges(std::span<const std::array<Index, 3>> triangles) {
-  std::unordered_map<std::uint64_t, Index> seen;
-  seen.reserve(3 * triangles.size());
-  std::vector<std::array<Index, 2>> edges;
-  for (const auto& t : triangles)
-    for (int k = 0; k < 3; ++k) {
-      const Index a = t[k], b = t[(k + 1) % 3];
-      if (seen.emplace(undirected(a, b), Index(edges.size())).second) edges.push_back({a, b});
-    }
-  return edges;
+  return mesh_topology(triangles).edges;
 }
 
 std::vector<std::array<Index, 4>> mesh_bending_pairs(std::span<const std::array<Index, 3>> triangles) {
-  // Per undirected edge, in first-appearance order: its triangles' opposite corners (up to 3 are kept).
-  struct Edge {
-    Index a, b, count = 0;
-    Index opposite[2]{};
-  };
-  std::unordered_map<std::uint64_t, Index> index;
-  std::vector<Edge> edges;
-  for (const auto& t : triangles)
-    for (int k = 0; k < 3; ++k) {
-      const Index a = t[k], b = t[(k + 1) % 3], opp = t[(k + 2) % 3];
-      const auto [it, added] = index.emplace(undirected(a, b), Index(edges.size()));
-      if (added) edges.push_back({a, b});
-      Edge& e = edges[it->second];
-      if (e.count < 2) e.opposite[e.count] = opp;
-      ++e.count;
-    }
-  std::vector<std::array<Index, 4>> pairs;
-  for (const Edge& e : edges)
-    if (e.count == 2) pairs.push_back({e.a, e.b, e.opposite[0], e.opposite[1]});
-  return pairs;
+  return mesh_topology(triangles).bending_pairs;
 }
 
 }  // namespace pbd

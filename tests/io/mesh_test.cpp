@@ -8,7 +8,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <map>
+#include <random>
+#include <utility>
 
 namespace pbd {
 namespace {
@@ -49,6 +53,55 @@ TEST(MeshTopology, EdgesAndBendingPairsOfAGrid) {
   }
   const TriangleMesh s = icosphere_mesh(1, 1.0);
   EXPECT_EQ(mesh_bending_pairs(s.triangles).size(), mesh_edges(s.triangles).size());  // closed: every edge interior
+}
+
+// The definition of mesh_edges and mesh_bending_pairs, written the plain way (one map over undirected edges): every
+// undirected edge once in first-appearance order as its first triangle names it; a bending pair per edge of exactly
+// two triangles, with the corners opposite it in triangle order.
+struct ReferenceTopology {
+  std::vector<std::array<Index, 2>> edges;
+  std::vector<std::array<Index, 4>> pairs;
+  explicit ReferenceTopology(const std::vector<std::array<Index, 3>>& tris) {
+    std::map<std::pair<Index, Index>, std::size_t> index;
+    std::vector<std::vector<Index>> opposite;
+    for (const auto& t : tris)
+      for (int k = 0; k < 3; ++k) {
+        const Index a = t[k], b = t[(k + 1) % 3];
+        const auto [it, added] = index.emplace(std::minmax(a, b), edges.size());
+        if (added) {
+          edges.push_back({a, b});
+          opposite.emplace_back();
+        }
+        opposite[it->second].push_back(t[(k + 2) % 3]);
+      }
+    for (std::size_t e = 0; e < edges.size(); ++e)
+      if (opposite[e].size() == 2) pairs.push_back({edges[e][0], edges[e][1], opposite[e][0], opposite[e][1]});
+  }
+};
+
+TEST(MeshTopology, EdgesAndBendingPairsComeInTheOrderOfTheirDefinition) {
+  std::vector<std::vector<std::array<Index, 3>>> meshes = {
+      grid_mesh(7, 1.0).triangles, icosphere_mesh(3, 1.0).triangles, dodecahedron_mesh(1.0).triangles,
+      tube_mesh(100, 3, 0.1, 1.0, true).triangles,  // the caps' centres are hubs of 200 half-edges
+      load_obj(std::filesystem::path(PBD_TEST_SCENE_DIR) / "meshes" / "pig.obj").triangles};
+  // Non-manifold: fins on a tetrahedron's edge, a duplicated triangle, flipped triangles, unused vertex indices.
+  meshes.push_back({{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 1, 4}, {1, 0, 5}, {0, 1, 4}, {9, 7, 8}, {7, 9, 8}});
+  std::mt19937 rng(3);  // triangle soup on few vertices: many edges shared by 3 or more triangles
+  std::vector<std::array<Index, 3>> soup;
+  for (int i = 0; i < 3000; ++i) {
+    const Index a = rng() % 40, b = (a + 1 + rng() % 39) % 40;
+    Index c = rng() % 40;
+    while (c == a || c == b) c = rng() % 40;
+    soup.push_back({a, b, c});
+  }
+  meshes.push_back(soup);
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    const ReferenceTopology reference(meshes[m]);
+    EXPECT_EQ(mesh_edges(meshes[m]), reference.edges) << "mesh " << m;
+    EXPECT_EQ(mesh_bending_pairs(meshes[m]), reference.pairs) << "mesh " << m;
+  }
+  EXPECT_TRUE(mesh_edges({}).empty());
+  EXPECT_TRUE(mesh_bending_pairs({}).empty());
 }
 
 TEST(MeshBody, GeneratesOnlyTheRequestedSets) {

@@ -20,6 +20,15 @@ struct TriangleMesh {
   Index num_vertices() const { return Index(positions.cols()); }
 };
 
+/// The edges and the bending pairs of a mesh (what mesh_edges and mesh_bending_pairs give), found together.
+struct MeshTopology {
+  std::vector<std::array<Index, 2>> edges;          ///< as mesh_edges
+  std::vector<std::array<Index, 4>> bending_pairs;  ///< as mesh_bending_pairs
+};
+
+/// mesh_edges and mesh_bending_pairs of `triangles` in one pass over them.
+MeshTopology mesh_topology(std::span<const std::array<Index, 3>> triangles);
+
 /// Every undirected edge once, as (first, second) in the order the triangles first name it.
 std::vector<std::array<Index, 2>> mesh_edges(std::span<const std::array<Index, 3>> triangles);
 
