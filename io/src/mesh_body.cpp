@@ -2,30 +2,58 @@
 
 #include "message.hpp"
 #include "pbd/closed_mesh.hpp"
+#include "pbd/io/description_builder.hpp"
 
 #include <cmath>
 
 namespace pbd {
 
-template <class Real>
-void add_mesh_constraints(World<Real>& world, std::span<const std::array<Index, 3>> triangles,
+namespace {
+
+// Room for `more` constraints of a kind, where the world can make it (the description builder can).
+template <class Target> void reserve_stretch(Target& w, std::size_t more) {
+  if constexpr (requires { w.reserve_stretch(more); }) w.reserve_stretch(more);
+}
+template <class Target> void reserve_bending(Target& w, std::size_t more) {
+  if constexpr (requires { w.reserve_bending(more); }) w.reserve_bending(more);
+}
+template <class Target> void reserve_area(Target& w, std::size_t more) {
+  if constexpr (requires { w.reserve_area(more); }) w.reserve_area(more);
+}
+
+}  // namespace
+
+template <class Target>
+void add_mesh_constraints(Target& world, std::span<const std::array<Index, 3>> triangles,
                           const MeshConstraintSets& sets) {
-  if (sets.stretch)
-    for (const auto& e : mesh_edges(triangles)) world.add_stretch(e[0], e[1], *sets.stretch);
-  if (sets.bending)
-    for (const auto& b : mesh_bending_pairs(triangles)) {
-      // A pair that is degenerate at rest (collinear corners) has no rest angle: it gets no bending constraint.
-      const auto x = world.positions();
-      if (dihedral_angle<Real>(x.col(b[0]), x.col(b[1]), x.col(b[2]), x.col(b[3])) < Real(0)) continue;
-      world.add_bending(b[0], b[1], b[2], b[3], *sets.bending);
+  using Real = typename Target::Positions::Scalar;
+  const MeshTopology topology = sets.stretch || sets.bending ? mesh_topology(triangles) : MeshTopology{};
+  if (sets.stretch) {
+    reserve_stretch(world, topology.edges.size());
+    for (const auto& e : topology.edges) world.add_stretch(e[0], e[1], *sets.stretch);
+  }
+  if (sets.bending) {
+    const auto& pairs = topology.bending_pairs;
+    reserve_bending(world, pairs.size());
+    const auto& x = world.positions();
+    for (const auto& b : pairs) {
+      // A pair that is degenerate at rest (collinear corners) has no rest angle: it gets no bending constraint. The
+      // others get the angle computed here, which is the one World would compute for them.
+      const Real angle = dihedral_angle<Real>(x.col(b[0]), x.col(b[1]), x.col(b[2]), x.col(b[3]));
+      if (angle < Real(0)) continue;
+      world.add_bending(b[0], b[1], b[2], b[3], *sets.bending, angle);
     }
-  if (sets.area)
+  }
+  if (sets.area) {
+    reserve_area(world, triangles.size());
     for (const auto& t : triangles) world.add_area(t[0], t[1], t[2], *sets.area);
+  }
   if (sets.volume) world.add_volume(triangles, *sets.volume, sets.pressure);
 }
 
-template <class Real>
-Body add_mesh(World<Real>& world, const TriangleMesh& mesh, const MeshBodyOptions& o, const MeshConstraintSets& sets) {
+template <class Target>
+Body add_mesh(Target& world, const TriangleMesh& mesh, const MeshBodyOptions& o, const MeshConstraintSets& sets) {
+  using Real = typename Target::Positions::Scalar;
   const Index n = mesh.num_vertices();
   if (n == 0) throw Error("add_mesh: the mesh has no vertices");
   if (!(o.scale > 0.0) || !std::isfinite(o.scale)) throw Error("add_mesh: scale must be finite and > 0");
@@ -40,7 +68,7 @@ Body add_mesh(World<Real>& world, const TriangleMesh& mesh, const MeshBodyOption
   const Eigen::Vector3d origin(o.origin[0], o.origin[1], o.origin[2]);
   Matrix3X<Real> x = ((mesh.positions * o.scale).colwise() + origin).template cast<Real>();
   VectorX<Real> mass = VectorX<Real>::Constant(n, Real(o.mass / double(n)));
-  for (Index i : o.pinned) mass[i] = World<Real>::kPinned;
+  for (Index i : o.pinned) mass[i] = Target::kPinned;
   Body body;
   body.first_particle = world.add_particles(x, mass);
   body.num_particles = n;
@@ -55,5 +83,7 @@ template void add_mesh_constraints(World<float>&, std::span<const std::array<Ind
 template void add_mesh_constraints(World<double>&, std::span<const std::array<Index, 3>>, const MeshConstraintSets&);
 template Body add_mesh(World<float>&, const TriangleMesh&, const MeshBodyOptions&, const MeshConstraintSets&);
 template Body add_mesh(World<double>&, const TriangleMesh&, const MeshBodyOptions&, const MeshConstraintSets&);
+template void add_mesh_constraints(DescriptionBuilder&, std::span<const std::array<Index, 3>>, const MeshConstraintSets&);
+template Body add_mesh(DescriptionBuilder&, const TriangleMesh&, const MeshBodyOptions&, const MeshConstraintSets&);
 
 }  // namespace pbd
