@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <random>
 #include <utility>
 
@@ -102,6 +103,62 @@ TEST(MeshTopology, EdgesAndBendingPairsComeInTheOrderOfTheirDefinition) {
   }
   EXPECT_TRUE(mesh_edges({}).empty());
   EXPECT_TRUE(mesh_bending_pairs({}).empty());
+}
+
+// closed_mesh_defect's definition written the plain way (a map of directed edges): the first half-edge in triangle
+// order whose edge is not used exactly once in each direction, and why.
+std::optional<std::string> reference_defect(const std::vector<std::array<Index, 3>>& tris) {
+  std::map<std::pair<Index, Index>, Index> directed;
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) {
+      const Index a = t[k], b = t[(k + 1) % 3];
+      const Index forward = directed[{a, b}], backward = directed[{b, a}];
+      if (forward == 1 && backward == 1) continue;
+      const std::string edge = "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")";
+      if (forward + backward == 1) return edge + " belongs to one triangle only: the mesh is open";
+      if (forward + backward > 2)
+        return edge + " is shared by " + std::to_string(forward + backward) + " triangles: the mesh is not manifold";
+      return edge + " is used twice in the same direction: the triangles are not consistently oriented";
+    }
+  return std::nullopt;
+}
+
+TEST(ClosedMesh, EveryDefectIsTheFirstInTriangleOrderAsItsDefinitionFindsIt) {
+  std::vector<std::vector<std::array<Index, 3>>> meshes = {
+      icosphere_mesh(3, 1.0).triangles, dodecahedron_mesh(1.0).triangles, tube_mesh(100, 3, 0.1, 1.0, true).triangles,
+      tube_mesh(100, 3, 0.1, 1.0, false).triangles, grid_mesh(5, 1.0).triangles,
+      load_obj(std::filesystem::path(PBD_TEST_SCENE_DIR) / "meshes" / "pig.obj").triangles};
+  const std::vector<std::array<Index, 3>> tetra = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  meshes.push_back(tetra);
+  auto with = [&](std::vector<std::array<Index, 3>> extra) {
+    std::vector<std::array<Index, 3>> m = tetra;
+    m.insert(m.end(), extra.begin(), extra.end());
+    return m;
+  };
+  meshes.push_back(with({{0, 1, 4}}));             // a fin: shared by 3
+  meshes.push_back(with({{0, 2, 1}}));             // a triangle twice: same direction twice
+  meshes.push_back({{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 3, 2}});  // one triangle flipped
+  std::vector<std::array<Index, 3>> soup;
+  std::mt19937 rng(8);
+  for (int i = 0; i < 400; ++i) {
+    const Index a = rng() % 12, b = (a + 1 + rng() % 11) % 12;
+    Index c = rng() % 12;
+    while (c == a || c == b) c = rng() % 12;
+    soup.push_back({a, b, c});
+  }
+  meshes.push_back(soup);
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    EXPECT_EQ(closed_mesh_defect(meshes[m], 1'000'000), reference_defect(meshes[m])) << "mesh " << m;
+    // The same mesh on particles spread far apart (the sparse path) and shifted (the dense path with an offset).
+    for (const auto& [scale, shift] : {std::pair<Index, Index>{997, 3}, std::pair<Index, Index>{1, 5000}}) {
+      auto spread = meshes[m];
+      for (auto& t : spread)
+        for (Index& i : t) i = i * scale + shift;
+      EXPECT_EQ(closed_mesh_defect(spread, 100'000'000), reference_defect(spread)) << "mesh " << m << " x" << scale;
+    }
+  }
 }
 
 TEST(MeshBody, GeneratesOnlyTheRequestedSets) {
