@@ -1,5 +1,6 @@
 #include "pbd/io/mesh.hpp"
 
+#include "edge_table.hpp"
 #include "message.hpp"
 #include "pbd/error.hpp"
 
@@ -11,10 +12,8 @@
 namespace pbd {
 namespace {
 
-// Half-edge h = 3t + k of triangle t runs from t[k] to t[(k + 1) % 3]; its opposite corner is t[(k + 2) % 3].
-Index from(std::span<const std::array<Index, 3>> tris, std::size_t h) { return tris[h / 3][h % 3]; }
-Index to(std::span<const std::array<Index, 3>> tris, std::size_t h) { return tris[h / 3][(h + 1) % 3]; }
-Index opposite(std::span<const std::array<Index, 3>> tris, std::size_t h) { return tris[h / 3][(h + 2) % 3]; }
+using detail::half_edge_from;
+using detail::half_edge_to;
 
 // Numbers the undirected edges in the order the triangles first name them: edge[h] for every half-edge h. The
 // half-edges are bucketed by their smaller endpoint (a counting sort, so each bucket keeps triangle order) and
@@ -26,8 +25,8 @@ std::vector<std::uint32_t> edge_numbers(std::span<const std::array<Index, 3>> tr
     throw Error(detail::message("mesh topology: ", tris.size(), " triangles are too many"));
   Index vertices = 0;
   for (const auto& t : tris) vertices = std::max({vertices, t[0] + 1, t[1] + 1, t[2] + 1});
-  auto low = [&](std::size_t h) { return std::min(from(tris, h), to(tris, h)); };
-  auto high = [&](std::size_t h) { return std::max(from(tris, h), to(tris, h)); };
+  auto low = [&](std::size_t h) { return std::min(half_edge_from(tris, h), half_edge_to(tris, h)); };
+  auto high = [&](std::size_t h) { return std::max(half_edge_from(tris, h), half_edge_to(tris, h)); };
   // bucket v is bucket[begin[v], begin[v + 1]): counted into begin[v + 2], summed, filled through begin[v + 1].
   std::vector<std::uint32_t> begin(std::size_t(vertices) + 2, 0);
   for (std::size_t h = 0; h < halves; ++h) ++begin[low(h) + 2];
@@ -61,26 +60,38 @@ std::vector<std::uint32_t> edge_numbers(std::span<const std::array<Index, 3>> tr
 
 }  // namespace
 
-MeshTopology mesh_topology(std::span<const std::array<Index, 3>> triangles) {
+namespace detail {
+
+EdgeTable edge_table(std::span<const std::array<Index, 3>> triangles) {
   std::uint32_t num_edges = 0;
   const std::vector<std::uint32_t> number = edge_numbers(triangles, num_edges);
-  MeshTopology m;
-  m.edges.resize(num_edges);
-  // Per edge: how many triangles name it (counted up to 3) and the corners opposite its first two half-edges.
-  std::vector<std::uint8_t> count(num_edges, 0);
-  std::vector<std::array<Index, 2>> opposite_corners(num_edges);
+  EdgeTable t;
+  t.first.resize(num_edges);
+  t.second.resize(num_edges);
+  t.count.assign(num_edges, 0);
   for (std::size_t h = 0; h < number.size(); ++h) {
     const std::uint32_t e = number[h];
-    if (count[e] == 0) m.edges[e] = {from(triangles, h), to(triangles, h)};
-    if (count[e] < 2) opposite_corners[e][count[e]] = opposite(triangles, h);
-    if (count[e] < 3) ++count[e];
+    if (t.count[e] == 0) t.first[e] = std::uint32_t(h);
+    else if (t.count[e] == 1) t.second[e] = std::uint32_t(h);
+    if (t.count[e] < 3) ++t.count[e];
   }
+  return t;
+}
+
+}  // namespace detail
+
+MeshTopology mesh_topology(std::span<const std::array<Index, 3>> triangles) {
+  const detail::EdgeTable t = detail::edge_table(triangles);
+  MeshTopology m;
+  m.edges.reserve(t.size());
   std::size_t interior = 0;
-  for (std::uint8_t c : count) interior += c == 2;
+  for (std::size_t e = 0; e < t.size(); ++e) {
+    m.edges.push_back(t.edge(triangles, e));
+    interior += t.count[e] == 2;
+  }
   m.bending_pairs.reserve(interior);
-  for (std::uint32_t e = 0; e < num_edges; ++e)
-    if (count[e] == 2)
-      m.bending_pairs.push_back({m.edges[e][0], m.edges[e][1], opposite_corners[e][0], opposite_corners[e][1]});
+  for (std::size_t e = 0; e < t.size(); ++e)
+    if (t.count[e] == 2) m.bending_pairs.push_back(t.pair(triangles, e));
   return m;
 }
 

@@ -1,5 +1,6 @@
 #include "pbd/io/mesh_body.hpp"
 
+#include "edge_table.hpp"
 #include "message.hpp"
 #include "pbd/closed_mesh.hpp"
 #include "pbd/io/description_builder.hpp"
@@ -27,16 +28,22 @@ template <class Target>
 void add_mesh_constraints(Target& world, std::span<const std::array<Index, 3>> triangles,
                           const MeshConstraintSets& sets) {
   using Real = typename Target::Positions::Scalar;
-  const MeshTopology topology = sets.stretch || sets.bending ? mesh_topology(triangles) : MeshTopology{};
+  const detail::EdgeTable edges = sets.stretch || sets.bending ? detail::edge_table(triangles) : detail::EdgeTable{};
   if (sets.stretch) {
-    reserve_stretch(world, topology.edges.size());
-    for (const auto& e : topology.edges) world.add_stretch(e[0], e[1], *sets.stretch);
+    reserve_stretch(world, edges.size());
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      const auto [a, b] = edges.edge(triangles, e);
+      world.add_stretch(a, b, *sets.stretch);
+    }
   }
   if (sets.bending) {
-    const auto& pairs = topology.bending_pairs;
-    reserve_bending(world, pairs.size());
+    std::size_t interior = 0;
+    for (std::uint8_t c : edges.count) interior += c == 2;
+    reserve_bending(world, interior);
     const auto& x = world.positions();
-    for (const auto& b : pairs) {
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      if (edges.count[e] != 2) continue;  // bending pairs: edges of exactly two triangles, as mesh_bending_pairs
+      const std::array<Index, 4> b = edges.pair(triangles, e);
       // A pair that is degenerate at rest (collinear corners) has no rest angle: it gets no bending constraint. The
       // others get the angle computed here, which is the one World would compute for them.
       const Real angle = dihedral_angle<Real>(x.col(b[0]), x.col(b[1]), x.col(b[2]), x.col(b[3]));

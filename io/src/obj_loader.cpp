@@ -38,6 +38,14 @@ public:
   explicit ObjScanner(const std::string& source) : source_(source) {}
 
   ObjScan scan(std::string_view text) {
+    // Room for every line being a vertex and every line a face: address space only, as pages are touched when
+    // written; no array is grown and copied while reading.
+    const std::size_t lines = std::size_t(std::count(text.begin(), text.end(), '\n')) + 1;
+    scan_.vertex_line.reserve(lines);
+    scan_.coordinates.reserve(3 * lines);
+    scan_.face_line.reserve(lines);
+    scan_.face_begin.reserve(lines + 1);
+    scan_.refs.reserve(3 * lines);
     scan_.face_begin.push_back(0);
     std::size_t n = 0;
     // Lines end at "\n", "\r\n" or "\r", as tinyobjloader reads them, so the line numbers agree.
