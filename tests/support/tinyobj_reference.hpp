@@ -1,7 +1,8 @@
 #pragma once
 // The mesh tinyobjloader reads from OBJ text, as pbd's loader used to get it: only the 'v' and 'f' statements (every
 // other line left empty, so line numbers agree), no triangulation by tinyobjloader, each polygon then split as a fan
-// from its first vertex. The reference the OBJ tests and the OBJ fuzzer compare load_obj with.
+// from its first vertex. The reference the OBJ tests and the OBJ fuzzer compare load_obj with; only for text load_obj
+// accepts (its checks keep tinyobjloader's integer overflows out).
 #include "pbd/io/mesh.hpp"
 
 #include <tiny_obj_loader.h>
@@ -15,17 +16,27 @@
 
 namespace pbd::test {
 
-/// `text` with every line whose first token (separated by spaces and tabs) is not exactly "v" or "f" emptied; lines
-/// end at "\n", "\r\n" or "\r" and come out ending at "\n".
+/// The text pbd's loader gave tinyobjloader: per line, "v x y z" (the first three values only: tinyobjloader would
+/// read more as a vertex colour) or "f" with the face's references separated by single spaces, every other line left
+/// empty; lines end at "\n", "\r\n" or "\r" and come out ending at "\n".
 inline std::string vertex_and_face_lines(const std::string& text) {
   std::string out;
   for (std::size_t pos = 0; pos < text.size();) {
     const std::size_t end = std::min(text.find_first_of("\r\n", pos), text.size());
     const std::string_view line = std::string_view(text).substr(pos, end - pos);
-    const std::size_t first = line.find_first_not_of(" \t");
-    if (first != std::string_view::npos) {
-      const std::string_view token = line.substr(first, line.find_first_of(" \t", first) - first);
-      if (token == "v" || token == "f") out += line;
+    std::vector<std::string_view> tokens;
+    for (std::size_t at = line.find_first_not_of(" \t"); at != std::string_view::npos;
+         at = line.find_first_not_of(" \t", at)) {
+      const std::size_t stop = std::min(line.find_first_of(" \t", at), line.size());
+      tokens.push_back(line.substr(at, stop - at));
+      at = stop;
+    }
+    if (!tokens.empty() && (tokens[0] == "v" || tokens[0] == "f")) {
+      const std::size_t n = tokens[0] == "v" ? std::min<std::size_t>(tokens.size(), 4) : tokens.size();
+      for (std::size_t k = 0; k < n; ++k) {
+        if (k > 0) out += ' ';
+        out += tokens[k];
+      }
     }
     out += '\n';
     pos = end + (text.compare(end, 2, "\r\n") == 0 ? 2 : 1);
