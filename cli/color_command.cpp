@@ -1,7 +1,8 @@
 // `pbd color SCENE`: colors a scene's constraints the way the colored solver will and prints the statistics
 // (colors, lower bound, batch sizes, time) per constraint type and overall; optionally as JSON.
 #include "commands.hpp"
-#include "pbd/scene.hpp"
+#include "pbd/io/build_world.hpp"
+#include "scene_dir.hpp"
 
 #include <nlohmann/json.hpp>
 #include <pbd/graph_coloring/graph_coloring.hpp>
@@ -30,12 +31,12 @@ nlohmann::json to_json(const coloring::NamedStats& row) {
 }
 
 void run(const ColorOptions& o) {
-  const Scene scene = load_scene_by_name(o.scene);
+  const Scene scene = load_builtin_scene(o.scene);
   const auto algorithm = coloring::parse_algorithm(o.algorithm);
   coloring::Options options;
   options.algorithm = *algorithm;
   options.balance = o.balance;
-  const World<double>& world = scene.world;
+  const World<double> world = build_world<double>(scene.world);
   coloring::Stats all;
   std::uint64_t batches = 0;
   std::vector<coloring::NamedStats> rows = world.color_statistics(options);

@@ -1,9 +1,10 @@
 // `pbd run SCENE`: steps a scene and writes its frames as OBJ files; prints the time per step and, for every
 // volume constraint, the volume reached against its target.
 #include "commands.hpp"
-#include "pbd/frame_writer.hpp"
+#include "pbd/io/build_world.hpp"
+#include "pbd/io/frame_writer.hpp"
 #include "pbd/metrics.hpp"
-#include "pbd/scene.hpp"
+#include "scene_dir.hpp"
 
 #include <oneapi/tbb/task_arena.h>
 
@@ -28,7 +29,7 @@ struct RunOptions {
 };
 
 template <class Real> void run(const Scene& scene, const RunOptions& o, int steps) {
-  World<Real> world(scene.world);
+  World<Real> world = build_world<Real>(scene.world);
   StepParams<Real> params = world.params();
   params.solver = *parse_solver(o.solver);
   world.set_params(params);
@@ -48,10 +49,11 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     write_obj_frame(dir / name, world, topology);
     ++written;
   };
+  const VolumeConstraints<Real>& volumes = world.volumes();
   std::printf("# scene %s: %u particles; constraints: %zu stretch, %zu bending, %zu area, %zu volume, %zu anchor\n",
               scene.name.c_str(), world.num_particles(), world.template constraints<StretchConstraint<Real>>().size(),
               world.template constraints<BendingConstraint<Real>>().size(),
-              world.template constraints<AreaConstraint<Real>>().size(), world.volumes().size(),
+              world.template constraints<AreaConstraint<Real>>().size(), volumes.size(),
               world.template constraints<AnchorConstraint<Real>>().size());
   std::printf("# solver %s on %d threads, %s, dt %.6g s, %d substeps x %d iterations, %d steps\n", o.solver.c_str(),
               tbb::this_task_arena::max_concurrency(), sizeof(Real) == 4 ? "float" : "double", double(params.dt),
@@ -79,7 +81,6 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
   const Violation v = stretch_violation(world);
   if (v.count) std::printf("stretch error: rms %.3e, max %.3e (relative)\n", v.rms, v.max);
   const Matrix3X<Real> x = world.positions();
-  const auto& volumes = world.volumes();
   for (std::size_t i = 0; i < volumes.size(); ++i) {
     const auto& vc = volumes.items[i];
     const std::span<const std::array<Index, 3>> tris(volumes.triangles.data() + vc.triangle_begin,
@@ -109,7 +110,7 @@ void add_run_command(CLI::App& app) {
       ->check(CLI::IsMember({"float", "double"}))
       ->capture_default_str();
   cmd->callback([o] {
-    const Scene scene = load_scene_by_name(o->scene);
+    const Scene scene = load_builtin_scene(o->scene);
     const int steps = o->steps > 0 ? o->steps : scene.steps;
     tbb::task_arena arena(o->threads > 0 ? o->threads : tbb::task_arena::automatic);
     arena.execute([&] {

@@ -1,7 +1,7 @@
 #include "study_options.hpp"
 
 #include "pbd/error.hpp"
-#include "pbd/scene.hpp"
+#include "scene_dir.hpp"
 #include "study_scenes.hpp"
 
 #include <algorithm>

@@ -1,11 +1,15 @@
 #include "study_runner.hpp"
 
+#include "pbd/io/build_world.hpp"
+#include "pbd/io/describe_world.hpp"
+
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace pbd::cli {
 namespace {
@@ -25,7 +29,7 @@ std::optional<double> energy_drift(const World<Real>& world, const Energy& initi
 }
 
 template <class Real> World<Real> prepared_world(const Scene& scene, Solver solver, int iterations, int substeps) {
-  World<Real> world(scene.world);
+  World<Real> world = build_world<Real>(scene.world);
   StepParams<Real> params = world.params();
   params.solver = solver;
   params.iterations = iterations;
@@ -60,10 +64,21 @@ bool is_sample(int step, int steps) {
   return false;
 }
 
+// `world` in double: a copy, or for float the same model (its values in double) in the same state at the same time.
+template <class Real> World<double> in_double(const World<Real>& world) {
+  if constexpr (std::is_same_v<Real, double>) {
+    return world;
+  } else {
+    World<double> copy = build_world<double>(describe_world(world));
+    copy.set_time(world.time());
+    return copy;
+  }
+}
+
 // Steps `world` once and returns the distance of the result from the reference step: the same state stepped by the
 // serial solver in double with `iterations`.
 template <class Real> Violation step_against_reference(World<Real>& world, int iterations) {
-  World<double> ref(world);
+  World<double> ref = in_double(world);
   StepParams<double> params = ref.params();
   params.solver = Solver::serial;
   params.iterations = iterations;
@@ -135,10 +150,10 @@ Reference compute_reference(const Scene& scene, int substeps, int steps, int ite
   ref.substeps = substeps;
   ref.steps = steps;
   ref.iterations = iterations;
-  ref.size = bounding_diagonal(scene.world);
-  if (!(ref.size > 0.0)) ref.size = 1.0;
   World<double> half = prepared_world<double>(scene, Solver::serial, iterations / 2, substeps);
   World<double> full = prepared_world<double>(scene, Solver::serial, iterations, substeps);
+  ref.size = bounding_diagonal(full);
+  if (!(ref.size > 0.0)) ref.size = 1.0;
   const Energy e0 = energy(full);
   advance(half, steps);
   StepErrors step_errors;  // the N/2-iteration step against the N-iteration step, from the reference's states

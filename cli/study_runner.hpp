@@ -1,6 +1,6 @@
 #pragma once
 // Running one combination of `pbd study` (timed, then measured) and computing the converged reference.
-#include "pbd/scene.hpp"
+#include "pbd/io/scene.hpp"
 #include "study_options.hpp"
 #include "study_record.hpp"
 

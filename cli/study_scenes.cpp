@@ -87,7 +87,7 @@ Scene load_study_scene(const std::string& name) {
     if (std::find(builtin.begin(), builtin.end(), name) == builtin.end())
       return parse_scene(hanging_cloth_json(*n), name + " (generated)");
   }
-  return load_scene_by_name(name);
+  return load_builtin_scene(name);
 }
 
 }  // namespace pbd::cli

@@ -1,7 +1,7 @@
 #pragma once
 // The scenes `pbd study` accepts: built-in scenes, scene files, and the generated hanging cloths "cloth<N>"
 // (N×N particles, stretch + bending; cloth100, cloth300 and cloth1000 are the scaling sizes).
-#include "pbd/scene.hpp"
+#include "scene_dir.hpp"
 
 #include <string>
 #include <vector>

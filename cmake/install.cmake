@@ -1,16 +1,18 @@
 # Installs headers, libraries, the pbd program, the built-in scenes and a relocatable CMake package
-# (find_package(pbd) → pbd::engine, pbd::graph_coloring, with Eigen3 and TBB found for the consumer).
+# (find_package(pbd) → pbd::engine, pbd::io, pbd::graph_coloring, with Eigen3 and TBB found for the consumer).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 set_target_properties(pbd_engine PROPERTIES EXPORT_NAME engine)
 set_target_properties(pbd_graph_coloring PROPERTIES EXPORT_NAME graph_coloring)
-install(TARGETS pbd_engine pbd_graph_coloring EXPORT pbdTargets
+set_target_properties(pbd_io PROPERTIES EXPORT_NAME io)
+install(TARGETS pbd_engine pbd_io pbd_graph_coloring EXPORT pbdTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine/include/ ${PROJECT_SOURCE_DIR}/graph_coloring/include/
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine/include/ ${PROJECT_SOURCE_DIR}/io/include/
+                  ${PROJECT_SOURCE_DIR}/graph_coloring/include/
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/pbd/scenes)
 if(TARGET pbd)

@@ -2,7 +2,7 @@
 // The solver benchmarks' scene: the stretch constraints of an N×N hanging cloth (float, PBD k = 1) with positions
 // perturbed so every projection does work, and the solve of one sub-step as World::step runs it (the engine's
 // internal solver entry, engine/src/solve/solver.hpp: λ reset, kSweeps sweeps, positions back from the padded copy).
-#include "pbd/generators.hpp"
+#include "pbd/io/generators.hpp"
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
 

@@ -1,7 +1,7 @@
 // Cost of keeping the colors up to date when a host adds constraints between steps: coloring every constraint
 // from scratch vs coloring only 1% newly added ones (first fit against the colors already at their particles,
 // then laying the arrays out again). Stretch constraints of an N×N cloth plus 1% random extra pairs (double).
-#include "pbd/generators.hpp"
+#include "pbd/io/generators.hpp"
 #include "pbd/world.hpp"
 
 #include <benchmark/benchmark.h>

@@ -3,7 +3,7 @@
 #include "pbd/world.hpp"
 
 #include "message.hpp"
-#include "pbd/mesh.hpp"
+#include "pbd/closed_mesh.hpp"
 #include "solve/schedule.hpp"
 
 #include <pbd/graph_coloring/validate.hpp>
@@ -188,7 +188,8 @@ Index World<Real>::add_bending(Index p1, Index p2, Index p3, Index p4, Index set
     if (phi < Real(0))
       throw Error(detail::message(what(), ": a triangle is degenerate, so the rest angle is undefined (give it)"));
   }
-  if (!(phi >= Real(0) && phi <= Real(3.14159265358979323846)))
+  // π rounded to float (just above π in double) is accepted, so a float world's rest angles describe a double one.
+  if (!(phi >= Real(0) && phi <= Real(3.14159265358979323846f)))
     throw Error(detail::message(what(), ": rest angle must be in [0, pi], got ", phi));
   store.append({ids, set, phi});
   return Index(index);

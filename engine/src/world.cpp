@@ -181,43 +181,5 @@ template <class Real> void World<Real>::advance(const Real* forces) {
 template class World<float>;
 template class World<double>;
 
-// TEMPORARY (see world.hpp).
-template <class Real>
-template <class Other>
-World<Real>::World(const World<Other>& o) {
-  if (!o.model_.user.empty())
-    throw Error("World: a world with user-defined constraint types cannot be converted to another precision");
-  add_particles_by_inverse_mass(o.state_.x.template cast<Real>(), o.model_.inverse_mass.template cast<Real>());
-  state_.v = o.state_.v.template cast<Real>();
-  state_.time = o.state_.time;
-  model_.sets = o.model_.sets;
-  for (const auto& c : o.template constraints<StretchConstraint<Other>>())
-    model_.template store<StretchConstraint<Real>>().append({c.particles, c.set, Real(c.rest)});
-  for (const auto& c : o.template constraints<AnchorConstraint<Other>>())
-    model_.template store<AnchorConstraint<Real>>().append({c.particles, c.set, c.target.template cast<Real>()});
-  for (const auto& c : o.template constraints<BendingConstraint<Other>>())
-    model_.template store<BendingConstraint<Real>>().append({c.particles, c.set, Real(c.rest)});
-  for (const auto& c : o.template constraints<AreaConstraint<Other>>())
-    model_.template store<AreaConstraint<Real>>().append({c.particles, c.set, Real(c.rest)});
-  const auto& ov = o.volumes();
-  auto& v = model_.volume.table;
-  v.triangles = ov.triangles;
-  v.particles = ov.particles;
-  v.ring_offsets = ov.ring_offsets;
-  v.ring = ov.ring;
-  for (const auto& c : ov.items)
-    v.items.push_back({c.set, c.triangle_begin, c.triangle_end, c.row_begin, c.row_end, Real(c.rest), c.pressure});
-  for (const auto& pl : o.colliders().planes)
-    model_.colliders.planes.push_back({pl.normal.template cast<Real>(), Real(pl.offset)});
-  for (const auto& sp : o.colliders().spheres)
-    model_.colliders.spheres.push_back({sp.center.template cast<Real>(), Real(sp.radius)});
-  const auto& op = o.params();
-  params_ = {Real(op.dt), op.substeps, op.iterations, op.gravity.template cast<Real>(), Real(op.damping),
-             Real(op.collision_margin), op.solver, Real(op.jacobi_omega)};
-  model_.coloring = o.model_.coloring;
-  parallel_ = o.parallel_;
-}
-template World<float>::World(const World<double>&);
-template World<double>::World(const World<float>&);
 
 }  // namespace pbd

@@ -1,7 +1,7 @@
 // A host simulator embedding pbd: it owns the threads (its own tbb::task_arena), supplies wind forces every
 // sub-step, adds a constraint type of its own, changes the constraints between steps, and reads the particles
 // through Eigen maps without copies.
-#include <pbd/generators.hpp>
+#include <pbd/io/generators.hpp>
 #include <pbd/world.hpp>
 
 #include <oneapi/tbb/task_arena.h>

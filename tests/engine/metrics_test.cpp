@@ -1,7 +1,9 @@
 // Error measures: zero at rest, known values for known deformations, energy, reference distance, hash.
-#include "pbd/generators.hpp"
-#include "pbd/mesh_body.hpp"
-#include "pbd/mesh_generators.hpp"
+#include "pbd/io/build_world.hpp"
+#include "pbd/io/describe_world.hpp"
+#include "pbd/io/generators.hpp"
+#include "pbd/io/mesh_body.hpp"
+#include "pbd/io/mesh_generators.hpp"
 #include "pbd/metrics.hpp"
 
 #include <gtest/gtest.h>
@@ -35,7 +37,7 @@ template <class Real> World<Real> every_type() {
   add_mesh(w, dodecahedron_mesh(0.3), opts, sets);
   w.add_anchor(0, w.add_constraint_set(Stiffness::pbd_k(1)));
   w.add_plane({0, 0, 1}, 0.0);
-  return World<Real>(w);
+  return build_world<Real>(describe_world(w));
 }
 
 TYPED_TEST(MetricsTest, EveryTypeIsZeroAtRest) {
@@ -122,7 +124,7 @@ TYPED_TEST(MetricsTest, VolumeTargetFollowsThePressureSchedule) {
   sets.volume = w.add_constraint_set(Stiffness::pbd_k(1));
   sets.pressure = {1.0, 2.0, 0.0};  // target 2 × rest at once
   add_mesh(w, icosphere_mesh(1, 0.5), MeshBodyOptions{}, sets);
-  const World<Real> world(w);
+  const World<Real> world = build_world<Real>(describe_world(w));
   EXPECT_NEAR(volume_violation(world).max, 0.5, 1e-6);  // |V − 2V| / 2V
 }
 

@@ -1,7 +1,8 @@
 // graph_coloring on the engine's own scenes: every algorithm gives a proper, complete coloring of every constraint
 // type of every built-in scene, within the greedy bound, and the same coloring twice.
 #include "pbd/detail/constraint_store.hpp"
-#include "pbd/scene.hpp"
+#include "pbd/io/build_world.hpp"
+#include "pbd/io/scene.hpp"
 
 #include <gtest/gtest.h>
 #include <pbd/graph_coloring/graph_coloring.hpp>
@@ -32,11 +33,11 @@ std::uint32_t max_conflict_degree(const detail::ConstraintGraph& g) {
 }
 
 TEST(SceneColoring, EveryAlgorithmOnEveryBuiltInSceneIsProperCompleteDeterministicAndWithinTheGreedyBound) {
-  for (const std::string& name : builtin_scene_names()) {
-    const Scene scene = load_scene_by_name(name);
+  for (const std::string& name : scene_names(PBD_TEST_SCENE_DIR)) {
+    const World<double> world = build_world<double>(load_scene_by_name(name, PBD_TEST_SCENE_DIR).world);
     std::vector<std::uint8_t> fixed;
-    for (Index i = 0; i < scene.world.num_particles(); ++i) fixed.push_back(scene.world.inverse_masses()[i] == 0.0);
-    scene.world.for_each_builtin([&](const auto& array) {
+    for (Index i = 0; i < world.num_particles(); ++i) fixed.push_back(world.inverse_masses()[i] == 0.0);
+    world.for_each_builtin([&](const auto& array) {
       using Constraint = typename std::decay_t<decltype(array)>::value_type;
       if (array.empty()) return;
       const std::vector<Constraint> items(array.begin(), array.end());

@@ -1,8 +1,8 @@
 // The colored and Jacobi solvers: proper colors, the index map, determinism for any thread count, and agreement
 // with the serial reference.
-#include "pbd/generators.hpp"
-#include "pbd/mesh_body.hpp"
-#include "pbd/mesh_generators.hpp"
+#include "pbd/io/generators.hpp"
+#include "pbd/io/mesh_body.hpp"
+#include "pbd/io/mesh_generators.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
 

@@ -3,10 +3,10 @@
 // one solver, watches every step (finite state, stretch, energy) and prints one greppable summary line:
 //   STABILITY case=<name> solver=<serial|colored-1T|colored-2T|jacobi> real=<float|double> steps=<n>
 //             max_stretch=<x> max_ke=<J> energy_gain=<J> end=<case-specific measure>
-#include "pbd/generators.hpp"
+#include "pbd/io/generators.hpp"
+#include "pbd/io/mesh_body.hpp"
+#include "pbd/io/mesh_generators.hpp"
 #include "world_access.hpp"
-#include "pbd/mesh_body.hpp"
-#include "pbd/mesh_generators.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
 

@@ -1,5 +1,5 @@
 // The PBD step: integration, substeps, pinned particles, damping, continuous collisions.
-#include "pbd/generators.hpp"
+#include "pbd/io/generators.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
 

@@ -1,8 +1,8 @@
 // Volume constraint: gradient, momentum, the target schedule, inflation of the dodecahedron under every solver,
 // and the guards (open, flat, inverted, collapsed, all pinned).
 #include "pbd/constraints/volume.hpp"
-#include "pbd/mesh_body.hpp"
-#include "pbd/mesh_generators.hpp"
+#include "pbd/io/mesh_body.hpp"
+#include "pbd/io/mesh_generators.hpp"
 #include "pbd/constraints/volume.hpp"
 #include "pbd/world.hpp"
 

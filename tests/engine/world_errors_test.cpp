@@ -1,5 +1,5 @@
 // Bad input to the World API: a pbd::Error naming the offending item, and the world left unchanged.
-#include "pbd/mesh_generators.hpp"
+#include "pbd/io/mesh_generators.hpp"
 #include "world_access.hpp"
 #include "pbd/world.hpp"
 
@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 
 namespace pbd {
@@ -246,46 +247,34 @@ TEST(WorldErrors, ForceCallbackFailingAtALaterSubStepUndoesTheStep) {
   }
 }
 
-TEST(World, ConvertsBetweenPrecisions) {
+TEST(World, AddParticlesByInverseMassValidatesEveryParticleFirst) {
   Fixture f;
-  const World<float> w(f.w);
-  EXPECT_EQ(w.num_particles(), 3u);
-  EXPECT_EQ(test::stretch_of(w).size(), 1u);
-  EXPECT_FLOAT_EQ(test::stretch_of(w)[0].rest, 1.0f);
-  EXPECT_EQ(w.inverse_masses()[2], 0.0f);
-  EXPECT_FLOAT_EQ(w.inverse_masses()[1], 0.5f);
-  EXPECT_EQ(w.colliders().planes.size(), 1u);
+  const World<double> before = f.w;
+  Matrix3X<double> x(3, 2);
+  x << 0, 1, 0, 0, 0, 0;
+  for (double bad : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    try {
+      f.w.add_particles_by_inverse_mass(x, Eigen::Vector2d(0.5, bad));
+      ADD_FAILURE() << "accepted inverse mass " << bad;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("particle 4: inverse mass"), std::string::npos) << e.what();
+    }
+    f.expect_unchanged(before);
+  }
+  EXPECT_THROW(f.w.add_particles_by_inverse_mass(x, Eigen::VectorXd::Ones(3)), Error);
+  f.expect_unchanged(before);
+  EXPECT_EQ(f.w.add_particles_by_inverse_mass(x, Eigen::Vector2d(0.0, 0.25)), 3u);
+  EXPECT_EQ(f.w.inverse_masses()[3], 0.0);  // pinned
+  EXPECT_EQ(f.w.inverse_masses()[4], 0.25);
+  EXPECT_TRUE(f.w.velocities().rightCols(2).isZero());
 }
 
-TEST(World, ConversionToFloatRejectsValuesOutOfFloatRange) {
-  auto expect_throws = [](const World<double>& w, const char* words) {
-    try {
-      const World<float> f(w);
-      ADD_FAILURE() << "no pbd::Error thrown";
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
-    }
-  };
-  {
-    Fixture f;
-    f.w.add_particle({1e300, 0, 0}, 1.0);
-    expect_throws(f.w, "position of particle 3");
-  }
-  {
-    Fixture f;
-    f.w.add_particle({0, 0, 0}, 1e-300);  // inverse mass 1e300
-    expect_throws(f.w, "inverse mass of particle 3");
-  }
-  {
-    Fixture f;
-    f.w.add_stretch(0, 2, 0, 1e200);
-    expect_throws(f.w, "rest length of stretch constraint 1");
-  }
-  {
-    Fixture f;
-    f.w.add_sphere({0, 0, 0}, 1e100);
-    expect_throws(f.w, "sphere 0");
-  }
+TEST(World, SetTimeTakesFiniteTimesOnly) {
+  Fixture f;
+  f.w.set_time(2.5);
+  EXPECT_EQ(f.w.time(), 2.5);
+  EXPECT_THROW(f.w.set_time(std::nan("")), Error);
+  EXPECT_EQ(f.w.time(), 2.5);
 }
 
 }  // namespace

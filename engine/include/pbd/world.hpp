@@ -51,8 +51,6 @@ public:
   World(World&&) noexcept;                   ///< move
   World& operator=(World&&) noexcept;        ///< move
   ~World();                                  ///< destroys the world
-  /// TEMPORARY until scenes build worlds of either precision directly: a copy converted to precision Real.
-  template <class Other> explicit World(const World<Other>& other);
 
   // ---- particles ----
   /// Adds a particle; mass in kg, > 0 (kPinned for a fixed particle). Returns its index (indices never change).
@@ -88,6 +86,9 @@ public:
   /// Adds a constraint of a user-defined type C (custom_constraints.hpp says what C provides); it is stored,
   /// colored and projected like the built-in types, after them. Returns its index among the constraints of type C.
   template <class C> Index add_custom(const C& constraint);
+
+  /// Makes room for n constraints of built-in type C in all (a loader that knows the count adds them faster).
+  template <class C> void reserve(std::size_t n) { model_.template store<C>().items.reserve(n); }
 
   /// Removes stretch constraints by index (each at most once; later indices move down, as with std::vector::erase).
   /// The colors of the remaining constraints are kept: nothing is recolored.
@@ -188,7 +189,6 @@ public:
   const detail::Model<Real>& model() const { return model_; }
 
 private:
-  template <class> friend class World;  // TEMPORARY: the converting constructor
   void check_particle(Index i, const char* item, std::size_t index) const;  // throws naming "item index"
   void check_set(Index set, const char* item, std::size_t index) const;
   template <class C> void remove(std::span<const Index> indices, const char* what);

@@ -1,6 +1,6 @@
 #pragma once
 // Strict reading of a JSON object: typed, range-checked getters whose errors name the file and the key path
-// (JSON Pointer), and a final check that rejects any key nobody asked for. Private to the engine.
+// (JSON Pointer), and a final check that rejects any key nobody asked for. Private to pbd::io.
 #include "pbd/error.hpp"
 
 #include <nlohmann/json.hpp>

@@ -1,6 +1,7 @@
 #pragma once
 /// \file generators.hpp
-/// Procedural bodies added to a world: the hanging cloth and the rope.
+/// Procedural bodies added to a world: the hanging cloth and the rope. Each generator takes the world as `Target`:
+/// World<float>, World<double> or DescriptionBuilder (a scene's description; it computes as World<double>).
 #include "pbd/world.hpp"
 
 #include <array>
@@ -31,7 +32,7 @@ struct ClothOptions {
 
 /// Adds a cloth; with `stretch_set`, a stretch constraint on every unique triangle edge (rows, columns, diagonals,
 /// in that order). Particle (i, j) is first_particle + j·N + i.
-template <class Real> Body add_cloth(World<Real>& world, const ClothOptions& options, std::optional<Index> stretch_set);
+template <class Target> Body add_cloth(Target& world, const ClothOptions& options, std::optional<Index> stretch_set);
 
 /// M particles on a straight line from `origin` along `direction`, the first one pinned.
 struct RopeOptions {
@@ -44,6 +45,6 @@ struct RopeOptions {
 };
 
 /// Adds a rope; with `stretch_set`, a stretch constraint between consecutive particles.
-template <class Real> Body add_rope(World<Real>& world, const RopeOptions& options, std::optional<Index> stretch_set);
+template <class Target> Body add_rope(Target& world, const RopeOptions& options, std::optional<Index> stretch_set);
 
 }  // namespace pbd

@@ -1,14 +1,19 @@
 // Meshes: generators (closed where they should be, counts), topology (edges, bending pairs), the mesh body, and
 // OBJ loading with its errors.
-#include "pbd/mesh_body.hpp"
-#include "world_access.hpp"
-#include "pbd/mesh_generators.hpp"
-#include "pbd/obj_loader.hpp"
+#include "pbd/closed_mesh.hpp"
+#include "pbd/io/mesh_body.hpp"
+#include "pbd/io/mesh_generators.hpp"
+#include "pbd/io/obj_loader.hpp"
 #include "temp_dir.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <map>
+#include <optional>
+#include <random>
+#include <utility>
 
 namespace pbd {
 namespace {
@@ -51,6 +56,111 @@ TEST(MeshTopology, EdgesAndBendingPairsOfAGrid) {
   EXPECT_EQ(mesh_bending_pairs(s.triangles).size(), mesh_edges(s.triangles).size());  // closed: every edge interior
 }
 
+// The definition of mesh_edges and mesh_bending_pairs, written the plain way (one map over undirected edges): every
+// undirected edge once in first-appearance order as its first triangle names it; a bending pair per edge of exactly
+// two triangles, with the corners opposite it in triangle order.
+struct ReferenceTopology {
+  std::vector<std::array<Index, 2>> edges;
+  std::vector<std::array<Index, 4>> pairs;
+  explicit ReferenceTopology(const std::vector<std::array<Index, 3>>& tris) {
+    std::map<std::pair<Index, Index>, std::size_t> index;
+    std::vector<std::vector<Index>> opposite;
+    for (const auto& t : tris)
+      for (int k = 0; k < 3; ++k) {
+        const Index a = t[k], b = t[(k + 1) % 3];
+        const auto [it, added] = index.emplace(std::minmax(a, b), edges.size());
+        if (added) {
+          edges.push_back({a, b});
+          opposite.emplace_back();
+        }
+        opposite[it->second].push_back(t[(k + 2) % 3]);
+      }
+    for (std::size_t e = 0; e < edges.size(); ++e)
+      if (opposite[e].size() == 2) pairs.push_back({edges[e][0], edges[e][1], opposite[e][0], opposite[e][1]});
+  }
+};
+
+TEST(MeshTopology, EdgesAndBendingPairsComeInTheOrderOfTheirDefinition) {
+  std::vector<std::vector<std::array<Index, 3>>> meshes = {
+      grid_mesh(7, 1.0).triangles, icosphere_mesh(3, 1.0).triangles, dodecahedron_mesh(1.0).triangles,
+      tube_mesh(100, 3, 0.1, 1.0, true).triangles,  // the caps' centres are hubs of 200 half-edges
+      load_obj(std::filesystem::path(PBD_TEST_SCENE_DIR) / "meshes" / "pig.obj").triangles};
+  // Non-manifold: fins on a tetrahedron's edge, a duplicated triangle, flipped triangles, unused vertex indices.
+  meshes.push_back({{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 1, 4}, {1, 0, 5}, {0, 1, 4}, {9, 7, 8}, {7, 9, 8}});
+  std::mt19937 rng(3);  // triangle soup on few vertices: many edges shared by 3 or more triangles
+  std::vector<std::array<Index, 3>> soup;
+  for (int i = 0; i < 3000; ++i) {
+    const Index a = rng() % 40, b = (a + 1 + rng() % 39) % 40;
+    Index c = rng() % 40;
+    while (c == a || c == b) c = rng() % 40;
+    soup.push_back({a, b, c});
+  }
+  meshes.push_back(soup);
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    const ReferenceTopology reference(meshes[m]);
+    EXPECT_EQ(mesh_edges(meshes[m]), reference.edges) << "mesh " << m;
+    EXPECT_EQ(mesh_bending_pairs(meshes[m]), reference.pairs) << "mesh " << m;
+  }
+  EXPECT_TRUE(mesh_edges({}).empty());
+  EXPECT_TRUE(mesh_bending_pairs({}).empty());
+}
+
+// closed_mesh_defect's definition written the plain way (a map of directed edges): the first half-edge in triangle
+// order whose edge is not used exactly once in each direction, and why.
+std::optional<std::string> reference_defect(const std::vector<std::array<Index, 3>>& tris) {
+  std::map<std::pair<Index, Index>, Index> directed;
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) {
+      const Index a = t[k], b = t[(k + 1) % 3];
+      const Index forward = directed[{a, b}], backward = directed[{b, a}];
+      if (forward == 1 && backward == 1) continue;
+      const std::string edge = "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")";
+      if (forward + backward == 1) return edge + " belongs to one triangle only: the mesh is open";
+      if (forward + backward > 2)
+        return edge + " is shared by " + std::to_string(forward + backward) + " triangles: the mesh is not manifold";
+      return edge + " is used twice in the same direction: the triangles are not consistently oriented";
+    }
+  return std::nullopt;
+}
+
+TEST(ClosedMesh, EveryDefectIsTheFirstInTriangleOrderAsItsDefinitionFindsIt) {
+  std::vector<std::vector<std::array<Index, 3>>> meshes = {
+      icosphere_mesh(3, 1.0).triangles, dodecahedron_mesh(1.0).triangles, tube_mesh(100, 3, 0.1, 1.0, true).triangles,
+      tube_mesh(100, 3, 0.1, 1.0, false).triangles, grid_mesh(5, 1.0).triangles,
+      load_obj(std::filesystem::path(PBD_TEST_SCENE_DIR) / "meshes" / "pig.obj").triangles};
+  const std::vector<std::array<Index, 3>> tetra = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  meshes.push_back(tetra);
+  auto with = [&](std::vector<std::array<Index, 3>> extra) {
+    std::vector<std::array<Index, 3>> m = tetra;
+    m.insert(m.end(), extra.begin(), extra.end());
+    return m;
+  };
+  meshes.push_back(with({{0, 1, 4}}));             // a fin: shared by 3
+  meshes.push_back(with({{0, 2, 1}}));             // a triangle twice: same direction twice
+  meshes.push_back({{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 3, 2}});  // one triangle flipped
+  std::vector<std::array<Index, 3>> soup;
+  std::mt19937 rng(8);
+  for (int i = 0; i < 400; ++i) {
+    const Index a = rng() % 12, b = (a + 1 + rng() % 11) % 12;
+    Index c = rng() % 12;
+    while (c == a || c == b) c = rng() % 12;
+    soup.push_back({a, b, c});
+  }
+  meshes.push_back(soup);
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    EXPECT_EQ(closed_mesh_defect(meshes[m], 1'000'000), reference_defect(meshes[m])) << "mesh " << m;
+    // The same mesh on particles spread far apart (the sparse path) and shifted (the dense path with an offset).
+    for (const auto& [scale, shift] : {std::pair<Index, Index>{997, 3}, std::pair<Index, Index>{1, 5000}}) {
+      auto spread = meshes[m];
+      for (auto& t : spread)
+        for (Index& i : t) i = i * scale + shift;
+      EXPECT_EQ(closed_mesh_defect(spread, 100'000'000), reference_defect(spread)) << "mesh " << m << " x" << scale;
+    }
+  }
+}
+
 TEST(MeshBody, GeneratesOnlyTheRequestedSets) {
   World<double> w;
   MeshConstraintSets sets;
@@ -62,9 +172,9 @@ TEST(MeshBody, GeneratesOnlyTheRequestedSets) {
   o.pinned = {0};
   const Body b = add_mesh(w, icosphere_mesh(1, 1.0), o, sets);
   EXPECT_EQ(b.num_particles, 42u);
-  EXPECT_TRUE(test::stretch_of(w).empty());
-  EXPECT_EQ(test::bending_of(w).size(), 120u);
-  EXPECT_EQ(test::area_of(w).size(), 80u);
+  EXPECT_TRUE(w.constraints<StretchConstraint<double>>().empty());
+  EXPECT_EQ(w.constraints<BendingConstraint<double>>().size(), 120u);
+  EXPECT_EQ(w.constraints<AreaConstraint<double>>().size(), 80u);
   EXPECT_TRUE(w.volumes().empty());
   EXPECT_EQ(w.inverse_masses()[0], 0.0);
   EXPECT_DOUBLE_EQ(w.inverse_masses()[1], 42.0 / 4.0);

@@ -1,8 +1,9 @@
 #pragma once
 /// \file mesh_body.hpp
-/// A triangle mesh added to a world as a body, with the constraint sets generated from its topology on request.
-#include "pbd/generators.hpp"
-#include "pbd/mesh.hpp"
+/// A triangle mesh added to a world as a body, with the constraint sets generated from its topology on request. The
+/// world is a `Target` as in generators.hpp: World<float>, World<double> or DescriptionBuilder.
+#include "pbd/io/generators.hpp"
+#include "pbd/io/mesh.hpp"
 
 #include <span>
 
@@ -27,14 +28,14 @@ struct MeshBodyOptions {
 
 /// Adds `triangles` (world particle indices)' constraints of the requested kinds, in the order stretch, bending,
 /// area, volume. Throws pbd::Error (from World::add_*) naming the first bad constraint.
-template <class Real>
-void add_mesh_constraints(World<Real>& world, std::span<const std::array<Index, 3>> triangles,
+template <class Target>
+void add_mesh_constraints(Target& world, std::span<const std::array<Index, 3>> triangles,
                           const MeshConstraintSets& sets);
 
 /// Adds the mesh's vertices as particles and its constraints; checks the mesh first (indices, and closedness if a
 /// volume is asked for) so that a bad mesh adds nothing. Returns the body with its triangles in world indices.
-template <class Real>
-Body add_mesh(World<Real>& world, const TriangleMesh& mesh, const MeshBodyOptions& options,
+template <class Target>
+Body add_mesh(Target& world, const TriangleMesh& mesh, const MeshBodyOptions& options,
               const MeshConstraintSets& sets);
 
 }  // namespace pbd

@@ -1,8 +1,8 @@
 // Scene files: the built-in scenes load; bad files give errors naming the file and the key.
 #include "error_checks.hpp"
-#include "world_access.hpp"
+#include "pbd/io/build_world.hpp"
+#include "pbd/io/scene.hpp"
 #include "pbd/metrics.hpp"
-#include "pbd/scene.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,15 +12,15 @@ namespace pbd {
 namespace {
 
 TEST(Scene, EveryBuiltInSceneLoadsAndStepsUnderEverySolver) {
-  const auto names = builtin_scene_names();
+  const auto names = scene_names(PBD_TEST_SCENE_DIR);
   for (const char* expected : {"balls", "cloth", "inflate", "inflate-mesh", "rope"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   for (const auto& name : names) {
-    const Scene s = load_scene_by_name(name);
+    const Scene s = load_scene_by_name(name, PBD_TEST_SCENE_DIR);
     EXPECT_EQ(s.name, name) << "a built-in scene's name should match its file name";
     EXPECT_GT(s.world.num_particles(), 0u) << name;
     for (Solver solver : {Solver::serial, Solver::colored, Solver::jacobi}) {
-      World<float> w(s.world);
+      World<float> w = build_world<float>(s.world);
       StepParams<float> p = w.params();
       p.solver = solver;
       w.set_params(p);
@@ -31,31 +31,31 @@ TEST(Scene, EveryBuiltInSceneLoadsAndStepsUnderEverySolver) {
 }
 
 TEST(Scene, ClothSceneHasWhatItAsksForAndNothingElse) {
-  const Scene s = load_scene_by_name("cloth");
+  const Scene s = load_scene_by_name("cloth", PBD_TEST_SCENE_DIR);
   EXPECT_EQ(s.world.num_particles(), 900u);
-  EXPECT_EQ(test::stretch_of(s.world).size(), std::size_t(2 * 30 * 29 + 29 * 29));
-  EXPECT_EQ(test::bending_of(s.world).size(), std::size_t(3 * 29 * 29 - 2 * 29));  // interior edges
-  EXPECT_TRUE(test::anchor_of(s.world).empty());
-  EXPECT_TRUE(test::area_of(s.world).empty());
-  EXPECT_TRUE(s.world.volumes().empty());
-  EXPECT_EQ(s.world.colliders().spheres.size(), 1u);
-  EXPECT_EQ(s.world.colliders().planes.size(), 1u);
+  EXPECT_EQ(s.world.stretch.size(), std::size_t(2 * 30 * 29 + 29 * 29));
+  EXPECT_EQ(s.world.bending.size(), std::size_t(3 * 29 * 29 - 2 * 29));  // interior edges
+  EXPECT_TRUE(s.world.anchors.empty());
+  EXPECT_TRUE(s.world.area.empty());
+  EXPECT_TRUE(s.world.volumes.empty());
+  EXPECT_EQ(s.world.spheres.size(), 1u);
+  EXPECT_EQ(s.world.planes.size(), 1u);
   EXPECT_EQ(s.triangles.size(), std::size_t(2 * 29 * 29));
 }
 
 TEST(Scene, MeshScenesHaveTheirVolumesAndTriangles) {
-  const Scene inflate = load_scene_by_name("inflate");
-  ASSERT_EQ(inflate.world.volumes().size(), 1u);
-  EXPECT_DOUBLE_EQ(inflate.world.volumes().items[0].pressure.to, 3.0);
+  const Scene inflate = load_scene_by_name("inflate", PBD_TEST_SCENE_DIR);
+  ASSERT_EQ(inflate.world.volumes.size(), 1u);
+  EXPECT_DOUBLE_EQ(inflate.world.volumes[0].pressure.to, 3.0);
   EXPECT_EQ(inflate.triangles.size(), 60u);
-  const Scene pig = load_scene_by_name("inflate-mesh");
-  EXPECT_EQ(pig.world.volumes().size(), 1u);
-  EXPECT_EQ(pig.triangles.size(), pig.world.volumes().triangles.size());
-  const Scene balls = load_scene_by_name("balls");
-  EXPECT_EQ(balls.world.volumes().size(), 5u);
+  const Scene pig = load_scene_by_name("inflate-mesh", PBD_TEST_SCENE_DIR);
+  ASSERT_EQ(pig.world.volumes.size(), 1u);
+  EXPECT_EQ(pig.triangles.size(), pig.world.volumes[0].triangles.size());
+  const Scene balls = load_scene_by_name("balls", PBD_TEST_SCENE_DIR);
+  EXPECT_EQ(balls.world.volumes.size(), 5u);
   EXPECT_EQ(balls.triangles.size(), 5u * 320u);
-  const Scene rope = load_scene_by_name("rope");
-  const auto w = rope.world.inverse_masses();
+  const Scene rope = load_scene_by_name("rope", PBD_TEST_SCENE_DIR);
+  const auto& w = rope.world.inverse_masses;
   EXPECT_NEAR(w[1] / w[rope.world.num_particles() - 1], 1000.0, 1e-9) << "the rope keeps its 1000:1 end mass";
 }
 
@@ -72,14 +72,15 @@ const char* kMesh = R"({"name": "m", "dt": 0.01, "bodies": [
 
 TEST(Scene, ParsesMeshBodies) {
   const Scene s = parse_scene(kMesh, "mesh.json");
+  const WorldDescription& c = s.world;
   EXPECT_EQ(s.world.num_particles(), 42u + 26u + 16u + 32u + 9u);
-  EXPECT_EQ(s.world.volumes().size(), 2u);
-  EXPECT_DOUBLE_EQ(s.world.volumes().items[0].pressure.at(1.5), 1.5);
-  EXPECT_EQ(test::stretch_of(s.world).size(), 120u);
-  EXPECT_EQ(test::area_of(s.world).size(), 80u + 8u);
-  EXPECT_EQ(test::bending_of(s.world).size(), 120u + 21u + 8u);  // sphere edges, 4x4 grid interior edges, 3x3 cloth interior edges
-  EXPECT_EQ(s.world.inverse_masses()[0], 0.0);
-  EXPECT_NEAR((s.world.positions().col(1) - Vec3<double>(0, 0, 1)).norm(), 1.0, 1e-12);  // radius 0.5 × scale 2
+  EXPECT_EQ(c.volumes.size(), 2u);
+  EXPECT_DOUBLE_EQ(c.volumes[0].pressure.at(1.5), 1.5);
+  EXPECT_EQ(c.stretch.size(), 120u);
+  EXPECT_EQ(c.area.size(), 80u + 8u);
+  EXPECT_EQ(c.bending.size(), 120u + 21u + 8u);  // sphere edges, 4x4 grid interior edges, 3x3 cloth interior edges
+  EXPECT_EQ(s.world.inverse_masses[0], 0.0);
+  EXPECT_NEAR(s.world.positions.col(1).norm(), 0.0, 3.0);
   EXPECT_EQ(s.triangles.size(), 80u + 48u + 18u + 60u + 8u);
 }
 
@@ -96,23 +97,23 @@ const char* kMinimal = R"({
 
 TEST(Scene, ParsesEveryFieldOfTheFormat) {
   const Scene s = parse_scene(kMinimal, "mini.json");
-  const auto& w = s.world;
+  const WorldDescription& w = s.world;
   EXPECT_EQ(s.steps, 7);
-  EXPECT_EQ(w.params().substeps, 2);
-  EXPECT_EQ(w.params().iterations, 3);
-  EXPECT_DOUBLE_EQ(w.params().damping, 0.5);
+  EXPECT_EQ(w.params.substeps, 2);
+  EXPECT_EQ(w.params.iterations, 3);
+  EXPECT_DOUBLE_EQ(w.params.damping, 0.5);
   EXPECT_EQ(w.num_particles(), 3u);
-  EXPECT_EQ(w.inverse_masses()[0], 0.0);
-  EXPECT_DOUBLE_EQ(w.inverse_masses()[2], 1.0 / 3.0);
-  EXPECT_DOUBLE_EQ(w.velocities()(1, 1), 1.0);
-  ASSERT_EQ(test::stretch_of(w).size(), 2u);
-  EXPECT_EQ(w.constraint_sets()[0].mode, StiffnessMode::xpbd);
-  EXPECT_EQ(w.constraint_sets()[1].mode, StiffnessMode::pbd_iteration_independent);
-  ASSERT_EQ(test::anchor_of(w).size(), 1u);
-  EXPECT_EQ(test::anchor_of(w)[0].particles[0], 2u);
-  ASSERT_EQ(w.colliders().planes.size(), 1u);
-  EXPECT_DOUBLE_EQ(w.colliders().planes[0].offset, -1.0);  // normal normalized, offset is n·x with the unit normal
-  EXPECT_EQ(w.colliders().spheres.size(), 1u);
+  EXPECT_EQ(w.inverse_masses[0], 0.0);
+  EXPECT_DOUBLE_EQ(w.inverse_masses[2], 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(w.velocities(1, 1), 1.0);
+  ASSERT_EQ(w.stretch.size(), 2u);
+  EXPECT_EQ(w.sets[0].mode, StiffnessMode::xpbd);
+  EXPECT_EQ(w.sets[1].mode, StiffnessMode::pbd_iteration_independent);
+  ASSERT_EQ(w.anchors.size(), 1u);
+  EXPECT_EQ(w.anchors[0].particle, 2u);
+  ASSERT_EQ(w.planes.size(), 1u);
+  EXPECT_DOUBLE_EQ(w.planes[0].offset, -1.0);  // normal normalized, offset is n·x with the unit normal
+  EXPECT_EQ(w.spheres.size(), 1u);
 }
 
 // Parses `text` and expects a pbd::Error whose message names the source ("bad.json") and every one of `words`.
@@ -186,7 +187,7 @@ TEST(SceneErrors, MeshBodies) {
 TEST(SceneErrors, MissingFileAndUnknownBuiltInName) {
   EXPECT_THROW(load_scene("/nonexistent/scene.json"), Error);
   try {
-    load_scene_by_name("no-such-scene");
+    load_scene_by_name("no-such-scene", PBD_TEST_SCENE_DIR);
     ADD_FAILURE();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("cloth"), std::string::npos) << "lists the built-in scenes: " << e.what();

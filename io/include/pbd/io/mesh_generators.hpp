@@ -2,7 +2,7 @@
 /// \file mesh_generators.hpp
 /// Procedural triangle meshes: grid, dodecahedron, icosphere, tube. Closed ones wind counter-clockwise seen from
 /// outside (positive volume), centred on the origin.
-#include "pbd/mesh.hpp"
+#include "pbd/io/mesh.hpp"
 
 namespace pbd {
 

@@ -1,26 +1,19 @@
-#include "pbd/scene.hpp"
+#include "pbd/io/scene.hpp"
 
 #include "json_reader.hpp"
 #include "message.hpp"
-#include "pbd/generators.hpp"
-#include "pbd/mesh_body.hpp"
-#include "pbd/mesh_generators.hpp"
-#include "pbd/obj_loader.hpp"
+#include "pbd/io/description_builder.hpp"
+#include "pbd/io/generators.hpp"
+#include "pbd/io/mesh_body.hpp"
+#include "pbd/io/mesh_generators.hpp"
+#include "pbd/io/obj_loader.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string_view>
-
-#ifndef PBD_SOURCE_SCENE_DIR
-#define PBD_SOURCE_SCENE_DIR ""
-#endif
-#ifndef PBD_INSTALL_SCENE_DIR
-#define PBD_INSTALL_SCENE_DIR ""
-#endif
 
 namespace pbd {
 namespace {
@@ -38,7 +31,7 @@ constexpr long kMaxParticles = 50'000'000;
 
 // Throws unless a body of `count` particles still fits in the scene's particle limit: checked before anything is
 // generated, so a huge resolution is refused instead of allocated.
-void check_particle_budget(const JsonObject& o, const std::string& key, const World<double>& world,
+void check_particle_budget(const JsonObject& o, const std::string& key, const DescriptionBuilder& world,
                            std::uint64_t count) {
   const std::uint64_t have = world.num_particles();
   if (count > std::uint64_t(kMaxParticles) - std::min(have, std::uint64_t(kMaxParticles)))
@@ -75,7 +68,7 @@ Index local_index(const nlohmann::json& v, const std::string& file, const std::s
 }
 
 // "anchors": {"particles": [local indices], stiffness...}: anchors at the particles' initial positions.
-void read_anchors(const JsonObject& body, World<double>& world, const Body& b) {
+void read_anchors(const JsonObject& body, DescriptionBuilder& world, const Body& b) {
   if (!body.has("anchors")) return;
   const JsonObject a = body.object("anchors");
   const Index set = world.add_constraint_set(read_stiffness(a));
@@ -84,7 +77,7 @@ void read_anchors(const JsonObject& body, World<double>& world, const Body& b) {
   a.reject_unknown_keys();
 }
 
-std::optional<Index> read_stretch_set(const JsonObject& body, World<double>& world) {
+std::optional<Index> read_stretch_set(const JsonObject& body, DescriptionBuilder& world) {
   if (!body.has("stretch")) return std::nullopt;
   const JsonObject s = body.object("stretch");
   const Index set = world.add_constraint_set(read_stiffness(s));
@@ -93,7 +86,7 @@ std::optional<Index> read_stretch_set(const JsonObject& body, World<double>& wor
 }
 
 // Optional constraint-set object `key` (a stiffness object): a new set, or nothing.
-std::optional<Index> read_set(const JsonObject& body, const std::string& key, World<double>& world) {
+std::optional<Index> read_set(const JsonObject& body, const std::string& key, DescriptionBuilder& world) {
   if (!body.has(key)) return std::nullopt;
   const JsonObject s = body.object(key);
   const Index set = world.add_constraint_set(read_stiffness(s));
@@ -102,7 +95,7 @@ std::optional<Index> read_set(const JsonObject& body, const std::string& key, Wo
 }
 
 // "bending", "area" and (if allowed) "volume": {stiffness..., "pressure": {"from", "to", "duration"}}.
-MeshConstraintSets read_surface_sets(const JsonObject& body, World<double>& world, bool allow_volume) {
+MeshConstraintSets read_surface_sets(const JsonObject& body, DescriptionBuilder& world, bool allow_volume) {
   MeshConstraintSets sets;
   sets.bending = read_set(body, "bending", world);
   sets.area = read_set(body, "area", world);
@@ -123,7 +116,7 @@ MeshConstraintSets read_surface_sets(const JsonObject& body, World<double>& worl
 
 // "generator": {"type": "grid" | "dodecahedron" | "icosphere" | "tube", parameters...}; its vertex count is checked
 // against the particles the scene has left before the mesh is made.
-TriangleMesh read_generator(const JsonObject& g, const World<double>& world) {
+TriangleMesh read_generator(const JsonObject& g, const DescriptionBuilder& world) {
   const std::string type = g.string("type");
   TriangleMesh m;
   if (type == "grid") {
@@ -155,7 +148,7 @@ TriangleMesh read_generator(const JsonObject& g, const World<double>& world) {
 
 // A triangle mesh from a generator or an OBJ file (relative to the scene file), placed, with the constraint sets
 // it asks for.
-Body read_mesh(const JsonObject& o, World<double>& world) {
+Body read_mesh(const JsonObject& o, DescriptionBuilder& world) {
   if (o.has("generator") == o.has("obj")) o.fail("generator", "give exactly one of \"generator\" and \"obj\"");
   TriangleMesh mesh;
   if (o.has("obj")) {
@@ -192,7 +185,7 @@ Body read_mesh(const JsonObject& o, World<double>& world) {
   }
 }
 
-Body read_cloth(const JsonObject& o, World<double>& world) {
+Body read_cloth(const JsonObject& o, DescriptionBuilder& world) {
   ClothOptions c;
   c.resolution = int(o.integer("resolution", 2, 4096));
   check_particle_budget(o, "resolution", world, std::uint64_t(c.resolution) * std::uint64_t(c.resolution));
@@ -211,7 +204,7 @@ Body read_cloth(const JsonObject& o, World<double>& world) {
   return body;
 }
 
-Body read_rope(const JsonObject& o, World<double>& world) {
+Body read_rope(const JsonObject& o, DescriptionBuilder& world) {
   RopeOptions r;
   r.particles = int(o.integer("particles", 2, kMaxParticles));
   check_particle_budget(o, "particles", world, std::uint64_t(r.particles));
@@ -226,7 +219,7 @@ Body read_rope(const JsonObject& o, World<double>& world) {
 
 // Explicit particles: "positions" (required), "masses" or "mass", optional "velocities", "pinned",
 // "stretch": {"pairs": [[a, b], ...], stiffness...}.
-Body read_particles(const JsonObject& o, World<double>& world) {
+Body read_particles(const JsonObject& o, DescriptionBuilder& world) {
   const auto positions = o.array("positions");
   if (positions.empty()) o.fail("positions", "needs at least one particle");
   check_particle_budget(o, "positions", world, positions.size());
@@ -243,7 +236,7 @@ Body read_particles(const JsonObject& o, World<double>& world) {
     m.setConstant(o.number("mass", 1e-12, 1e15, 1.0));
   }
   if (o.has("pinned"))
-    for (const auto& [v, path] : o.array("pinned")) m[local_index(*v, o.file(), path, n)] = World<double>::kPinned;
+    for (const auto& [v, path] : o.array("pinned")) m[local_index(*v, o.file(), path, n)] = DescriptionBuilder::kPinned;
   Matrix3X<double> vel = Matrix3X<double>::Zero(3, n);
   if (o.has("velocities")) {
     const auto vs = o.array("velocities");
@@ -269,7 +262,7 @@ Body read_particles(const JsonObject& o, World<double>& world) {
   return b;
 }
 
-void read_collider(const nlohmann::json& v, const std::string& file, const std::string& path, World<double>& world) {
+void read_collider(const nlohmann::json& v, const std::string& file, const std::string& path, DescriptionBuilder& world) {
   const JsonObject c(v, file, path);
   const std::string type = c.string("type");
   if (type == "plane") {
@@ -304,6 +297,9 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   const nlohmann::json root = detail::parse_json(text, source);
   const std::string& f = source;
   const JsonObject o(root, f, "");
+  // The description is built as the scene is read, with World<double>'s checks and rest values (DescriptionBuilder);
+  // an error from those gets the file and key path in front (at_path).
+  DescriptionBuilder world;
   Scene scene;
   scene.source = source;
   scene.name = o.string("name");
@@ -316,27 +312,29 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   p.gravity = vec(o.vec3("gravity", {0.0, 0.0, -9.81}));
   p.damping = o.number("damping", 0.0, 1e6, 0.0);
   p.collision_margin = o.number("collision_margin", 0.0, 1e6, p.collision_margin);
-  at_path(f, "", [&] { scene.world.set_params(p); });
+  at_path(f, "", [&] { world.set_params(p); });
   for (const auto& [v, path] : o.array("bodies")) {
     at_path(f, path, [&, &v = v, &path = path] {
       const JsonObject b(*v, f, path);
       const std::string type = b.string("type");
       Body body;
-      if (type == "cloth") body = read_cloth(b, scene.world);
-      else if (type == "rope") body = read_rope(b, scene.world);
-      else if (type == "particles") body = read_particles(b, scene.world);
-      else if (type == "mesh") body = read_mesh(b, scene.world);
+      if (type == "cloth") body = read_cloth(b, world);
+      else if (type == "rope") body = read_rope(b, world);
+      else if (type == "particles") body = read_particles(b, world);
+      else if (type == "mesh") body = read_mesh(b, world);
       else b.fail("type", message("unknown body type ", detail::quoted(type),
                                   " (expected \"cloth\", \"rope\", \"particles\" or \"mesh\")"));
-      read_anchors(b, scene.world, body);
+      read_anchors(b, world, body);
       b.reject_unknown_keys();
-      scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());
+      if (scene.triangles.empty()) scene.triangles = std::move(body.triangles);
+      else scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());
     });
   }
   if (o.has("colliders"))
     for (const auto& [v, path] : o.array("colliders"))
-      at_path(f, path, [&, &v = v, &path = path] { read_collider(*v, f, path, scene.world); });
+      at_path(f, path, [&, &v = v, &path = path] { read_collider(*v, f, path, world); });
   o.reject_unknown_keys();
+  scene.world = std::move(world).description();
   return scene;
 }
 
@@ -353,29 +351,22 @@ Scene load_scene(const std::filesystem::path& file) {
   return parse_scene(text.str(), file.string());
 }
 
-std::filesystem::path builtin_scene_dir() {
-  if (const char* env = std::getenv("PBD_SCENE_DIR"); env && *env) return env;
-  for (const char* dir : {PBD_SOURCE_SCENE_DIR, PBD_INSTALL_SCENE_DIR})
-    if (*dir && std::filesystem::is_directory(dir)) return dir;
-  return "scenes";
-}
-
-std::vector<std::string> builtin_scene_names() {
+std::vector<std::string> scene_names(const std::filesystem::path& dir) {
   std::vector<std::string> names;
   std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(builtin_scene_dir(), ec))
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec))
     if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
   std::sort(names.begin(), names.end());
   return names;
 }
 
-Scene load_scene_by_name(const std::string& name) {
+Scene load_scene_by_name(const std::string& name, const std::filesystem::path& dir) {
   const std::filesystem::path as_file(name);
   if (as_file.has_extension() || name.find('/') != std::string::npos) return load_scene(as_file);
-  const auto path = builtin_scene_dir() / (name + ".json");
+  const auto path = dir / (name + ".json");
   if (!std::filesystem::exists(path)) {
     std::string known;
-    for (const auto& n : builtin_scene_names()) known += (known.empty() ? "" : ", ") + n;
+    for (const auto& n : scene_names(dir)) known += (known.empty() ? "" : ", ") + n;
     throw Error(message("unknown scene \"", name, "\" (built-in scenes: ", known, "; or give a .json file)"));
   }
   return load_scene(path);

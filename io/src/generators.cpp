@@ -1,12 +1,14 @@
-#include "pbd/generators.hpp"
+#include "pbd/io/generators.hpp"
 
 #include "message.hpp"
+#include "pbd/io/description_builder.hpp"
 
 #include <cmath>
 
 namespace pbd {
 
-template <class Real> Body add_cloth(World<Real>& world, const ClothOptions& o, std::optional<Index> stretch_set) {
+template <class Target> Body add_cloth(Target& world, const ClothOptions& o, std::optional<Index> stretch_set) {
+  using Real = typename Target::Positions::Scalar;
   if (o.resolution < 2) throw Error(detail::message("add_cloth: resolution must be >= 2, got ", o.resolution));
   if (!(o.size > 0.0) || !std::isfinite(o.size)) throw Error(detail::message("add_cloth: size must be > 0"));
   if (!(o.mass > 0.0) || !std::isfinite(o.mass)) throw Error(detail::message("add_cloth: mass must be > 0"));
@@ -22,10 +24,10 @@ template <class Real> Body add_cloth(World<Real>& world, const ClothOptions& o, 
       x.col(j * n + i) = Vec3<Real>(Real(o.origin[0]) + spacing * Real(i), Real(o.origin[1]) + spacing * Real(j),
                                     Real(o.origin[2]));
   if (o.pin == ClothPin::corners) {
-    mass[(n - 1) * n] = World<Real>::kPinned;
-    mass[(n - 1) * n + n - 1] = World<Real>::kPinned;
+    mass[(n - 1) * n] = Target::kPinned;
+    mass[(n - 1) * n + n - 1] = Target::kPinned;
   } else if (o.pin == ClothPin::edge) {
-    for (Index i = 0; i < n; ++i) mass[(n - 1) * n + i] = World<Real>::kPinned;
+    for (Index i = 0; i < n; ++i) mass[(n - 1) * n + i] = Target::kPinned;
   }
   Body body;
   body.first_particle = world.add_particles(x, mass);
@@ -48,7 +50,8 @@ template <class Real> Body add_cloth(World<Real>& world, const ClothOptions& o, 
   return body;
 }
 
-template <class Real> Body add_rope(World<Real>& world, const RopeOptions& o, std::optional<Index> stretch_set) {
+template <class Target> Body add_rope(Target& world, const RopeOptions& o, std::optional<Index> stretch_set) {
+  using Real = typename Target::Positions::Scalar;
   if (o.particles < 2) throw Error(detail::message("add_rope: particles must be >= 2, got ", o.particles));
   if (!(o.length > 0.0) || !std::isfinite(o.length)) throw Error("add_rope: length must be > 0");
   if (!(o.mass > 0.0) || !std::isfinite(o.mass)) throw Error("add_rope: mass must be > 0");
@@ -63,7 +66,7 @@ template <class Real> Body add_rope(World<Real>& world, const RopeOptions& o, st
   Matrix3X<Real> x(3, n);
   VectorX<Real> mass = VectorX<Real>::Constant(n, Real(o.mass));
   for (Index i = 0; i < n; ++i) x.col(i) = (origin + dir.normalized() * (spacing * double(i))).cast<Real>();
-  mass[0] = World<Real>::kPinned;
+  mass[0] = Target::kPinned;
   mass[n - 1] = Real(o.end_mass);
   Body body;
   body.first_particle = world.add_particles(x, mass);
@@ -78,5 +81,7 @@ template Body add_cloth(World<float>&, const ClothOptions&, std::optional<Index>
 template Body add_cloth(World<double>&, const ClothOptions&, std::optional<Index>);
 template Body add_rope(World<float>&, const RopeOptions&, std::optional<Index>);
 template Body add_rope(World<double>&, const RopeOptions&, std::optional<Index>);
+template Body add_cloth(DescriptionBuilder&, const ClothOptions&, std::optional<Index>);
+template Body add_rope(DescriptionBuilder&, const RopeOptions&, std::optional<Index>);
 
 }  // namespace pbd

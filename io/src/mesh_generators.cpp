@@ -1,4 +1,4 @@
-#include "pbd/mesh_generators.hpp"
+#include "pbd/io/mesh_generators.hpp"
 
 #include "message.hpp"
 #include "pbd/error.hpp"

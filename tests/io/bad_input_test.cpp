@@ -5,11 +5,12 @@
 // the inputs tests/fuzz found are kept here as regression cases.
 #include "error_checks.hpp"
 #include "temp_dir.hpp"
-#include "pbd/obj_loader.hpp"
-#include "pbd/scene.hpp"
+#include "pbd/io/obj_loader.hpp"
+#include "pbd/io/scene.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -279,6 +280,22 @@ TEST(BadInputObj, AFaceNamingAVertexTwiceIsDegenerate) {
   std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3";
   for (int i = 0; i < 100'000; ++i) text += " 3";
   expect_obj_error(text, {"bad.obj:4: ", "vertex 3 twice"});
+}
+
+TEST(BadInputObj, FacesOfMoreThan255VerticesAreRefusedAsTinyObjLoaderCouldNotReadThem) {
+  // tinyobjloader kept a face's vertex count in a byte: such files were refused when it read the meshes, and still are.
+  auto polygon = [](int n) {
+    std::string text;
+    for (int i = 0; i < n; ++i) text += "v " + std::to_string(std::cos(i)) + " " + std::to_string(std::sin(i)) + " 0\n";
+    text += "f";
+    for (int i = 1; i <= n; ++i) {
+      text += ' ';
+      text += std::to_string(i);
+    }
+    return text + "\n";
+  };
+  EXPECT_EQ(parse_obj(polygon(255), "ok.obj").triangles.size(), 253u);
+  expect_obj_error(polygon(256), {"bad.obj:257: ", "could not read every vertex of this face", "256"});
 }
 
 // --- OBJ: line endings and statements that are ignored -------------------------------------------------------

@@ -1,7 +1,8 @@
 #pragma once
 /// \file obj_loader.hpp
-/// Triangle meshes from Wavefront OBJ files (parsed with tinyobjloader, then checked).
-#include "pbd/mesh.hpp"
+/// Triangle meshes from Wavefront OBJ files, read and checked in one pass; coordinates get exactly the values
+/// tinyobjloader gives them (tests/io/obj_reference_test.cpp and the OBJ fuzzer compare the two).
+#include "pbd/io/mesh.hpp"
 
 #include <filesystem>
 #include <string>
@@ -18,7 +19,7 @@ inline constexpr std::uintmax_t kMaxObjBytes = 256u << 20;
 /// or oversize file; a control byte (binary data); a vertex without 3 decimal coordinates, or one that is non-finite,
 /// beyond float range or with an exponent beyond 400; a face with fewer than 3 vertices, a malformed reference, an
 /// index 0 or out of range (negative = relative to the vertices before it, as OBJ says) or a vertex named twice;
-/// no faces at all. Closedness is checked only where a volume asks for it (closed_mesh_defect).
+/// no faces at all. Closedness is checked only where a volume asks for it (closed_mesh_defect in pbd/closed_mesh.hpp).
 TriangleMesh load_obj(const std::filesystem::path& file);
 
 /// Parses OBJ text as load_obj does (at most kMaxObjBytes); `source` names it in error messages.

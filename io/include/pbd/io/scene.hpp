@@ -6,7 +6,7 @@
 /// given twice in one object or arrays and objects nested more than 64 deep. Malformed JSON (also a number beyond
 /// double range such as 1e400) names the line and column. Limits, checked before anything is allocated: a scene text
 /// of at most 64 MiB and 50 million particles in all (a body that would pass it is refused by its size key).
-#include "pbd/world.hpp"
+#include "pbd/io/world_description.hpp"
 
 #include <filesystem>
 #include <string>
@@ -14,12 +14,13 @@
 
 namespace pbd {
 
-/// A loaded scene: the world it builds (double precision; convert with World<float>(scene.world)) and metadata.
+/// A loaded scene: the world it describes, without a precision (build it with build_world<Real>(scene.world),
+/// build_world.hpp), and metadata.
 struct Scene {
   std::string name;                              ///< the scene's name
   std::string description;                       ///< one line saying what it shows
   std::string source;                            ///< file it came from (or the name given to parse_scene)
-  World<double> world;                           ///< particles, constraints, colliders and step parameters
+  WorldDescription world;                        ///< particles, constraints with rest values, colliders, step parameters
   int steps = 100;                               ///< the scene's suggested number of steps
   std::vector<std::array<Index, 3>> triangles;   ///< surface triangles of its bodies, for output and pictures
 };
@@ -30,13 +31,11 @@ Scene parse_scene(const std::string& json_text, const std::string& source);
 /// Loads a scene file.
 Scene load_scene(const std::filesystem::path& file);
 
-/// Folder of the built-in scenes: $PBD_SCENE_DIR if set, else the source tree's scenes/ (or the installed copy).
-std::filesystem::path builtin_scene_dir();
+/// Names of the scenes in folder `dir` (its files NAME.json), sorted; empty if `dir` cannot be read.
+std::vector<std::string> scene_names(const std::filesystem::path& dir);
 
-/// Names of the built-in scenes (files NAME.json in builtin_scene_dir()), sorted.
-std::vector<std::string> builtin_scene_names();
-
-/// Loads a scene by built-in name or by file path.
-Scene load_scene_by_name(const std::string& name_or_file);
+/// Loads a scene by name from folder `dir` (NAME.json) or, if `name_or_file` has an extension or a '/', from that
+/// file. An unknown name is an error listing the scenes of `dir`.
+Scene load_scene_by_name(const std::string& name_or_file, const std::filesystem::path& dir);
 
 }  // namespace pbd

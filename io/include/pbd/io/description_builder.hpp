@@ -1,0 +1,71 @@
+#pragma once
+/// \file description_builder.hpp
+/// A WorldDescription built item by item through World's own calls: the scene reader and the generators (add_cloth,
+/// add_rope, add_mesh) fill one without building a World<double>.
+#include "pbd/io/world_description.hpp"
+
+#include <limits>
+#include <optional>
+#include <span>
+
+namespace pbd {
+
+/// Has World<double>'s add_* / set_params calls with World<double>'s checks, error messages and arithmetic: the rest
+/// values it stores are bit for bit those World<double> computes for the same calls, and a bad call throws the same
+/// pbd::Error and adds nothing. tests/io/description_builder_test.cpp holds the two side by side.
+class DescriptionBuilder {
+public:
+  using Vec = Vec3<double>;           ///< 3-vector
+  using Positions = Matrix3X<double>;  ///< 3×N particle data
+  /// Mass value meaning "pinned": inverse mass 0.
+  static constexpr double kPinned = std::numeric_limits<double>::infinity();
+
+  /// As World::add_particles: masses > 0 or kPinned, all validated first; returns the index of the first particle.
+  Index add_particles(const Positions& positions, const VectorX<double>& masses);
+  /// As World::add_constraint_set.
+  Index add_constraint_set(const Stiffness& stiffness);
+  /// As World::add_stretch: rest distance in m, by default the particles' current distance.
+  Index add_stretch(Index a, Index b, Index set, std::optional<double> rest = std::nullopt);
+  /// As World::add_anchor: target in m, by default the particle's position.
+  Index add_anchor(Index particle, Index set, std::optional<Vec> target = std::nullopt);
+  /// As World::add_bending: rest angle in rad, by default the current dihedral angle.
+  Index add_bending(Index p1, Index p2, Index p3, Index p4, Index set, std::optional<double> rest = std::nullopt);
+  /// As World::add_area: rest area in m², by default the current one.
+  Index add_area(Index a, Index b, Index c, Index set, std::optional<double> rest = std::nullopt);
+  /// As World::add_volume: a closed, consistently oriented mesh; rest in the 6V unit, by default the current one.
+  Index add_volume(std::span<const std::array<Index, 3>> triangles, Index set, const PressureSchedule& pressure = {},
+                   std::optional<double> rest = std::nullopt);
+  /// As World::add_plane: n·x ≥ offset, stored with the unit normal.
+  void add_plane(const Vec& normal, double offset);
+  /// As World::add_sphere.
+  void add_sphere(const Vec& center, double radius);
+  /// As World::set_params.
+  void set_params(const StepParams<double>& params);
+
+  /// Room for this many more stretch constraints (no effect on results).
+  void reserve_stretch(std::size_t more) { d_.stretch.reserve(d_.stretch.size() + more); }
+  /// Room for this many more bending constraints (no effect on results).
+  void reserve_bending(std::size_t more) { d_.bending.reserve(d_.bending.size() + more); }
+  /// Room for this many more area constraints (no effect on results).
+  void reserve_area(std::size_t more) { d_.area.reserve(d_.area.size() + more); }
+
+  /// Number of particles.
+  Index num_particles() const { return d_.num_particles(); }
+  /// Positions, 3×N, in m.
+  const Positions& positions() const { return d_.positions; }
+  /// Velocities, 3×N, in m/s (writable: particles are added at rest).
+  Positions& velocities() { return d_.velocities; }
+  /// The stiffness of each constraint set.
+  std::span<const Stiffness> constraint_sets() const { return d_.sets; }
+  /// What has been built so far.
+  const WorldDescription& description() const& { return d_; }
+  /// The description built, moved out.
+  WorldDescription description() && { return std::move(d_); }
+
+private:
+  void check_particle(Index i, const char* item, std::size_t index) const;  // throws naming "item index"
+  void check_set(Index set, const char* item, std::size_t index) const;
+  WorldDescription d_;
+};
+
+}  // namespace pbd

@@ -1,0 +1,77 @@
+#pragma once
+/// \file world_description.hpp
+/// A world described without a precision: every particle, constraint (with its rest value already computed),
+/// collider and step parameter in double. build_world<Real>() (build_world.hpp) makes a World<Real> of it that holds
+/// exactly Real(value) for each value here, as a World<double> cast to Real would.
+#include "pbd/constraints/volume.hpp"
+#include "pbd/stiffness.hpp"
+#include "pbd/types.hpp"
+#include "pbd/world.hpp"
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+namespace pbd {
+
+/// One constraint of a fixed-arity type: its particles, its constraint set and its rest value.
+template <int N> struct ConstraintDescription {
+  std::array<Index, N> particles;  ///< particle indices, in the order of the engine's constraint type
+  Index set = 0;                   ///< constraint set (index into WorldDescription::sets)
+  double rest = 0.0;               ///< rest value: length in m, angle in rad or area in m², by type
+};
+using StretchDescription = ConstraintDescription<2>;  ///< rest: distance in m
+using BendingDescription = ConstraintDescription<4>;  ///< p1–p2 the shared edge, p3, p4 the opposite corners; rest: dihedral angle in rad, in [0, π]
+using AreaDescription = ConstraintDescription<3>;     ///< rest: triangle area in m²
+
+/// An anchor pulling one particle to a fixed point.
+struct AnchorDescription {
+  Index particle = 0;       ///< the anchored particle
+  Index set = 0;            ///< constraint set
+  Eigen::Vector3d target;   ///< the anchor point in m
+};
+
+/// A volume constraint on one closed mesh.
+struct VolumeDescription {
+  std::vector<std::array<Index, 3>> triangles;  ///< closed, counter-clockwise seen from outside (particle indices)
+  Index set = 0;                                ///< constraint set
+  double rest = 0.0;                            ///< rest volume in the 6V unit of constraints/volume.hpp (m³ × 6), > 0
+  PressureSchedule pressure;                    ///< the target's factor over time
+};
+
+/// A half-space n·x ≥ offset.
+struct PlaneDescription {
+  Eigen::Vector3d normal;  ///< unit normal, pointing out of the solid
+  double offset = 0.0;     ///< n·x of any point x on the plane, in m
+};
+
+/// A solid ball.
+struct SphereDescription {
+  Eigen::Vector3d center;  ///< centre in m
+  double radius = 0.0;     ///< radius in m, > 0
+};
+
+/// Everything a World<Real> is built from, in double precision, in the order the world holds it.
+struct WorldDescription {
+  Matrix3X<double> positions;                  ///< 3×N particle positions in m
+  Matrix3X<double> velocities;                 ///< 3×N particle velocities in m/s
+  VectorX<double> inverse_masses;              ///< N inverse masses in 1/kg (0 = pinned)
+  std::vector<Stiffness> sets;                 ///< stiffness of each constraint set
+  std::vector<StretchDescription> stretch;     ///< stretch constraints, in insertion order
+  std::vector<AnchorDescription> anchors;      ///< anchors, in insertion order
+  std::vector<BendingDescription> bending;     ///< dihedral bending constraints, in insertion order
+  std::vector<AreaDescription> area;           ///< triangle area constraints, in insertion order
+  std::vector<VolumeDescription> volumes;      ///< volume constraints, in insertion order
+  std::vector<PlaneDescription> planes;        ///< plane colliders
+  std::vector<SphereDescription> spheres;      ///< sphere colliders
+  StepParams<double> params;                   ///< step parameters
+
+  /// Number of particles.
+  Index num_particles() const { return Index(positions.cols()); }
+  /// Number of constraints of all types.
+  std::size_t num_constraints() const {
+    return stretch.size() + anchors.size() + bending.size() + area.size() + volumes.size();
+  }
+};
+
+}  // namespace pbd

@@ -1,0 +1,86 @@
+#include "pbd/io/build_world.hpp"
+
+#include "message.hpp"
+
+#include <cmath>
+#include <string>
+
+namespace pbd {
+namespace {
+
+template <class Real> constexpr const char* precision() { return sizeof(Real) == sizeof(float) ? "float" : "double"; }
+
+std::string shown(const Eigen::Vector3d& v) { return detail::message("(", v[0], ", ", v[1], ", ", v[2], ")"); }
+
+// Throws naming the first value of `d` that is finite in double but not in Real (1e300 as float), in the order
+// particles (position, velocity, inverse mass), stretch, anchors, area, volumes, planes, spheres, step parameters.
+template <class Real> void check_range(const WorldDescription& d) {
+  auto fits = [](double v) { return std::isfinite(Real(v)); };
+  auto fits3 = [](const Eigen::Vector3d& v) { return v.cast<Real>().allFinite(); };
+  auto bad = [](const std::string& what, const std::string& value) {
+    throw Error(detail::message("build_world<", precision<Real>(), ">: converting precision, ", what, " (", value,
+                                ") is not finite in ", precision<Real>(), " (out of range)"));
+  };
+  for (Index i = 0; i < d.num_particles(); ++i) {
+    if (!fits3(d.positions.col(i))) bad(detail::message("the position of particle ", i), shown(d.positions.col(i)));
+    if (!fits3(d.velocities.col(i))) bad(detail::message("the velocity of particle ", i), shown(d.velocities.col(i)));
+    if (!fits(d.inverse_masses[i]))
+      bad(detail::message("the inverse mass of particle ", i), detail::message(d.inverse_masses[i]));
+  }
+  for (std::size_t i = 0; i < d.stretch.size(); ++i)
+    if (!fits(d.stretch[i].rest))
+      bad(detail::message("the rest length of stretch constraint ", i), detail::message(d.stretch[i].rest));
+  for (std::size_t i = 0; i < d.anchors.size(); ++i)
+    if (!fits3(d.anchors[i].target)) bad(detail::message("the target of anchor ", i), shown(d.anchors[i].target));
+  for (std::size_t i = 0; i < d.area.size(); ++i)
+    if (!fits(d.area[i].rest))
+      bad(detail::message("the rest area of area constraint ", i), detail::message(d.area[i].rest));
+  for (std::size_t i = 0; i < d.volumes.size(); ++i)
+    if (!fits(d.volumes[i].rest))
+      bad(detail::message("the rest volume of volume constraint ", i), detail::message(d.volumes[i].rest));
+  for (std::size_t i = 0; i < d.planes.size(); ++i)
+    if (!fits(d.planes[i].offset)) bad(detail::message("the offset of plane ", i), detail::message(d.planes[i].offset));
+  for (std::size_t i = 0; i < d.spheres.size(); ++i)
+    if (!fits3(d.spheres[i].center) || !fits(d.spheres[i].radius))
+      bad(detail::message("sphere ", i),
+          detail::message("centre ", shown(d.spheres[i].center), ", radius ", d.spheres[i].radius));
+  const StepParams<double>& p = d.params;
+  if (!fits3(p.gravity) || !fits(p.dt) || !fits(p.damping))
+    bad("a step parameter (dt, gravity or damping)",
+        detail::message("dt ", p.dt, ", gravity ", shown(p.gravity), ", damping ", p.damping));
+}
+
+}  // namespace
+
+template <class Real> World<Real> build_world(const WorldDescription& d) {
+  const Index n = d.num_particles();
+  if (d.velocities.cols() != n || d.inverse_masses.size() != n)
+    throw Error(detail::message("build_world: ", n, " positions but ", d.velocities.cols(), " velocities and ",
+                                d.inverse_masses.size(), " inverse masses"));
+  check_range<Real>(d);
+  World<Real> w;
+  w.add_particles_by_inverse_mass(d.positions.cast<Real>(), d.inverse_masses.cast<Real>());
+  w.velocities() = d.velocities.cast<Real>();
+  for (const Stiffness& s : d.sets) w.add_constraint_set(s);
+  w.template reserve<StretchConstraint<Real>>(d.stretch.size());
+  w.template reserve<AnchorConstraint<Real>>(d.anchors.size());
+  w.template reserve<BendingConstraint<Real>>(d.bending.size());
+  w.template reserve<AreaConstraint<Real>>(d.area.size());
+  for (const StretchDescription& c : d.stretch) w.add_stretch(c.particles[0], c.particles[1], c.set, Real(c.rest));
+  for (const AnchorDescription& a : d.anchors) w.add_anchor(a.particle, a.set, Vec3<Real>(a.target.cast<Real>()));
+  for (const BendingDescription& c : d.bending)
+    w.add_bending(c.particles[0], c.particles[1], c.particles[2], c.particles[3], c.set, Real(c.rest));
+  for (const AreaDescription& c : d.area) w.add_area(c.particles[0], c.particles[1], c.particles[2], c.set, Real(c.rest));
+  for (const VolumeDescription& v : d.volumes) w.add_volume(v.triangles, v.set, v.pressure, Real(v.rest));
+  for (const PlaneDescription& p : d.planes) w.add_plane(Vec3<Real>(p.normal.cast<Real>()), Real(p.offset));
+  for (const SphereDescription& s : d.spheres) w.add_sphere(Vec3<Real>(s.center.cast<Real>()), Real(s.radius));
+  const StepParams<double>& p = d.params;
+  w.set_params({Real(p.dt), p.substeps, p.iterations, Vec3<Real>(p.gravity.cast<Real>()), Real(p.damping),
+                Real(p.collision_margin), p.solver, Real(p.jacobi_omega)});
+  return w;
+}
+
+template World<float> build_world(const WorldDescription&);
+template World<double> build_world(const WorldDescription&);
+
+}  // namespace pbd

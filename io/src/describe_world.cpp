@@ -1,0 +1,38 @@
+#include "pbd/io/describe_world.hpp"
+
+namespace pbd {
+
+template <class Real> WorldDescription describe_world(const World<Real>& w) {
+  WorldDescription d;
+  d.positions = w.positions().template cast<double>();
+  d.velocities = w.velocities().template cast<double>();
+  d.inverse_masses = w.inverse_masses().template cast<double>();
+  d.sets.assign(w.constraint_sets().begin(), w.constraint_sets().end());
+  const auto& stretch = w.template constraints<StretchConstraint<Real>>();
+  d.stretch.reserve(stretch.size());
+  for (const auto& c : stretch) d.stretch.push_back({c.particles, c.set, double(c.rest)});
+  const auto& anchors = w.template constraints<AnchorConstraint<Real>>();
+  d.anchors.reserve(anchors.size());
+  for (const auto& c : anchors) d.anchors.push_back({c.particles[0], c.set, c.target.template cast<double>()});
+  const auto& bending = w.template constraints<BendingConstraint<Real>>();
+  d.bending.reserve(bending.size());
+  for (const auto& c : bending) d.bending.push_back({c.particles, c.set, double(c.rest)});
+  const auto& area = w.template constraints<AreaConstraint<Real>>();
+  d.area.reserve(area.size());
+  for (const auto& c : area) d.area.push_back({c.particles, c.set, double(c.rest)});
+  const VolumeConstraints<Real>& volumes = w.volumes();
+  for (const auto& c : volumes.items)
+    d.volumes.push_back({{volumes.triangles.begin() + c.triangle_begin, volumes.triangles.begin() + c.triangle_end},
+                         c.set, double(c.rest), c.pressure});
+  for (const auto& p : w.colliders().planes) d.planes.push_back({p.normal.template cast<double>(), double(p.offset)});
+  for (const auto& s : w.colliders().spheres) d.spheres.push_back({s.center.template cast<double>(), double(s.radius)});
+  const StepParams<Real>& p = w.params();
+  d.params = {double(p.dt), p.substeps, p.iterations, p.gravity.template cast<double>(), double(p.damping),
+              double(p.collision_margin), p.solver, double(p.jacobi_omega)};
+  return d;
+}
+
+template WorldDescription describe_world(const World<float>&);
+template WorldDescription describe_world(const World<double>&);
+
+}  // namespace pbd

@@ -1,0 +1,15 @@
+#pragma once
+// Builds error messages from any streamable parts (private to pbd::io).
+#include <sstream>
+#include <string>
+
+namespace pbd::detail {
+
+template <class... Parts> std::string message(const Parts&... parts) {
+  std::ostringstream s;
+  s.precision(9);
+  (s << ... << parts);
+  return s.str();
+}
+
+}  // namespace pbd::detail

@@ -1,0 +1,155 @@
+// OBJ frames: what write_obj_frame writes, read back (header, every vertex, faces and lines 1-based); which stretch
+// constraints frame_topology draws as lines; errors naming the file, and no half-written frame.
+#include "error_checks.hpp"
+#include "pbd/io/frame_writer.hpp"
+#include "pbd/io/generators.hpp"
+#include "temp_dir.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace pbd {
+namespace {
+
+// A 3×3 cloth with stretch (particles 0-8, on its triangles), a 4-particle rope with stretch (9-12, on none), and
+// one stretch constraint from the cloth to the rope.
+template <class Real> struct ClothAndRope {
+  World<Real> world;
+  std::vector<std::array<Index, 3>> triangles;
+  ClothAndRope() {
+    const Index set = world.add_constraint_set(Stiffness::pbd_k(1.0));
+    ClothOptions cloth;
+    cloth.resolution = 3;
+    triangles = add_cloth(world, cloth, set).triangles;
+    RopeOptions rope;
+    rope.particles = 4;
+    rope.origin = {0.25, -0.5, 2.0};
+    add_rope(world, rope, set);
+    world.add_stretch(4, 9, set);
+  }
+};
+
+// The lines of a text file.
+std::vector<std::string> lines_of(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+template <class Real> class FrameWriterTest : public ::testing::Test {};
+using Precisions = ::testing::Types<float, double>;
+TYPED_TEST_SUITE(FrameWriterTest, Precisions);
+
+TYPED_TEST(FrameWriterTest, TopologyDrawsLinesOnlyForStretchConstraintsOffTheSurface) {
+  const ClothAndRope<TypeParam> s;
+  const FrameTopology t = frame_topology(s.world, s.triangles);
+  EXPECT_EQ(t.triangles, s.triangles);
+  // The rope's three segments; not the cloth's 16 edges, nor the constraint from cloth particle 4 to the rope.
+  EXPECT_EQ(t.lines, (std::vector<std::array<Index, 2>>{{9, 10}, {10, 11}, {11, 12}}));
+  // Without triangles every stretch constraint is a line.
+  EXPECT_EQ(frame_topology(s.world, {}).lines.size(), s.world.template constraints<StretchConstraint<TypeParam>>().size());
+}
+
+TYPED_TEST(FrameWriterTest, WritesTheHeaderEveryVertexAndOneBasedFacesAndLines) {
+  ClothAndRope<TypeParam> s;
+  for (int i = 0; i < 3; ++i) s.world.step();  // moved off the grid, and a time to report
+  const test::TempDir dir("pbd_frame_writer");
+  const auto file = dir / "frame.obj";
+  const FrameTopology t = frame_topology(s.world, s.triangles);
+  write_obj_frame(file, s.world, t);
+  const std::vector<std::string> lines = lines_of(file);
+  const Index n = s.world.num_particles();
+  ASSERT_EQ(lines.size(), 1 + n + t.triangles.size() + t.lines.size());
+  char header[96];
+  std::snprintf(header, sizeof header, "# pbd frame: t = %.6f s, %u particles", s.world.time(), n);
+  EXPECT_EQ(lines[0], header);
+  EXPECT_NE(lines[0].find("t = 0.05"), std::string::npos) << "3 steps of 1/60 s: " << lines[0];
+  const auto x = s.world.positions();
+  for (Index i = 0; i < n; ++i) {
+    std::istringstream v(lines[1 + i]);
+    std::string tag;
+    double p[3];
+    ASSERT_TRUE(v >> tag >> p[0] >> p[1] >> p[2]) << lines[1 + i];
+    EXPECT_EQ(tag, "v");
+    for (int d = 0; d < 3; ++d)  // %.7g: 7 significant digits
+      EXPECT_NEAR(p[d], double(x(d, i)), 1e-6 * std::max(1.0, std::abs(double(x(d, i))))) << "vertex " << i;
+  }
+  for (std::size_t k = 0; k < t.triangles.size(); ++k) {
+    const auto& tri = t.triangles[k];
+    EXPECT_EQ(lines[1 + n + k], "f " + std::to_string(tri[0] + 1) + " " + std::to_string(tri[1] + 1) + " " +
+                                    std::to_string(tri[2] + 1));
+  }
+  for (std::size_t k = 0; k < t.lines.size(); ++k)
+    EXPECT_EQ(lines[1 + n + t.triangles.size() + k],
+              "l " + std::to_string(t.lines[k][0] + 1) + " " + std::to_string(t.lines[k][1] + 1));
+  EXPECT_EQ(lines.back(), "l 12 13");
+  // Only the frame is left in the folder (the temporary it was written under is gone).
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()), 1);
+}
+
+TYPED_TEST(FrameWriterTest, AFrameIsReplacedWhole) {
+  ClothAndRope<TypeParam> s;
+  const test::TempDir dir("pbd_frame_writer");
+  const auto file = dir / "frame.obj";
+  std::ofstream(file) << std::string(100000, 'x') << "\n";  // longer than the frame: nothing of it may remain
+  write_obj_frame(file, s.world, frame_topology(s.world, s.triangles));
+  for (const std::string& line : lines_of(file)) EXPECT_NE(line[0], 'x');
+}
+
+TEST(FrameWriter, AnUnwritablePathIsAnErrorNamingTheFile) {
+  const ClothAndRope<float> s;
+  const FrameTopology t = frame_topology(s.world, s.triangles);
+  test::expect_words(test::error_of([&] { write_obj_frame("/nonexistent-pbd-dir/f_00001.obj", s.world, t); }),
+                     {"/nonexistent-pbd-dir/f_00001.obj", "cannot open for writing"});
+  const test::TempDir dir("pbd_frame_writer");
+  std::filesystem::create_directories(dir / "taken.obj");  // a folder where the frame should go
+  test::expect_words(test::error_of([&] { write_obj_frame(dir / "taken.obj", s.world, t); }),
+                     {"taken.obj", "cannot replace"});
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()), 1)
+      << "the temporary is removed";
+}
+
+TEST(FrameWriter, AFailedWriteLeavesNoFile) {
+  // A file size limit makes the write fail after the first 4 KiB (SIGXFSZ ignored: write() returns EFBIG instead).
+  ClothAndRope<double> s;
+  ClothOptions big;
+  big.resolution = 60;
+  add_cloth(s.world, big, std::nullopt);
+  const test::TempDir dir("pbd_frame_writer");
+  const auto file = dir / "big.obj";
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
+  const auto previous = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit small = old;
+  small.rlim_cur = 4096;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  const std::string message = test::error_of([&] { write_obj_frame(file, s.world, frame_topology(s.world, s.triangles)); });
+  setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, previous);
+  test::expect_words(message, {"big.obj", "write failed"});
+  EXPECT_FALSE(std::filesystem::exists(file));
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << "the temporary is removed";
+}
+
+TEST(FrameWriter, IndicesOutOfRangeAreErrorsAndWriteNothing) {
+  const ClothAndRope<float> s;
+  test::expect_words(test::error_of([&] { frame_topology(s.world, {{0, 1, 13}}); }),
+                     {"frame_topology", "triangle 0", "particle index 13", "13 particles"});
+  const test::TempDir dir("pbd_frame_writer");
+  FrameTopology t;
+  t.lines = {{0, 1}, {12, 99}};
+  test::expect_words(test::error_of([&] { write_obj_frame(dir / "f.obj", s.world, t); }),
+                     {"f.obj", "line 1", "particle index 99"});
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+}  // namespace
+}  // namespace pbd
