@@ -158,13 +158,19 @@ ConstraintGraph constraint_graph(std::span<const C> items, const std::vector<std
 /// Colors every constraint of `s` anew with graph_coloring (pinned particles never conflict) and lays it out.
 template <class C> void color_all(Store<C>& s, const std::vector<std::uint8_t>& fixed, const coloring::Options& options) {
   if (s.empty()) return s.clear();
-  std::vector<C> by_user = s.in_insertion_order();
-  const ConstraintGraph graph = constraint_graph(std::span<const C>(by_user), fixed);
+  // Never colored: the items are already in insertion order, so take them instead of copying them.
+  const bool in_order = s.slot.empty();
+  std::vector<C> by_user = in_order ? std::move(s.items) : s.in_insertion_order();
   coloring::Coloring col;
-  try {  // the store is untouched until the coloring succeeded
+  try {  // on failure the store is as it was
+    const ConstraintGraph graph = constraint_graph(std::span<const C>(by_user), fixed);
     col = coloring::color(graph.view(), options);
   } catch (const coloring::Error& e) {
+    if (in_order) s.items = std::move(by_user);
     throw Error(std::string("coloring ") + C::kName + " constraints: " + e.what());
+  } catch (...) {
+    if (in_order) s.items = std::move(by_user);
+    throw;
   }
   s.color.assign(col.color.begin(), col.color.end());
   layout_by_color(s, by_user);
