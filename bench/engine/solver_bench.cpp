@@ -1,7 +1,7 @@
 // ns per constraint projection per sweep: serial reference, colored Gauss-Seidel and Jacobi on 1 and 2 threads,
 // over the stretch constraints of an N×N hanging cloth (float). Positions are perturbed so every projection works.
-// One benchmark iteration is one sub-step's solve as World::step runs it: λ reset (begin_substep), kSweeps sweeps,
-// and end_substep (which may copy positions back from the solver's padded copy). Counter ns_per_projection = wall
+// One benchmark iteration is one sub-step's solve as World::step runs it: λ reset , kSweeps sweeps,
+// and the end of the sub-step (which may copy positions back from the padded copy). Counter ns_per_projection = wall
 // time of one iteration / (constraints × kSweeps) (medians: use --benchmark_repetitions). BM_ColoredScaling,
 // BM_SharedNothingScaling, BM_SharedNothingHalvesScaling and BM_ComputeScaling measure 2T vs 1T paired, sub-step
 // by sub-step (see paired_scaling).

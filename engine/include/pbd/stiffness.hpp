@@ -41,7 +41,7 @@ template <class Real> SolveCoefficients<Real> coefficients(const Stiffness& s, d
       return {Real(1.0 - std::pow(1.0 - s.k, 1.0 / n)), Real(0)};
     }
     // + 0 turns a compliance of −0 into α̃ = +0: with α̃ = +0 and λ = 0, "− α̃·λ" leaves every value as it is, so
-    // kernels may leave it out (stretch_block.hpp) and still match the scalar projection bit for bit.
+    // kernels may leave it out (engine/src/solve/stretch_kernel.hpp) and still match the scalar projection bit for bit.
     case StiffnessMode::xpbd: return {Real(1), Real(s.compliance / (h * h)) + Real(0)};
   }
   return {};

@@ -135,7 +135,7 @@ template <bool kLambda, bool kOneSet>
 /// any_xpbd = false promises that every set of the range has α̃ = +0 (coefficients() never gives −0): λ is then
 /// never touched (nor fetched).
 /// set: the set every constraint of the range belongs to (k and α̃ are then read once), or kMixedSets.
-/// Compiled twice (stretch_block.cpp): for AVX2 machines (three-operand encoding) and for any x86-64; a CPU check
+/// Compiled twice (stretch_kernel.cpp): for AVX2 machines (three-operand encoding) and for any x86-64; a CPU check
 /// on first use picks one for the process, and both do the same arithmetic.
 void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, float* q,
                            const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set);
