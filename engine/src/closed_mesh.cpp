@@ -1,6 +1,6 @@
 #include "pbd/closed_mesh.hpp"
 
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -2,7 +2,7 @@
 // throws pbd::Error naming the offending item and leaves the world unchanged), parameters, and validate().
 #include "pbd/world.hpp"
 
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 #include "pbd/closed_mesh.hpp"
 #include "solve/schedule.hpp"
 

@@ -2,7 +2,7 @@
 // Adding, removing and validating constraints and particles: edit.cpp.
 #include "pbd/world.hpp"
 
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 #include "pbd/metrics.hpp"
 #include "solve/parallel_range.hpp"
 #include "solve/schedule.hpp"

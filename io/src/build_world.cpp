@@ -1,6 +1,6 @@
 #include "pbd/io/build_world.hpp"
 
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 
 #include <cmath>
 #include <string>

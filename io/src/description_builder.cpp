@@ -1,6 +1,6 @@
 #include "pbd/io/description_builder.hpp"
 
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 #include "pbd/closed_mesh.hpp"
 #include "pbd/constraints/area.hpp"
 #include "pbd/constraints/bending.hpp"

@@ -1,6 +1,6 @@
 #include "pbd/io/frame_writer.hpp"
 
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 
 #include <cerrno>
 #include <cstdio>

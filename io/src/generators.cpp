@@ -1,6 +1,6 @@
 #include "pbd/io/generators.hpp"
 
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 #include "pbd/io/description_builder.hpp"
 
 #include <cmath>

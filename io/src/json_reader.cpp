@@ -1,6 +1,6 @@
 #include "json_reader.hpp"
 
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 #include "pbd/io/mesh.hpp"
 
 #include "edge_table.hpp"
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 #include "pbd/error.hpp"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 #include "pbd/io/mesh_body.hpp"
 
 #include "edge_table.hpp"
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 #include "pbd/closed_mesh.hpp"
 #include "pbd/io/description_builder.hpp"
 

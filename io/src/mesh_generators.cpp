@@ -1,6 +1,6 @@
 #include "pbd/io/mesh_generators.hpp"
 
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 #include "pbd/error.hpp"
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 #include "pbd/io/obj_loader.hpp"
 
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 #include "obj_number.hpp"
 #include "pbd/error.hpp"
 

@@ -1,7 +1,7 @@
 #include "pbd/io/scene.hpp"
 
 #include "json_reader.hpp"
-#include "message.hpp"
+#include "pbd/detail/message.hpp"
 #include "pbd/io/description_builder.hpp"
 #include "pbd/io/generators.hpp"
 #include "pbd/io/mesh_body.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Builds error messages from any streamable parts (private to pbd::io).
+// Builds error messages from any streamable parts (shared by the engine and pbd::io; not for hosts).
 #include <sstream>
 #include <string>
 
