@@ -1,6 +1,10 @@
 #include "pbd/closed_mesh.hpp"
 
+#include "pbd/constraints/degenerate.hpp"
 #include "pbd/detail/message.hpp"
+#include "pbd/error.hpp"
+
+#include <cmath>
 
 #include <algorithm>
 #include <cstdint>
@@ -107,5 +111,41 @@ std::optional<std::string> closed_mesh_defect(std::span<const std::array<Index, 
   }
   return std::nullopt;
 }
+
+template <class Real>
+Real checked_rest_volume(std::span<const std::array<Index, 3>> triangles, const Matrix3X<Real>& x,
+                         const PressureSchedule& pressure, std::optional<Real> rest, const std::string& what) {
+  if (const auto defect = closed_mesh_defect(triangles, Index(x.cols()))) throw Error(what + ": " + *defect);
+  if (!std::isfinite(pressure.from) || !std::isfinite(pressure.to) || !(pressure.from > 0.0) ||
+      !(pressure.to > 0.0) || !std::isfinite(pressure.duration) || pressure.duration < 0.0)
+    throw Error(what + ": pressure from/to must be finite and > 0, duration finite and >= 0");
+  // Flat or inside-out: the enclosed volume must be clearly positive against the mesh's extent (scale-free).
+  using Vec = Vec3<Real>;
+  Vec lo = x.col(triangles[0][0]), hi = lo;
+  for (const auto& t : triangles)
+    for (Index i : t) {
+      lo = lo.cwiseMin(Vec(x.col(i)));
+      hi = hi.cwiseMax(Vec(x.col(i)));
+    }
+  const Real extent = (hi - lo).norm();
+  const Real six_v = six_volume<Real>(triangles, x);
+  if (!rest) {
+    if (six_v < Real(0))
+      throw Error(detail::message(what, ": the mesh encloses a negative volume (", six_v / Real(6),
+                                  "): it is inside out; its triangles must wind counter-clockwise seen from outside"));
+    if (!(six_v > Real(6) * parallel_sine<Real>() * extent * extent * extent))
+      throw Error(detail::message(what, ": the mesh is flat (volume ", six_v / Real(6), " for an extent of ", extent,
+                                  "): it encloses nothing to keep"));
+  }
+  const Real r = rest ? *rest : six_v;
+  if (!std::isfinite(r) || !(r > Real(0)))
+    throw Error(detail::message(what, ": rest volume must be finite and > 0, got ", r));
+  return r;
+}
+
+template float checked_rest_volume(std::span<const std::array<Index, 3>>, const Matrix3X<float>&,
+                                   const PressureSchedule&, std::optional<float>, const std::string&);
+template double checked_rest_volume(std::span<const std::array<Index, 3>>, const Matrix3X<double>&,
+                                    const PressureSchedule&, std::optional<double>, const std::string&);
 
 }  // namespace pbd

@@ -217,31 +217,7 @@ Index World<Real>::add_volume(std::span<const std::array<Index, 3>> triangles, I
   const std::size_t index = table.size();
   auto what = [&] { return detail::message(item, " ", index); };
   check_set(set, item, index);
-  if (const auto defect = closed_mesh_defect(triangles, num_particles())) throw Error(what() + ": " + *defect);
-  if (!std::isfinite(pressure.from) || !std::isfinite(pressure.to) || !(pressure.from > 0.0) ||
-      !(pressure.to > 0.0) || !std::isfinite(pressure.duration) || pressure.duration < 0.0)
-    throw Error(what() + ": pressure from/to must be finite and > 0, duration finite and >= 0");
-  // Flat or inside-out: the enclosed volume must be clearly positive against the mesh's extent (scale-free).
-  const auto& x = state_.x;
-  Vec lo = x.col(triangles[0][0]), hi = lo;
-  for (const auto& t : triangles)
-    for (Index i : t) {
-      lo = lo.cwiseMin(Vec(x.col(i)));
-      hi = hi.cwiseMax(Vec(x.col(i)));
-    }
-  const Real extent = (hi - lo).norm();
-  const Real six_v = six_volume<Real>(triangles, x);
-  if (!rest) {
-    if (six_v < Real(0))
-      throw Error(detail::message(what(), ": the mesh encloses a negative volume (", six_v / Real(6),
-                                  "): it is inside out; its triangles must wind counter-clockwise seen from outside"));
-    if (!(six_v > Real(6) * parallel_sine<Real>() * extent * extent * extent))
-      throw Error(detail::message(what(), ": the mesh is flat (volume ", six_v / Real(6), " for an extent of ",
-                                  extent, "): it encloses nothing to keep"));
-  }
-  const Real r = rest ? *rest : six_v;
-  if (!std::isfinite(r) || !(r > Real(0)))
-    throw Error(detail::message(what(), ": rest volume must be finite and > 0, got ", r));
+  const Real r = checked_rest_volume<Real>(triangles, state_.x, pressure, rest, what());
   table.add(triangles, set, r, pressure);
   return Index(index);
 }

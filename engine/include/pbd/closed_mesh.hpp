@@ -1,6 +1,7 @@
 #pragma once
 /// \file closed_mesh.hpp
 /// Whether triangles bound a volume: the topology check World::add_volume runs (and pbd::io before it adds a mesh).
+#include "pbd/constraints/volume.hpp"
 #include "pbd/types.hpp"
 
 #include <array>
@@ -15,5 +16,13 @@ namespace pbd {
 /// triangle order, e.g. "edge (4, 7) belongs to one triangle only: the mesh is open". Also rejects an index ≥
 /// `num_vertices` and a triangle naming a vertex twice.
 std::optional<std::string> closed_mesh_defect(std::span<const std::array<Index, 3>> triangles, Index num_vertices);
+
+/// The checks of a volume constraint over `triangles` of the particles at `x` (closed, manifold and oriented; pressure
+/// schedule finite and positive; not flat or inside out unless `rest` is given) and its rest volume in the 6V unit
+/// of constraints/volume.hpp (`rest`, or the current one). Throws pbd::Error prefixed by `what`. World::add_volume and
+/// pbd::io's scene reader both check volumes through it.
+template <class Real>
+Real checked_rest_volume(std::span<const std::array<Index, 3>> triangles, const Matrix3X<Real>& x,
+                         const PressureSchedule& pressure, std::optional<Real> rest, const std::string& what);
 
 }  // namespace pbd
