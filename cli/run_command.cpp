@@ -24,6 +24,7 @@ struct RunOptions {
   std::string frames;
   int every = 1;
   std::string solver = "colored";
+  std::string sweep_order;  // empty: the scene's own
   int threads = 0;  // 0: the arena's default
   std::string precision = "float";
 };
@@ -32,6 +33,7 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
   World<Real> world = build_world<Real>(scene.world);
   StepParams<Real> params = world.params();
   params.solver = *parse_solver(o.solver);
+  if (!o.sweep_order.empty()) params.sweep_order = *parse_sweep_order(o.sweep_order);
   world.set_params(params);
   const FrameTopology topology = frame_topology(world, scene.triangles);
   std::filesystem::path dir;
@@ -105,6 +107,8 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--solver", o->solver, "serial, serial-colored, colored or jacobi")
       ->check(CLI::IsMember({"serial", "serial-colored", "colored", "jacobi"}))
       ->capture_default_str();
+  cmd->add_option("--sweep-order", o->sweep_order, "forward or symmetric (default: the scene's own)")
+      ->check(CLI::IsMember({"forward", "symmetric"}));
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--precision", o->precision, "float or double")
       ->check(CLI::IsMember({"float", "double"}))

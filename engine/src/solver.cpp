@@ -18,4 +18,18 @@ std::optional<Solver> parse_solver(std::string_view n) {
   return std::nullopt;
 }
 
+std::string_view name(SweepOrder order) {
+  switch (order) {
+    case SweepOrder::forward: return "forward";
+    case SweepOrder::symmetric: return "symmetric";
+  }
+  return "?";
+}
+
+std::optional<SweepOrder> parse_sweep_order(std::string_view n) {
+  for (SweepOrder o : {SweepOrder::forward, SweepOrder::symmetric})
+    if (name(o) == n) return o;
+  return std::nullopt;
+}
+
 }  // namespace pbd

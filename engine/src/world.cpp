@@ -87,9 +87,10 @@ void predict(const StepParams<Real>& params, Real h, const Real* w, const Real* 
       for (int d = 0; d < 3; ++d) {
         if (w[i] == Real(0)) vi[d] = Real(0);  // pinned particles keep v = 0
         else {
+          // Damp first: damping then acts on the motion only, and a body at rest feels the whole of g and f.
+          if (damp) vi[d] *= keep;
           vi[d] += h * g[d];
           if (f) vi[d] += h * (w[i] * f[3 * std::size_t(i) + d]);  // external force: a = w·f
-          if (damp) vi[d] *= keep;
         }
         p[3 * std::size_t(i) + d] = xi[d] + h * vi[d];
       }

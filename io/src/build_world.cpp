@@ -76,7 +76,7 @@ template <class Real> World<Real> build_world(const WorldDescription& d) {
   for (const SphereDescription& s : d.spheres) w.add_sphere(Vec3<Real>(s.center.cast<Real>()), Real(s.radius));
   const StepParams<double>& p = d.params;
   w.set_params({Real(p.dt), p.substeps, p.iterations, Vec3<Real>(p.gravity.cast<Real>()), Real(p.damping),
-                Real(p.collision_margin), p.solver, Real(p.jacobi_omega)});
+                Real(p.collision_margin), p.solver, Real(p.jacobi_omega), p.sweep_order});
   return w;
 }
 

@@ -28,7 +28,7 @@ template <class Real> WorldDescription describe_world(const World<Real>& w) {
   for (const auto& s : w.colliders().spheres) d.spheres.push_back({s.center.template cast<double>(), double(s.radius)});
   const StepParams<Real>& p = w.params();
   d.params = {double(p.dt), p.substeps, p.iterations, p.gravity.template cast<double>(), double(p.damping),
-              double(p.collision_margin), p.solver, double(p.jacobi_omega)};
+              double(p.collision_margin), p.solver, double(p.jacobi_omega), p.sweep_order};
   return d;
 }
 

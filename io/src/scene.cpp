@@ -312,6 +312,12 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   p.gravity = vec(o.vec3("gravity", {0.0, 0.0, -9.81}));
   p.damping = o.number("damping", 0.0, 1e6, 0.0);
   p.collision_margin = o.number("collision_margin", 0.0, 1e6, p.collision_margin);
+  if (o.has("sweep_order")) {
+    const std::string order = o.string("sweep_order");
+    if (const auto so = parse_sweep_order(order)) p.sweep_order = *so;
+    else o.fail("sweep_order", message("unknown sweep order ", detail::quoted(order),
+                                       " (expected \"forward\" or \"symmetric\")"));
+  }
   at_path(f, "", [&] { world.set_params(p); });
   for (const auto& [v, path] : o.array("bodies")) {
     at_path(f, path, [&, &v = v, &path = path] {

@@ -50,12 +50,13 @@ public:
   virtual void count_particles(std::vector<Index>& count, Index first) const = 0;
   virtual std::size_t erase_touching(Index particle) = 0;  ///< removes every constraint on `particle`; how many
   virtual void validate(const std::vector<std::uint8_t>& fixed) const = 0;  ///< Store::validate
-  /// Every constraint in insertion order, each projected into `out` (out = p: Gauss-Seidel; else Jacobi deltas).
+  /// Every constraint in insertion order (or backwards), each projected into `out` (out = p: Gauss-Seidel; else
+  /// Jacobi deltas, λ += relax·Δλ).
   virtual void project_insertion(const Real* p, const Real* w, const SolveCoefficients<Real>* coeff, Real* lambda,
-                                 Real* out) const = 0;
+                                 Real* out, Real relax, bool reverse) const = 0;
   /// Stored positions [b, e) (inside one color), each projected into `out`.
   virtual void project_range(Index b, Index e, const Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
-                             Real* lambda, Real* out) const = 0;
+                             Real* lambda, Real* out, Real relax) const = 0;
 };
 
 /// The store of host type C.
@@ -96,15 +97,16 @@ public:
   }
   void validate(const std::vector<std::uint8_t>& fixed) const override { store.validate(fixed, C::kName); }
   void project_insertion(const Real* p, const Real* w, const SolveCoefficients<Real>* coeff, Real* lambda,
-                         Real* out) const override {
-    for (Index u = 0; u < Index(store.size()); ++u) {
-      const Index i = store.stored(u);
-      project_into(store.items[i], p, w, coeff[store.items[i].set], lambda[i], out);
+                         Real* out, Real relax, bool reverse) const override {
+    const Index n = Index(store.size());
+    for (Index k = 0; k < n; ++k) {
+      const Index i = store.stored(reverse ? n - 1 - k : k);
+      project_into(store.items[i], p, w, coeff[store.items[i].set], lambda[i], out, relax);
     }
   }
   void project_range(Index b, Index e, const Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
-                     Real* lambda, Real* out) const override {
-    for (Index i = b; i < e; ++i) project_into(store.items[i], p, w, coeff[store.items[i].set], lambda[i], out);
+                     Real* lambda, Real* out, Real relax) const override {
+    for (Index i = b; i < e; ++i) project_into(store.items[i], p, w, coeff[store.items[i].set], lambda[i], out, relax);
   }
 };
 

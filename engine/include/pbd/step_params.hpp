@@ -15,10 +15,11 @@ template <class Real> struct StepParams {
   int substeps = 1;                          ///< sub-steps per step, ≥ 1, each with its own sweeps
   int iterations = 10;                       ///< Gauss-Seidel sweeps per sub-step, ≥ 0
   Vec3<Real> gravity{Real(0), Real(0), Real(-9.81)};  ///< acceleration applied to every movable particle, m/s²
-  Real damping = 0;                          ///< velocity damping rate in 1/s, ≥ 0: v ← v·max(0, 1 − damping·h)
+  Real damping = 0;                          ///< velocity damping rate in 1/s, ≥ 0: v ← v·max(0, 1 − damping·h), before forces
   Real collision_margin = Real(0.01);        ///< contacts are generated for particles ending within this distance, m, ≥ 0
   Solver solver = Solver::colored;           ///< which solver step() runs
   Real jacobi_omega = 1;                     ///< Jacobi over-relaxation factor ω, in (0, 2)
+  SweepOrder sweep_order = SweepOrder::forward;  ///< Gauss-Seidel sweep order (symmetric: for closed bodies)
 };
 
 /// What the last step() did and how long each phase took (wall-clock seconds, summed over sub-steps).

@@ -6,14 +6,14 @@
 namespace pbd::detail {
 namespace {
 
-// Jacobi counts from scratch: persistent constraints touching each particle.
+// Jacobi counts from scratch: built-in and user-defined constraints touching each particle (not the volumes, which
+// Jacobi projects in place, sweep.hpp).
 template <class Real> void count_touches(Model<Real>& m) {
   m.touch_count.assign(m.num_particles(), 0);
   for_each_store(m.stores, [&](const auto& s, auto) {
     for (const auto& c : s.items)
       for (Index k : c.particles) ++m.touch_count[k];
   });
-  for (Index k : m.volume.table.particles) ++m.touch_count[k];
   for (const auto& t : m.user.types()) t->count_particles(m.touch_count, 0);
 }
 

@@ -33,8 +33,8 @@ template <class Real> struct Scratch {
   std::vector<Real> collision_lambda;               // their λ, stored order
   std::vector<SolveCoefficients<Real>> coeff;       // per constraint set, for this step's sub-step length
   VolumeScratch<Real> volume;                       // volume targets, gradients, block sums
-  std::vector<Index> count;                         // Jacobi: constraints touching each particle this sub-step
-  std::vector<Real> count_inv;                      // Jacobi: 1 / count
+  std::vector<Real> count_inv;                      // Jacobi: 1 / (persistent constraints touching the particle)
+  std::vector<Real> split_w;                        // Jacobi: split inverse masses, w · that count
   std::vector<Real> delta;                          // Jacobi: accumulated corrections, 3 per particle
   Eigen::Matrix<Real, 4, Eigen::Dynamic> padded;    // float stretch kernel: x y z w per particle
   PartitionerPool partitioners;                     // one per color and pass of the sweeps

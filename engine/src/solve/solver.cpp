@@ -13,7 +13,7 @@ void solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, const
   const Update update = solver == Solver::jacobi ? Update::jacobi : Update::in_place;
   const bool parallel = solver == Solver::colored || solver == Solver::jacobi;
   if (schedule == Schedule::colors) color_collisions(scratch.collisions);
-  Sweeper<Real> sweeper(model, state, scratch, schedule, update, parallel, config);
+  Sweeper<Real> sweeper(model, state, scratch, schedule, update, params.sweep_order, parallel, config);
   sweeper.omega = params.jacobi_omega;
   sweeper.begin(time);
   Real* p = scratch.p.data();

@@ -6,12 +6,14 @@
 // and Jacobi solvers bring the colors up to date (schedule.hpp: only constraints added since the last step are
 // colored, into tail colors; everything is recolored after pins change, a particle is removed or the coloring
 // options change). Each sub-step then runs, in order:
-//   1. forces and damping   v += h·(g + w·f), v ← v·max(0, 1 − damping·h); pinned particles keep v = 0
+//   1. damping and forces   v ← v·max(0, 1 − damping·h), then v += h·(g + w·f); pinned particles keep v = 0
+//                           (damping first: a body at rest under gravity then sags by the whole of g)
 //   2. predict              p = x + h·v
 //   3. collisions           one inequality per (movable particle, collider) whose path x → p enters the collider or
 //                           ends within the margin (colliders.hpp); colored for the colored solvers
 //   4. solve                `iterations` sweeps (sweep.hpp): each visits the built-in types in solver order
-//                           (constraint_types.hpp), the user-defined types, the volume constraints, the collisions
+//                           (constraint_types.hpp), the user-defined types, the volume constraints, the collisions;
+//                           with SweepOrder::symmetric every other sweep visits them backwards, collisions still last
 //   5. update               v = (p − x) / h, x = p
 // Steps 1, 2 and 5 are per particle and run as parallel loops for the parallel solvers. In step 4 the colored
 // solver runs each color as a parallel loop: a color's constraints write no particle twice, so the result is the

@@ -5,12 +5,20 @@
 //                        color's constraints run in parallel (tbb::parallel_for) or one after the other with the
 //                        same bits
 //   update    in place:  Gauss-Seidel, each projection moves p at once
-//             Jacobi:    every projection reads the same p and adds its correction to a delta per particle; after
-//                        the sweep p += ω·delta / (constraints at the particle)
+//             Jacobi:    the built-in and user-defined constraints all read the same p and add their corrections to
+//                        a delta per particle, computed with split masses (Tonge et al. 2012): particle i, touched
+//                        by n_i of them, enters each with inverse mass n_i·w_i, so that p += ω·delta / n_i after
+//                        the sweep applies exactly w_i ∇C·(ω Δλ) per constraint and λ += ω Δλ tracks it (XPBD's λ
+//                        then converges to Gauss-Seidel's, and every correction conserves momentum)
+//   order     forward:   every sub-step visits each type in insertion or color order
+//             symmetric: odd sub-steps (State::substeps) visit each type backwards, colors reversed too (a color's
+//                        constraints share no particle, so their own order never matters)
 // A sweep visits, in this order: the built-in types (constraint_types.hpp), the user-defined types (in the order
-// first added), the volume constraints, then the sub-step's collisions. The float stretch kernel (SIMD on padded
-// positions, stretch_kernel.hpp) is how the colors schedule projects stretch colors in place; it gives the scalar
-// projection's bits.
+// first added), the volume constraints, then the sub-step's collisions. The volumes and the collisions are projected
+// in place under every update (Jacobi after applying its deltas): a volume is one constraint, parallel within
+// itself, a contact touches one particle; so every sweep ends with the volumes and then the contacts holding. The
+// float stretch kernel (SIMD on padded positions, stretch_kernel.hpp) is how the colors schedule projects stretch
+// colors in place; it gives the scalar projection's bits.
 #include "parallel_range.hpp"
 #include "pbd/constraints/projection.hpp"
 #include "scratch.hpp"
@@ -25,17 +33,32 @@ namespace pbd::detail {
 enum class Schedule { insertion, colors };  // which order a sweep visits the constraints in
 enum class Update { in_place, jacobi };     // Gauss-Seidel or Jacobi
 
-/// Every constraint of `st` in insertion order, each projected into `out`. A function of its own (not inlined into
-/// the sweep), like each color's range, so that the projection is inlined into its loop.
-/// kInPlace: out is p (Gauss-Seidel), and the compiler sees it.
-template <bool kInPlace, class C, class Real, class CoeffOf>
+/// Every constraint of `st` in insertion order (kReverse: backwards), each projected into `out`. A function of its
+/// own (not inlined into the sweep), like each color's range, so that the projection is inlined into its loop.
+/// kInPlace: out is p (Gauss-Seidel) and relax is 1, and the compiler sees both.
+template <bool kInPlace, bool kReverse, class C, class Real, class CoeffOf>
 [[gnu::noinline]] void project_in_insertion_order(const Store<C>& st, Real* lam, Real* p, const Real* w,
-                                                  const CoeffOf& coeff_of, Real* out) {
-  if constexpr (kInPlace) out = p;
+                                                  const CoeffOf& coeff_of, Real relax, Real* out) {
+  if constexpr (kInPlace) {
+    out = p;
+    relax = Real(1);
+  }
+  const Index n = Index(st.size());
   if (st.slot.empty()) {  // never colored: stored order is insertion order
-    for (Index i = 0; i < Index(st.size()); ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out);
+    if constexpr (kReverse) {
+      for (Index i = n; i-- > 0;) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
+    } else {
+      for (Index i = 0; i < n; ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
+    }
   } else {
-    for (Index i : st.slot) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out);
+    if constexpr (kReverse) {
+      for (Index u = n; u-- > 0;) {
+        const Index i = st.slot[u];
+        project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
+      }
+    } else {
+      for (Index i : st.slot) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
+    }
   }
 }
 
@@ -43,10 +66,12 @@ template <bool kInPlace, class C, class Real, class CoeffOf>
 template <class Real> class Sweeper {
 public:
   Sweeper(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, Schedule schedule, Update update,
-          bool parallel, const ParallelConfig& config)
-      : m_(model), s_(state), k_(scratch), schedule_(schedule), update_(update), parallel_(parallel), config_(config) {}
+          SweepOrder order, bool parallel, const ParallelConfig& config)
+      : m_(model), s_(state), k_(scratch), schedule_(schedule), update_(update), order_(order), parallel_(parallel),
+        config_(config) {}
 
-  /// Starts a sub-step at `time` (s): volume targets, λ reset (only if some λ may be non-zero), Jacobi counts.
+  /// Starts a sub-step at `time` (s): volume targets, λ reset (only if some λ may be non-zero), Jacobi's counts and
+  /// split masses.
   void begin(double time) {
     k_.volume.set_targets(m_.volume.table, time);
     const std::size_t collisions = k_.collisions.size();
@@ -71,10 +96,14 @@ public:
     s_.lambda_dirty = std::ranges::any_of(k_.coeff, [](const auto& c) { return c.alpha_tilde != Real(0); });
     if (update_ == Update::jacobi) {
       const Index n = m_.num_particles();
-      k_.count.assign(m_.touch_count.begin(), m_.touch_count.end());
-      for (const auto& c : k_.collisions.items) ++k_.count[c.particles[0]];
+      const Real* w = m_.inverse_mass.data();
       k_.count_inv.resize(n);
-      for (Index i = 0; i < n; ++i) k_.count_inv[i] = k_.count[i] ? Real(1) / Real(k_.count[i]) : Real(0);
+      k_.split_w.resize(n);
+      for (Index i = 0; i < n; ++i) {
+        const Index c = m_.touch_count[i];
+        k_.count_inv[i] = c ? Real(1) / Real(c) : Real(0);
+        k_.split_w[i] = c ? w[i] * Real(c) : w[i];
+      }
       k_.delta.resize(3 * std::size_t(n));
     }
     // Stretch alone (float): the kernel may keep the positions padded from one sweep to the next.
@@ -82,12 +111,15 @@ public:
     for_each_store(m_.stores, [&](const auto& st, auto i) { stretch_only_ = stretch_only_ && (i == 0 || st.empty()); });
     stretch_only_ = stretch_only_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0;
     padded_ = false;
+    reverse_ = update_ == Update::in_place && order_ == SweepOrder::symmetric && (s_.substeps & 1u);
+    ++s_.substeps;
   }
 
   /// One sweep over every constraint, updating p (3 per particle).
   void sweep(Real* p) {
-    if (update_ == Update::in_place) sweep_with<true>(p);
-    else sweep_with<false>(p);
+    if (update_ == Update::jacobi) sweep_with<false, false>(p);
+    else if (reverse_) sweep_with<true, true>(p);
+    else sweep_with<true, false>(p);
   }
 
   /// Ends the sub-step's sweeps: p holds the solved positions afterwards.
@@ -100,60 +132,84 @@ public:
 
 private:
   // kInPlace: Gauss-Seidel, every projection writes p itself (known at compile time, so the compiler knows the
-  // writes and reads are of one array); otherwise Jacobi, the projections add to the deltas.
-  template <bool kInPlace> void sweep_with(Real* p) {
-    const Real* w = m_.inverse_mass.data();
+  // writes and reads are of one array); otherwise Jacobi, the projections add to the deltas with split masses.
+  // kReverse: each type's constraints backwards (the types keep their order).
+  template <bool kInPlace, bool kReverse> void sweep_with(Real* p) {
+    const Real* w = kInPlace ? m_.inverse_mass.data() : k_.split_w.data();
     const SolveCoefficients<Real>* coeff = k_.coeff.data();
+    const Real relax = kInPlace ? Real(1) : omega;
     Real* out = p;
     if constexpr (!kInPlace) {
       std::fill(k_.delta.begin(), k_.delta.end(), Real(0));
       out = k_.delta.data();
     }
     part_ = 0;
-    for_each_store(m_.stores, [&](const auto& st, auto i) { project_store<kInPlace>(st, s_.lambda[i].data(), p, w, coeff, out); });
-    for (std::size_t t = 0; t < m_.user.types().size(); ++t) {
+    auto store = [&](const auto& st, auto i) { project_store<kInPlace, kReverse>(st, s_.lambda[i].data(), p, w, coeff, relax, out); };
+    for_each_store(m_.stores, store);
+    project_user_types<kReverse>(p, w, coeff, relax, out);
+    if constexpr (!kInPlace) apply_deltas(p);
+    // Volumes and contacts, in place with the true masses whatever the update (each volume is one constraint,
+    // parallel within itself; each contact touches one particle), so they have the last word in every sweep.
+    project_volumes<kReverse>(p, m_.inverse_mass.data(), p);
+    project_store<true, false>(k_.collisions, k_.collision_lambda.data(), p, m_.inverse_mass.data(), coeff, Real(1), p);
+  }
+
+  template <bool kReverse>
+  void project_user_types(Real* p, const Real* w, const SolveCoefficients<Real>* coeff, Real relax, Real* out) {
+    const std::size_t n = m_.user.types().size();
+    for (std::size_t t = 0; t < n; ++t) {
       const auto& type = *m_.user.types()[t];
       Real* lam = s_.user_lambda[t].data();
       if (schedule_ == Schedule::insertion) {
-        type.project_insertion(p, w, coeff, lam, out);
+        type.project_insertion(p, w, coeff, lam, out, relax, kReverse);
       } else {
-        for (Index c = 0; c < type.num_colors(); ++c)  // one virtual call per color range, never per constraint
-          run_range(type.color_begin(c), type.color_begin(c + 1), parallel_, config_, k_.partitioners[part_++],
-                    [&](Index b, Index e) { type.project_range(b, e, p, w, coeff, lam, out); });
+        const std::size_t base = part_;
+        const Index colors = type.num_colors();
+        part_ += std::size_t(colors);
+        for (Index j = 0; j < colors; ++j) {  // one virtual call per color range, never per constraint
+          const Index c = kReverse ? colors - 1 - j : j;
+          run_range(type.color_begin(c), type.color_begin(c + 1), parallel_, config_, k_.partitioners[base + c],
+                    [&](Index b, Index e) { type.project_range(b, e, p, w, coeff, lam, out, relax); });
+        }
       }
     }
-    project_volumes(p, w, out);
-    project_store<kInPlace>(k_.collisions, k_.collision_lambda.data(), p, w, coeff, out);
-    if constexpr (!kInPlace) apply_deltas(p);
   }
 
-  template <bool kInPlace, class C>
+  template <bool kInPlace, bool kReverse, class C>
   void project_store(const Store<C>& st, Real* lam, Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
-                     Real* out) {
-    if constexpr (kInPlace) out = p;  // the same array, visibly so
+                     Real relax, Real* out) {
+    if constexpr (kInPlace) {  // the same array, visibly so, and no relaxation
+      out = p;
+      relax = Real(1);
+    }
     auto coeff_of = [&](const C& c) {
       if constexpr (requires { c.set; }) return coeff[c.set];
       else return SolveCoefficients<Real>{Real(1), Real(0)};  // collisions are hard
     };
     assert(schedule_ == Schedule::insertion || st.empty() || (st.up_to_date() && st.offsets.back() == st.size()));
     if (schedule_ == Schedule::insertion) {
-      project_in_insertion_order<kInPlace>(st, lam, p, w, coeff_of, out);
+      project_in_insertion_order<kInPlace, kReverse>(st, lam, p, w, coeff_of, relax, out);
       return;
     }
     if constexpr (kInPlace && std::is_same_v<C, StretchConstraint<float>> && kPaddedStretch) {
-      if (st.num_colors() > 0) project_stretch_padded_colors(st, lam, p, w, coeff);
+      if (st.num_colors() > 0) project_stretch_padded_colors<kReverse>(st, lam, p, w, coeff);
       return;
     }
-    for (Index c = 0; c < st.num_colors(); ++c)
-      run_range(st.offsets[c], st.offsets[c + 1], parallel_, config_, k_.partitioners[part_++], [&](Index b, Index e) {
-        for (Index i = b; i < e; ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out);
+    const std::size_t base = part_;
+    const Index colors = st.num_colors();
+    part_ += std::size_t(colors);
+    for (Index j = 0; j < colors; ++j) {
+      const Index c = kReverse ? colors - 1 - j : j;
+      run_range(st.offsets[c], st.offsets[c + 1], parallel_, config_, k_.partitioners[base + c], [&](Index b, Index e) {
+        for (Index i = b; i < e; ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
       });
+    }
   }
 
   // Every stretch color on padded positions (x y z w): one aligned load and store per particle in the kernel
   // instead of three of each plus w. Copied in unless the last sweep left them there, copied back unless stretch is
   // all the sweep projects (then end() copies them back). Partitioner slots are the same whichever copies run.
-  template <class C>
+  template <bool kReverse, class C>
   void project_stretch_padded_colors(const Store<C>& st, Real* lam, Real* p, const Real* w,
                                      const SolveCoefficients<Real>* coeff) {
     if constexpr (std::is_same_v<Real, float>) {
@@ -169,9 +225,13 @@ private:
       float* q = k_.padded.data();
       const bool any_xpbd = s_.lambda_dirty;
       const bool sets_known = m_.stretch_sets.size() == std::size_t(st.num_colors());
-      for (Index c = 0; c < st.num_colors(); ++c) {
+      const std::size_t base = part_;
+      const Index colors = st.num_colors();
+      part_ += std::size_t(colors);
+      for (Index j = 0; j < colors; ++j) {
+        const Index c = kReverse ? colors - 1 - j : j;
         const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
-        run_blocks(st.offsets[c], st.offsets[c + 1], kStretchBlock, parallel_, config_, k_.partitioners[part_++],
+        run_blocks(st.offsets[c], st.offsets[c + 1], kStretchBlock, parallel_, config_, k_.partitioners[base + c],
                    [&](Index b, Index e) { project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd, set); });
       }
       padded_ = true;
@@ -190,25 +250,30 @@ private:
 
   // Volume constraints: in insertion order, or color by color (a color's volumes share no particle, so they run
   // one after the other with the same bits); each is projected with its fixed-shape parallel reduction.
-  void project_volumes(Real* p, const Real* w, Real* out) {
+  template <bool kReverse> void project_volumes(Real* p, const Real* w, Real* out) {
     const auto& v = m_.volume;
     const ParallelConfig blocks = per_block(config_, kVolumeBlock);
-    auto one = [&](Index i) {
-      tbb::affinity_partitioner& ap = k_.partitioners[part_++];
+    const Index n = Index(v.table.size());
+    const std::size_t base = part_;
+    part_ += std::size_t(n);
+    auto one = [&](Index j) {
+      const Index i = schedule_ == Schedule::insertion ? j : v.order[j];
+      tbb::affinity_partitioner& ap = k_.partitioners[base + j];
       auto run = [&](Index b, Index e, const auto& body) { run_range(b, e, parallel_, blocks, ap, body); };
       project_volume(v.table, i, p, out, w, k_.coeff[v.table.items[i].set], k_.volume.target[i], s_.volume_lambda[i],
                      k_.volume, run);
     };
-    if (schedule_ == Schedule::insertion)
-      for (Index i = 0; i < Index(v.table.size()); ++i) one(i);
-    else
-      for (Index i : v.order) one(i);
+    if constexpr (kReverse) {
+      for (Index j = n; j-- > 0;) one(j);
+    } else {
+      for (Index j = 0; j < n; ++j) one(j);
+    }
   }
 
   void apply_deltas(Real* p) {
     const Real* delta = k_.delta.data();
     const Real* count_inv = k_.count_inv.data();
-    run_range(0, m_.num_particles(), parallel_, config_, k_.partitioners[part_], [&](Index b, Index e) {
+    run_range(0, m_.num_particles(), parallel_, config_, k_.partitioners[part_++], [&](Index b, Index e) {
       for (Index i = b; i < e; ++i) {
         const Real s = omega * count_inv[i];
         for (int d = 0; d < 3; ++d) p[3 * std::size_t(i) + d] += s * delta[3 * std::size_t(i) + d];
@@ -221,12 +286,14 @@ private:
   Scratch<Real>& k_;
   Schedule schedule_;
   Update update_;
+  SweepOrder order_;
   bool parallel_;
   const ParallelConfig& config_;
   std::size_t part_ = 0;        // next partitioner slot of this sweep
   std::size_t unpad_slot_ = 0;  // partitioner slot of the copy back (the stretch colors reserve it)
   bool stretch_only_ = false;   // stretch is all a sweep projects: positions may stay padded between sweeps
   bool padded_ = false;         // k_.padded holds the positions and p is stale (until end())
+  bool reverse_ = false;        // this sub-step's sweeps run backwards
 };
 
 }  // namespace pbd::detail

@@ -37,10 +37,12 @@ inline bool correction(const Constraint& c, const Vec3<Real> (&p)[Constraint::kA
 /// accumulates its λ and adds Δp to `out` (3×N) for its movable particles; pinned ones (w = 0) are never written.
 /// λ is accumulated only when α̃ ≠ 0: it enters the correction only as α̃·λ, so for PBD (α̃ = 0) it stays 0 and
 /// the solvers need not read or write it (every solver follows this rule, so all give the same bits).
-/// With out = p this is the Gauss-Seidel projection; with out = a separate buffer, the Jacobi accumulation.
+/// With out = p this is the Gauss-Seidel projection; with out = a separate buffer, the Jacobi accumulation (w then
+/// holds split inverse masses and relax is the ω by which the sweep scales what it applies, so λ += relax·Δλ).
 template <class Constraint, class Real>
-[[gnu::always_inline]] inline void project_into(const Constraint& c, const Real* p, const Real* w, SolveCoefficients<Real> coeff,
-                         Real& lambda, Real* out) {
+[[gnu::always_inline]] inline void project_into(const Constraint& c, const Real* p, const Real* w,
+                                                SolveCoefficients<Real> coeff, Real& lambda, Real* out,
+                                                Real relax = Real(1)) {
   constexpr int n = Constraint::kArity;
   Vec3<Real> q[n];
   Real wi[n];
@@ -51,7 +53,7 @@ template <class Constraint, class Real>
   Vec3<Real> dp[n];
   Real dlambda;
   if (!correction(c, q, wi, coeff, lambda, dp, dlambda)) return;
-  if (coeff.alpha_tilde != Real(0)) lambda += dlambda;
+  if (coeff.alpha_tilde != Real(0)) lambda += relax * dlambda;
   for (int i = 0; i < n; ++i)
     if (wi[i] != Real(0)) Eigen::Map<Vec3<Real>>(out + 3 * std::size_t(c.particles[i])) += dp[i];
 }
@@ -62,12 +64,12 @@ inline void project(const Constraint& c, Real* p, const Real* w, SolveCoefficien
   project_into(c, p, w, coeff, lambda, p);
 }
 
-/// Jacobi: adds the correction of constraint c, computed from the unchanged `p`, to `delta` (3 per particle) and
-/// accumulates its λ.
+/// Jacobi: adds the correction of constraint c, computed from the unchanged `p` with split inverse masses `w`, to
+/// `delta` (3 per particle) and accumulates λ += omega·Δλ.
 template <class Constraint, class Real>
 inline void accumulate(const Constraint& c, const Real* p, const Real* w, SolveCoefficients<Real> coeff, Real& lambda,
-                       Real* delta) {
-  project_into(c, p, w, coeff, lambda, delta);
+                       Real* delta, Real omega = Real(1)) {
+  project_into(c, p, w, coeff, lambda, delta, omega);
 }
 
 }  // namespace pbd

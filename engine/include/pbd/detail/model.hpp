@@ -50,7 +50,7 @@ template <class Real> struct Model {
   // Cooked for the colored and Jacobi solvers (schedule.cpp), valid while colors_current is set.
   bool colors_current = false;         ///< every store's colors match its constraints and the pins below
   std::vector<std::uint8_t> fixed;     ///< pinned flags the colors were made with, one per particle then
-  std::vector<Index> touch_count;      ///< Jacobi: persistent constraints touching each particle
+  std::vector<Index> touch_count;      ///< Jacobi: built-in and user constraints touching each particle
   std::vector<Index> stretch_sets;     ///< per stretch color: the set all its constraints share, or kMixedSets
 
   /// The store of built-in type C.
@@ -70,6 +70,7 @@ template <class Real> struct State {
   Matrix3X<Real> x;   ///< positions, m
   Matrix3X<Real> v;   ///< velocities, m/s
   double time = 0.0;  ///< simulated time, s
+  std::uint64_t substeps = 0;  ///< sub-steps taken so far: with SweepOrder::symmetric, odd ones sweep backwards
   std::array<std::vector<Real>, kNumBuiltinTypes> lambda;  ///< XPBD λ per built-in type, in stored order
   std::vector<std::vector<Real>> user_lambda;               ///< λ per user-defined type, in stored order
   std::vector<Real> volume_lambda;                          ///< λ per volume constraint
