@@ -50,6 +50,7 @@ template <class Real> void World<Real>::check_set(Index set, const char* item, s
 // ---- particles ----
 
 template <class Real> Index World<Real>::add_particle(const Vec& position, Real mass, const Vec& velocity) {
+  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   const Index i = num_particles();
   if (!finite(position)) throw Error(detail::message("add_particle: particle ", i, ": position is not finite"));
   if (!finite(velocity)) throw Error(detail::message("add_particle: particle ", i, ": velocity is not finite"));
@@ -79,6 +80,7 @@ template <class Real> Index World<Real>::add_particles(const Positions& position
 
 template <class Real>
 Index World<Real>::add_particles_by_inverse_mass(const Positions& positions, const VectorX<Real>& w) {
+  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   const Index first = num_particles();
   const char* fn = "add_particles_by_inverse_mass";
   if (positions.cols() != w.size())
@@ -100,6 +102,7 @@ Index World<Real>::add_particles_by_inverse_mass(const Positions& positions, con
 }
 
 template <class Real> void World<Real>::set_mass(Index particle, Real mass) {
+  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   check_particle(particle, "set_mass: particle", particle);
   check_mass(mass, "set_mass", particle);
   if ((model_.inverse_mass[particle] == Real(0)) != (inverse_mass(mass) == Real(0)))
@@ -108,6 +111,7 @@ template <class Real> void World<Real>::set_mass(Index particle, Real mass) {
 }
 
 template <class Real> void World<Real>::remove_particle(Index particle) {
+  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   check_particle(particle, "remove_particle: particle", particle);
   for (Index p : model_.volume.table.particles)
     if (p == particle)
@@ -139,6 +143,7 @@ template <class Real> Index World<Real>::add_constraint_set(const Stiffness& sti
 }
 
 template <class Real> Index World<Real>::add_stretch(Index a, Index b, Index set, std::optional<Real> rest) {
+  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   // Messages are built only when something is wrong: adding must stay cheap for millions of constraints.
   auto& store = model_.template store<StretchConstraint<Real>>();
   const char* item = "add_stretch: stretch constraint";
@@ -156,6 +161,7 @@ template <class Real> Index World<Real>::add_stretch(Index a, Index b, Index set
 }
 
 template <class Real> Index World<Real>::add_anchor(Index particle, Index set, std::optional<Vec> target) {
+  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   auto& store = model_.template store<AnchorConstraint<Real>>();
   const char* item = "add_anchor: anchor";
   const std::size_t index = store.size();
@@ -169,6 +175,7 @@ template <class Real> Index World<Real>::add_anchor(Index particle, Index set, s
 
 template <class Real>
 Index World<Real>::add_bending(Index p1, Index p2, Index p3, Index p4, Index set, std::optional<Real> rest) {
+  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   auto& store = model_.template store<BendingConstraint<Real>>();
   const char* item = "add_bending: bending constraint";
   const std::size_t index = store.size();
@@ -196,6 +203,7 @@ Index World<Real>::add_bending(Index p1, Index p2, Index p3, Index p4, Index set
 }
 
 template <class Real> Index World<Real>::add_area(Index a, Index b, Index c, Index set, std::optional<Real> rest) {
+  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   auto& store = model_.template store<AreaConstraint<Real>>();
   const char* item = "add_area: area constraint";
   const std::size_t index = store.size();
@@ -212,6 +220,7 @@ template <class Real> Index World<Real>::add_area(Index a, Index b, Index c, Ind
 template <class Real>
 Index World<Real>::add_volume(std::span<const std::array<Index, 3>> triangles, Index set,
                               const PressureSchedule& pressure, std::optional<Real> rest) {
+  ++model_.edits;
   auto& table = model_.volume.table;
   const char* item = "add_volume: volume constraint";
   const std::size_t index = table.size();
@@ -225,6 +234,7 @@ Index World<Real>::add_volume(std::span<const std::array<Index, 3>> triangles, I
 template <class Real>
 template <class C>
 void World<Real>::remove(std::span<const Index> indices, const char* what) {
+  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   auto& store = model_.template store<C>();
   std::vector<std::uint8_t> drop(store.size(), 0);
   for (Index i : indices) {

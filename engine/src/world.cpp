@@ -122,6 +122,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   }
   const bool parallel = params_.solver == Solver::colored || params_.solver == Solver::jacobi;
   const Index n = num_particles();
+  detail::update_free_bodies(model_, k.free_bodies);
   try {
     for (int s = 0; s < params_.substeps; ++s) {
       const double t = state_.time + double(h) * double(s + 1);
@@ -151,12 +152,30 @@ template <class Real> void World<Real>::advance(const Real* forces) {
       // 4. solve
       detail::solve(model_, state_, k, params_, parallel_, t);
       const auto t4 = clock::now();
-      // 5. update: v = (p − x)/h, x = p
+      // 5. update: v = (p − x)/h, x = p. Computed as v += (p − p̂)/h with p̂ = x + h·v the prediction (the same
+      // operations as in step 2, so the same bits): equal in exact arithmetic, but in floating point a velocity no
+      // constraint changed keeps all its digits instead of being rounded to a multiple of ulp(x)/h, which would let
+      // a slow body (v·damping·h under half an ulp of x per step) keep its speed for ever and crawl.
+      // Free bodies also lose the rigid rotation the solve gave them (free_bodies.hpp).
       Real* v = state_.v.data();
       const Real* x = state_.x.data();
       const Real* p = k.p.data();
+      detail::FreeBodies<Real>& fb = k.free_bodies;
+      const bool despin = detail::measure_solver_spin<Real>(model_, fb, k.collisions.items, x, p, v, h);
       detail::run_range(0, n, parallel, parallel_, k.particle_partitioners[1], [&](Index b, Index e) {
-        for (std::size_t j = 3 * std::size_t(b); j < 3 * std::size_t(e); ++j) v[j] = (p[j] - x[j]) / h;
+        for (std::size_t j = 3 * std::size_t(b); j < 3 * std::size_t(e); ++j) {
+          const Real predicted = x[j] + h * v[j];
+          v[j] += (p[j] - predicted) / h;
+        }
+        if (!despin) return;
+        for (Index i = b; i < e; ++i) {
+          const Index body = fb.body[i];
+          if (body == detail::FreeBodies<Real>::kNone || std::isnan(fb.omega[6 * std::size_t(body)])) continue;
+          const double* w = fb.omega.data() + 6 * std::size_t(body);
+          const Eigen::Vector3d r(double(p[3 * i]) - w[3], double(p[3 * i + 1]) - w[4], double(p[3 * i + 2]) - w[5]);
+          const Eigen::Vector3d spin = Eigen::Vector3d(w[0], w[1], w[2]).cross(r);
+          for (int d = 0; d < 3; ++d) v[3 * std::size_t(i) + d] -= Real(spin[d]);
+        }
       });
       state_.x.swap(k.p);
       using seconds = std::chrono::duration<double>;

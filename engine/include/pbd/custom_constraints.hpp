@@ -13,6 +13,7 @@
 #include "pbd/constraints/projection.hpp"
 #include "pbd/detail/constraint_store.hpp"
 
+#include <functional>
 #include <memory>
 #include <typeindex>
 #include <vector>
@@ -49,6 +50,8 @@ public:
   /// Adds 1 per constraint at each of its particles, for the constraints with user index ≥ first.
   virtual void count_particles(std::vector<Index>& count, Index first) const = 0;
   virtual std::size_t erase_touching(Index particle) = 0;  ///< removes every constraint on `particle`; how many
+  /// Calls join(a, b) for each constraint and each of its particles b after its first a.
+  virtual void join_particles(const std::function<void(Index, Index)>& join) const = 0;
   virtual void validate(const std::vector<std::uint8_t>& fixed) const = 0;  ///< Store::validate
   /// Every constraint in insertion order (or backwards), each projected into `out` (out = p: Gauss-Seidel; else
   /// Jacobi deltas, λ += relax·Δλ).
@@ -78,6 +81,10 @@ public:
   void count_particles(std::vector<Index>& count, Index first) const override {
     for (Index u = first; u < Index(store.size()); ++u)
       for (Index p : store.at(u).particles) ++count[p];
+  }
+  void join_particles(const std::function<void(Index, Index)>& join) const override {
+    for (const C& c : store.items)
+      for (int i = 1; i < C::kArity; ++i) join(c.particles[0], c.particles[i]);
   }
   std::size_t erase_touching(Index particle) override {
     std::vector<std::uint8_t> drop(store.size(), 0);

@@ -222,6 +222,7 @@ template <class Real> template <class C> Index World<Real>::add_custom(const C& 
   check_set(c.set, item, index);
   const bool first_of_type = s == nullptr;
   model_.user.template of<C>().append(c);
+  ++model_.edits;
   if (first_of_type) {
     state_.user_lambda.emplace_back();
     model_.colors_current = false;  // a new type: colored with everything at the next colored step

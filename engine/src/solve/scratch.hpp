@@ -4,6 +4,7 @@
 #include "pbd/constraints/collision.hpp"
 #include "pbd/constraints/volume.hpp"
 #include "pbd/detail/constraint_store.hpp"
+#include "free_bodies.hpp"
 #include "pbd/stiffness.hpp"
 
 #include <oneapi/tbb/partitioner.h>
@@ -39,6 +40,7 @@ template <class Real> struct Scratch {
   Eigen::Matrix<Real, 4, Eigen::Dynamic> padded;    // float stretch kernel: x y z w per particle
   PartitionerPool partitioners;                     // one per color and pass of the sweeps
   PartitionerPool particle_partitioners;            // the two per-particle passes of a sub-step
+  FreeBodies<Real> free_bodies;                     // bodies nothing outside touches, and their solver spin
   Matrix3X<Real> callback_forces;                   // filled by the force callback
   Matrix3X<Real> rollback_x, rollback_v;            // state at the start of a step with a callback and sub-steps
 };

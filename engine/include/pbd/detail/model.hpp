@@ -46,6 +46,7 @@ template <class Real> struct Model {
   VolumeStore<Real> volume;                                      ///< volume constraints
   Colliders<Real> colliders;                                     ///< static colliders
   coloring::Options coloring;                                    ///< how the colored and Jacobi solvers color
+  std::uint64_t edits = 0;  ///< particles or constraints added, removed or (un)pinned so far: keys what is cooked
 
   // Cooked for the colored and Jacobi solvers (schedule.cpp), valid while colors_current is set.
   bool colors_current = false;         ///< every store's colors match its constraints and the pins below

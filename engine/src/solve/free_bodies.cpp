@@ -1,0 +1,138 @@
+#include "free_bodies.hpp"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace pbd::detail {
+namespace {
+
+Index root(std::vector<Index>& parent, Index i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+}  // namespace
+
+template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<Real>& f) {
+  if (f.edits == m.edits && Index(f.body.size()) == m.num_particles()) return;
+  const Index n = m.num_particles();
+  std::vector<Index> parent(n);
+  std::iota(parent.begin(), parent.end(), Index(0));
+  std::vector<std::uint8_t> linked(n, 0), held(n, 0);
+  auto join = [&](Index a, Index b) {
+    linked[a] = linked[b] = 1;
+    const Index ra = root(parent, a), rb = root(parent, b);
+    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+  };
+  for_each_store(m.stores, [&](const auto& s, auto) {
+    for (const auto& c : s.items) {
+      using C = std::decay_t<decltype(c)>;
+      if constexpr (std::is_same_v<C, AnchorConstraint<Real>>) held[c.particles[0]] = 1;  // tied to the world
+      for (int i = 1; i < C::kArity; ++i) join(c.particles[0], c.particles[i]);
+    }
+  });
+  for (const auto& t : m.user.types()) t->join_particles(join);
+  const auto& v = m.volume.table;
+  for (const auto& c : v.items)
+    for (Index r = c.row_begin + 1; r < c.row_end; ++r) join(v.particles[c.row_begin], v.particles[r]);
+  for (Index i = 0; i < n; ++i)
+    if (m.inverse_mass[i] == Real(0)) held[i] = 1;
+  // A root is held when any of its particles is; bodies numbered by first particle.
+  std::vector<std::uint8_t> root_held(n, 0);
+  for (Index i = 0; i < n; ++i)
+    if (held[i]) root_held[root(parent, i)] = 1;
+  std::vector<Index> id(n, FreeBodies<Real>::kNone);
+  f.body.assign(n, FreeBodies<Real>::kNone);
+  f.count = 0;
+  for (Index i = 0; i < n; ++i) {
+    if (!linked[i]) continue;
+    const Index r = root(parent, i);
+    if (root_held[r]) continue;
+    if (id[r] == FreeBodies<Real>::kNone) id[r] = f.count++;
+    f.body[i] = id[r];
+  }
+  f.edits = m.edits;
+}
+
+template <class Real>
+bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<const CollisionConstraint<Real>> contacts,
+                         const Real* x, const Real* p, const Real* v, Real h) {
+  if (f.count == 0) return false;
+  constexpr Index kNone = FreeBodies<Real>::kNone;
+  f.contact.assign(f.count, 0);
+  for (const auto& c : contacts)
+    if (const Index b = f.body[c.particles[0]]; b != kNone) f.contact[b] = 1;
+  bool any = false;
+  for (Index b = 0; b < f.count; ++b) any = any || !f.contact[b];
+  if (!any) return false;
+  constexpr int kSums = 25;
+  f.sums.assign(std::size_t(f.count) * kSums, 0.0);
+  const Index n = m.num_particles();
+  for (Index i = 0; i < n; ++i) {  // one thread, particle order: the same bits for any thread count
+    const Index b = f.body[i];
+    if (b == kNone || f.contact[b]) continue;
+    const double mass = 1.0 / double(m.inverse_mass[i]);
+    Eigen::Vector3d q, xi, before, after;
+    for (int d = 0; d < 3; ++d) {
+      const std::size_t j = 3 * std::size_t(i) + d;
+      const Real predicted = x[j] + h * v[j];  // as steps 2 and 5 compute them
+      q[d] = double(p[j]);
+      xi[d] = double(x[j]);
+      before[d] = double(v[j]);
+      after[d] = double(v[j] + (p[j] - predicted) / h);
+    }
+    double* s = f.sums.data() + std::size_t(b) * kSums;
+    const Eigen::Vector3d l_after = q.cross(after), l_before = xi.cross(before);
+    s[0] += mass;
+    for (int d = 0; d < 3; ++d) {
+      s[1 + d] += mass * q[d];
+      s[4 + d] += mass * xi[d];
+      s[7 + d] += mass * l_after[d];
+      s[10 + d] += mass * l_before[d];
+      s[13 + d] += mass * after[d];
+      s[16 + d] += mass * before[d];
+    }
+    s[19] += mass * q.x() * q.x();
+    s[20] += mass * q.y() * q.y();
+    s[21] += mass * q.z() * q.z();
+    s[22] += mass * q.x() * q.y();
+    s[23] += mass * q.x() * q.z();
+    s[24] += mass * q.y() * q.z();
+  }
+  f.omega.assign(std::size_t(f.count) * 6, std::numeric_limits<double>::quiet_NaN());
+  for (Index b = 0; b < f.count; ++b) {
+    if (f.contact[b]) continue;
+    const double* s = f.sums.data() + std::size_t(b) * kSums;
+    const double mass = s[0];
+    auto v3 = [&](int k) { return Eigen::Vector3d(s[k], s[k + 1], s[k + 2]); };
+    const Eigen::Vector3d c = v3(1) / mass, c_before = v3(4) / mass;
+    // Angular momentum about the centre of mass after the solve and before it (after forces and damping).
+    const Eigen::Vector3d l = (v3(7) - c.cross(v3(13))) - (v3(10) - c_before.cross(v3(16)));
+    Eigen::Matrix3d second;  // Σ m (p − c)(p − c)ᵀ
+    second << s[19], s[22], s[23], s[22], s[20], s[24], s[23], s[24], s[21];
+    second -= mass * c * c.transpose();
+    const Eigen::Matrix3d inertia = second.trace() * Eigen::Matrix3d::Identity() - second;
+    // A body on a line (or a point) has no inertia about it: leave such a body alone.
+    Eigen::LDLT<Eigen::Matrix3d> ldlt(inertia);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-9 * inertia.trace())) continue;
+    const Eigen::Vector3d w = ldlt.solve(l);
+    for (int d = 0; d < 3; ++d) {
+      f.omega[6 * std::size_t(b) + d] = w[d];
+      f.omega[6 * std::size_t(b) + 3 + d] = c[d];
+    }
+  }
+  return true;
+}
+
+template void update_free_bodies(const Model<float>&, FreeBodies<float>&);
+template void update_free_bodies(const Model<double>&, FreeBodies<double>&);
+template bool measure_solver_spin(const Model<float>&, FreeBodies<float>&, std::span<const CollisionConstraint<float>>,
+                                  const float*, const float*, const float*, float);
+template bool measure_solver_spin(const Model<double>&, FreeBodies<double>&,
+                                  std::span<const CollisionConstraint<double>>, const double*, const double*,
+                                  const double*, double);
+
+}  // namespace pbd::detail

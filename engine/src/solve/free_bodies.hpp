@@ -1,0 +1,41 @@
+#pragma once
+// Free bodies (private): the rotation a solve must not add to a body that nothing outside it touches.
+//
+// A body is a connected set of particles (joined by any built-in, user-defined or volume constraint). It is free in
+// a sub-step when none of its particles is pinned or anchored and none has a contact: then only its own constraints
+// act on it, and internal forces exert no net torque. Gauss-Seidel breaks that where constraints cannot all hold: each
+// projection is central about the positions it reads, not about the start of the sub-step, and a fixed order over
+// conflicting constraints turns that into a steady spin (an over-constrained dodecahedron reaches 50 rad/s). So the
+// velocity update (step 5 of solver.hpp) gives each free body back the angular momentum it had before the solve
+// (after forces and damping): it removes the rigid rotation ω = I⁻¹ (L_after − L_before), L about the centre of mass
+// (of p after, of x before) and I the inertia of p about its centre. Linear momentum and every relative motion are
+// untouched, and so are the positions. Bodies with pins, anchors or contacts are left as
+// they are: a torque from outside is real. A world without free bodies runs none of this.
+#include "pbd/constraints/collision.hpp"
+#include "pbd/detail/model.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace pbd::detail {
+
+template <class Real> struct FreeBodies {
+  std::uint64_t edits = ~std::uint64_t(0);  // Model::edits the bodies below were found at
+  std::vector<Index> body;                  // per particle: its body, or kNone (no constraint, or held)
+  Index count = 0;                          // bodies that may be free (no pinned particle, no anchor)
+  std::vector<std::uint8_t> contact;        // per body, this sub-step: some particle has a contact
+  std::vector<double> sums;                 // per body: mass and first and second moments (free_bodies.cpp)
+  std::vector<double> omega;                // per body: ω to remove (3), centre of mass (3); NaN ω: leave it
+  static constexpr Index kNone = ~Index(0);
+};
+
+/// Finds the bodies again if the model changed since (Model::edits).
+template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<Real>& f);
+
+/// Sets f.omega for this sub-step from x, the solved positions p, the predicted velocities v and the sub-step's
+/// contacts; returns false (and computes nothing more) when no body is free.
+template <class Real>
+bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<const CollisionConstraint<Real>> contacts,
+                         const Real* x, const Real* p, const Real* v, Real h);
+
+}  // namespace pbd::detail
