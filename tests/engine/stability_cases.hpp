@@ -150,8 +150,9 @@ template <class Real> double energy_tolerance(const World<Real>& w) {
 /// At rest, the sweeps of a sub-step must take back the h²·g that gravity added to every movable particle, so
 ///   iterations · Σ_pinned links m_p C_link ≥ M g h².
 /// With every pinned link at the same relative stretch s (C = s·rest):  s = M g h² / (iterations · Σ m_p rest).
-/// Jacobi divides each particle's correction by the number c of constraints touching it, so each link passes on
-/// only 1/c of its error per sweep: its sag is c_max times larger (c_max: the largest count of a movable particle).
+/// Jacobi splits each particle's mass among the c constraints touching it (and applies the sum of their corrections),
+/// so each link passes on only about 1/c of its error per sweep: its sag is c_max times larger (c_max: the largest
+/// count of a movable particle).
 /// This is what lets a 1000:1 rope hang at several times its length at one sub-step of 4 sweeps: it is the method,
 /// not a failure, and it shrinks as h² with sub-steps.
 template <class Real> double sag_stretch(const World<Real>& w) {
@@ -183,21 +184,6 @@ template <class Real> double sag_stretch(const World<Real>& w) {
 /// from the pin can carry more error than the pinned ones: a link between two equal particles moves each by half its
 /// error, so it needs twice the error to pass on the same correction (2×).
 template <class Real> double swing_stretch_bound(const World<Real>& w) { return 6.0 * sag_stretch(w); }
-
-/// Largest number of constraints (persistent and the last sub-step's collisions) touching one movable particle:
-/// what Jacobi divides a correction by at most.
-template <class Real> int max_jacobi_count(const World<Real>& w) {
-  std::vector<int> count(w.num_particles(), 0);
-  w.for_each_builtin([&](const auto& array) {
-    for (const auto& c : array)
-      for (Index i : c.particles) ++count[i];
-  });
-  for (const auto& c : w.last_collisions()) ++count[c.particles[0]];
-  int m = 1;
-  for (Index i = 0; i < w.num_particles(); ++i)
-    if (w.inverse_masses()[i] != Real(0)) m = std::max(m, count[i]);
-  return m;
-}
 
 /// Longest shortest path, in rest lengths of stretch constraints, from a movable particle to a pinned one (0 if
 /// nothing is pinned): with every constraint stretched by at most s, no particle gets farther than (1 + s) times

@@ -132,9 +132,8 @@ TEST(Volume, DodecahedronReachesItsTargetWithinOnePercentAndStaysThere) {
       if (w.time() >= 1.0)
         worst = std::max(worst, std::abs(double(six_volume<float>(v.triangles, Matrix3X<float>(w.positions()))) / target - 1));
     }
-    // Jacobi averages the volume's correction with the stretch and bending corrections of each particle, which
-    // weakens it: it settles about 10% above the target (documented in docs/scenes.md), so it gets a looser bound.
-    EXPECT_LT(worst, s == Solver::jacobi ? 0.15 : 0.01) << name(s);
+    // Every solver, Jacobi included, projects the volume in place after the other constraints in every sweep.
+    EXPECT_LT(worst, 0.01) << name(s);
   }
 }
 
