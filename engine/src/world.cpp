@@ -156,7 +156,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
       // operations as in step 2, so the same bits): equal in exact arithmetic, but in floating point a velocity no
       // constraint changed keeps all its digits instead of being rounded to a multiple of ulp(x)/h, which would let
       // a slow body (v·damping·h under half an ulp of x per step) keep its speed for ever and crawl.
-      // Free bodies also lose the rigid rotation the solve gave them (free_bodies.hpp).
+      // Free bodies get back the momentum and angular momentum the solve changed (free_bodies.hpp).
       Real* v = state_.v.data();
       const Real* x = state_.x.data();
       const Real* p = k.p.data();
@@ -170,11 +170,11 @@ template <class Real> void World<Real>::advance(const Real* forces) {
         if (!despin) return;
         for (Index i = b; i < e; ++i) {
           const Index body = fb.body[i];
-          if (body == detail::FreeBodies<Real>::kNone || std::isnan(fb.omega[6 * std::size_t(body)])) continue;
-          const double* w = fb.omega.data() + 6 * std::size_t(body);
+          if (body == detail::FreeBodies<Real>::kNone || std::isnan(fb.omega[9 * std::size_t(body)])) continue;
+          const double* w = fb.omega.data() + 9 * std::size_t(body);
           const Eigen::Vector3d r(double(p[3 * i]) - w[3], double(p[3 * i + 1]) - w[4], double(p[3 * i + 2]) - w[5]);
           const Eigen::Vector3d spin = Eigen::Vector3d(w[0], w[1], w[2]).cross(r);
-          for (int d = 0; d < 3; ++d) v[3 * std::size_t(i) + d] -= Real(spin[d]);
+          for (int d = 0; d < 3; ++d) v[3 * std::size_t(i) + d] -= Real(spin[d] + w[6 + d]);
         }
       });
       state_.x.swap(k.p);

@@ -62,18 +62,30 @@ bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<co
                          const Real* x, const Real* p, const Real* v, Real h) {
   if (f.count == 0) return false;
   constexpr Index kNone = FreeBodies<Real>::kNone;
+  // Contacts: none (0), all along one normal n (1: their forces have no torque about n through any point, so the
+  // body keeps L·n), or along several (2: the body is left alone).
   f.contact.assign(f.count, 0);
-  for (const auto& c : contacts)
-    if (const Index b = f.body[c.particles[0]]; b != kNone) f.contact[b] = 1;
+  f.normal.resize(3 * std::size_t(f.count));
+  for (const auto& c : contacts) {
+    const Index b = f.body[c.particles[0]];
+    if (b == kNone || f.contact[b] == 2) continue;
+    double* n = f.normal.data() + 3 * std::size_t(b);
+    if (f.contact[b] == 0) {
+      f.contact[b] = 1;
+      for (int d = 0; d < 3; ++d) n[d] = double(c.normal[d]);
+    } else if (n[0] != double(c.normal[0]) || n[1] != double(c.normal[1]) || n[2] != double(c.normal[2])) {
+      f.contact[b] = 2;
+    }
+  }
   bool any = false;
-  for (Index b = 0; b < f.count; ++b) any = any || !f.contact[b];
+  for (Index b = 0; b < f.count; ++b) any = any || f.contact[b] != 2;
   if (!any) return false;
   constexpr int kSums = 25;
   f.sums.assign(std::size_t(f.count) * kSums, 0.0);
   const Index n = m.num_particles();
   for (Index i = 0; i < n; ++i) {  // one thread, particle order: the same bits for any thread count
     const Index b = f.body[i];
-    if (b == kNone || f.contact[b]) continue;
+    if (b == kNone || f.contact[b] == 2) continue;
     const double mass = 1.0 / double(m.inverse_mass[i]);
     Eigen::Vector3d q, xi, before, after;
     for (int d = 0; d < 3; ++d) {
@@ -102,9 +114,9 @@ bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<co
     s[23] += mass * q.x() * q.z();
     s[24] += mass * q.y() * q.z();
   }
-  f.omega.assign(std::size_t(f.count) * 6, std::numeric_limits<double>::quiet_NaN());
+  f.omega.assign(std::size_t(f.count) * 9, std::numeric_limits<double>::quiet_NaN());
   for (Index b = 0; b < f.count; ++b) {
-    if (f.contact[b]) continue;
+    if (f.contact[b] == 2) continue;
     const double* s = f.sums.data() + std::size_t(b) * kSums;
     const double mass = s[0];
     auto v3 = [&](int k) { return Eigen::Vector3d(s[k], s[k + 1], s[k + 2]); };
@@ -116,12 +128,29 @@ bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<co
     second -= mass * c * c.transpose();
     const Eigen::Matrix3d inertia = second.trace() * Eigen::Matrix3d::Identity() - second;
     // A body on a line (or a point) has no inertia about it: leave such a body alone.
-    Eigen::LDLT<Eigen::Matrix3d> ldlt(inertia);
-    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-9 * inertia.trace())) continue;
-    const Eigen::Vector3d w = ldlt.solve(l);
+    Eigen::Vector3d w;
+    if (f.contact[b] == 1) {  // only the rotation about n
+      const Eigen::Vector3d n(f.normal[3 * b], f.normal[3 * b + 1], f.normal[3 * b + 2]);
+      const double about_n = n.dot(inertia * n);
+      if (!(about_n > 1e-9 * inertia.trace())) continue;
+      w = n * (n.dot(l) / about_n);
+    } else {
+      Eigen::LDLT<Eigen::Matrix3d> ldlt(inertia);
+      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-9 * inertia.trace())) continue;
+      w = ldlt.solve(l);
+    }
+    // Linear momentum: the solve's projections conserve it, up to rounding, which in float adds up where
+    // conflicting constraints make large corrections every step; give it back too (along the contacts' normal,
+    // the contacts' push is real).
+    Eigen::Vector3d shift = (v3(13) - v3(16)) / mass;
+    if (f.contact[b] == 1) {
+      const Eigen::Vector3d n(f.normal[3 * b], f.normal[3 * b + 1], f.normal[3 * b + 2]);
+      shift -= n * n.dot(shift);
+    }
     for (int d = 0; d < 3; ++d) {
-      f.omega[6 * std::size_t(b) + d] = w[d];
-      f.omega[6 * std::size_t(b) + 3 + d] = c[d];
+      f.omega[9 * std::size_t(b) + d] = w[d];
+      f.omega[9 * std::size_t(b) + 3 + d] = c[d];
+      f.omega[9 * std::size_t(b) + 6 + d] = shift[d];
     }
   }
   return true;

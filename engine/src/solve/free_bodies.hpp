@@ -3,14 +3,18 @@
 //
 // A body is a connected set of particles (joined by any built-in, user-defined or volume constraint). It is free in
 // a sub-step when none of its particles is pinned or anchored and none has a contact: then only its own constraints
-// act on it, and internal forces exert no net torque. Gauss-Seidel breaks that where constraints cannot all hold: each
+// act on it, and internal forces exert no net torque. A body whose contacts all push along one normal n (a body on the
+// ground) is free about n: those forces have no torque about n, so it must keep its angular momentum about n. Gauss-Seidel breaks that where constraints cannot all hold: each
 // projection is central about the positions it reads, not about the start of the sub-step, and a fixed order over
 // conflicting constraints turns that into a steady spin (an over-constrained dodecahedron reaches 50 rad/s). So the
 // velocity update (step 5 of solver.hpp) gives each free body back the angular momentum it had before the solve
 // (after forces and damping): it removes the rigid rotation ω = I⁻¹ (L_after − L_before), L about the centre of mass
-// (of p after, of x before) and I the inertia of p about its centre. Linear momentum and every relative motion are
-// untouched, and so are the positions. Bodies with pins, anchors or contacts are left as
-// they are: a torque from outside is real. A world without free bodies runs none of this.
+// (of p after, of x before) and I the inertia of p about its centre (for a body free about n only, the rotation
+// about n: ω = n (n·ΔL) / (nᵀ I n)). It gives back the linear momentum as well (across n only), which the
+// projections conserve up to rounding; in float that rounding adds up where conflicting constraints make large
+// corrections every step. Every relative motion is untouched, and so are the positions. Bodies with pins, anchors or contacts are left as
+// they are, and so are bodies with contacts along several normals: a torque from outside is real. A world without
+// free bodies runs none of this.
 #include "pbd/constraints/collision.hpp"
 #include "pbd/detail/model.hpp"
 
@@ -23,9 +27,11 @@ template <class Real> struct FreeBodies {
   std::uint64_t edits = ~std::uint64_t(0);  // Model::edits the bodies below were found at
   std::vector<Index> body;                  // per particle: its body, or kNone (no constraint, or held)
   Index count = 0;                          // bodies that may be free (no pinned particle, no anchor)
-  std::vector<std::uint8_t> contact;        // per body, this sub-step: some particle has a contact
+  std::vector<std::uint8_t> contact;        // per body, this sub-step: 0 no contact, 1 all along normal, 2 more
+  std::vector<double> normal;               // per body with contact 1: that normal (3)
   std::vector<double> sums;                 // per body: mass and first and second moments (free_bodies.cpp)
-  std::vector<double> omega;                // per body: ω to remove (3), centre of mass (3); NaN ω: leave it
+  std::vector<double> omega;                // per body: ω to remove (3), centre of mass (3), velocity to remove (3);
+                                            // NaN ω: leave the body alone
   static constexpr Index kNone = ~Index(0);
 };
 
