@@ -1,20 +1,19 @@
 #pragma once
-// Free bodies (private): the rotation a solve must not add to a body that nothing outside it touches.
-//
-// A body is a connected set of particles (joined by any built-in, user-defined or volume constraint). It is free in
-// a sub-step when none of its particles is pinned or anchored and none has a contact: then only its own constraints
-// act on it, and internal forces exert no net torque. A body whose contacts all push along one normal n (a body on the
-// ground) is free about n: those forces have no torque about n, so it must keep its angular momentum about n. Gauss-Seidel breaks that where constraints cannot all hold: each
-// projection is central about the positions it reads, not about the start of the sub-step, and a fixed order over
-// conflicting constraints turns that into a steady spin (an over-constrained dodecahedron reaches 50 rad/s). So the
-// velocity update (step 5 of solver.hpp) gives each free body back the angular momentum it had before the solve
-// (after forces and damping): it removes the rigid rotation ω = I⁻¹ (L_after − L_before), L about the centre of mass
-// (of p after, of x before) and I the inertia of p about its centre (for a body free about n only, the rotation
-// about n: ω = n (n·ΔL) / (nᵀ I n)). It gives back the linear momentum as well (across n only), which the
-// projections conserve up to rounding; in float that rounding adds up where conflicting constraints make large
-// corrections every step. Every relative motion is untouched, and so are the positions. Bodies with pins, anchors or contacts are left as
-// they are, and so are bodies with contacts along several normals: a torque from outside is real. A world without
-// free bodies runs none of this.
+// Free bodies (private): the rotation a solve must not add to a body that nothing outside it touches.  A body is a
+// connected set of particles (joined by any built-in, user-defined or volume constraint). It is free in a sub-step
+// when none of its particles is pinned or anchored and none has a contact: then only its own constraints act on it,
+// and internal forces exert no net torque. A body whose contacts all push along one normal n (a body on the ground)
+// is free about n: those forces have no torque about n, so it must keep its angular momentum about n. Gauss-Seidel
+// breaks that where constraints cannot all hold: each projection is central about the positions it reads, not about
+// the start of the sub-step, and a fixed order over conflicting constraints turns that into a steady spin (an over-
+// constrained dodecahedron reaches 50 rad/s). So the velocity update (step 5 of solver.hpp) gives each free body
+// back the angular momentum it had before the solve (after forces and damping): it removes the rigid rotation ω =
+// I⁻¹ (L_after − L_before), L about the centre of mass (of p after, of x before) and I the inertia of p about its
+// centre (for a body free about n only, the rotation about n: ω = n (n·ΔL) / (nᵀ I n)). It gives back the linear
+// momentum as well (across n only), which the projections conserve up to rounding; in float that rounding adds up
+// where conflicting constraints make large corrections every step. Every relative motion is untouched, and so are
+// the positions. Bodies with pins or anchors are left as they are, and so are bodies with contacts along
+// several normals: a torque from outside is real. A world without free bodies runs none of this.
 #include "pbd/constraints/collision.hpp"
 #include "pbd/detail/model.hpp"
 

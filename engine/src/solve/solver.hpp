@@ -14,10 +14,17 @@
 //   4. solve                `iterations` sweeps (sweep.hpp): each visits the built-in types in solver order
 //                           (constraint_types.hpp), the user-defined types, the volume constraints, the collisions;
 //                           with SweepOrder::symmetric every other sweep visits them backwards, collisions still last
-//   5. update               v = (p − x) / h, x = p
-// Steps 1, 2 and 5 are per particle and run as parallel loops for the parallel solvers. In step 4 the colored
-// solver runs each color as a parallel loop: a color's constraints write no particle twice, so the result is the
-// serial color-order result bit for bit, whatever the thread count (pinned particles are never written, so they
+//   5. update               v = (p − x) / h, x = p; computed as v += (p − p̂)/h (p̂ = x + h·v, the prediction), so a
+//                           velocity no constraint changed keeps every digit (in float, v = (p − x)/h rounds to
+//                           multiples of ulp(x)/h, and a slow body whose damping is under half of that never
+//                           stops). A free body (no pin, anchor or contact, or contacts along one normal only) gets
+//                           back the momentum and angular momentum the solve changed (free_bodies.hpp): internal
+//                           forces exert none, but Gauss-Seidel over constraints that cannot all hold spun such a
+//                           body up.
+// Steps 1, 2 and 5 are per particle and run as parallel loops for the parallel solvers (the free bodies' sums in
+// step 5 are taken on one thread, in particle order, so they give the same bits on any thread count). In step 4 the
+// colored solver runs each color as a parallel loop: a color's constraints write no particle twice, so the result is
+// the serial color-order result bit for bit, whatever the thread count (pinned particles are never written, so they
 // never conflict). A volume constraint spans a mesh: its sums are reduced over fixed blocks in block order, so it
 // too gives the same bits on any thread count. Colors smaller than ParallelConfig::inline_below run inline: a
 // fork/join costs about as much as projecting a thousand constraints. Everything runs in the caller's
