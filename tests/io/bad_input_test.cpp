@@ -49,6 +49,16 @@ TEST(BadInputScene, TheReferenceScenesLoad) {
 
 // --- scenes: malformed, truncated, binary ----------------------------------------------------------------------
 
+TEST(BadInputScene, SweepOrderIsForwardOrSymmetric) {
+  EXPECT_EQ(parse_scene(kScene, "ok.json").world.params.sweep_order, SweepOrder::forward);  // the default
+  const std::string symmetric = replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"sweep_order\": \"symmetric\"");
+  EXPECT_EQ(parse_scene(symmetric, "ok.json").world.params.sweep_order, SweepOrder::symmetric);
+  expect_scene_error(replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"sweep_order\": \"backward\""),
+                     {"bad.json", "sweep_order", "unknown sweep order", "\"backward\"", "symmetric"});
+  expect_scene_error(replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"sweep_order\": 1"),
+                     {"bad.json", "sweep_order"});
+}
+
 TEST(BadInputScene, CutAnywhereIsAnErrorNamingTheFile) {
   for (std::size_t n = 0; n < kScene.size(); ++n) {
     const std::string message = error_of([&] { parse_scene(kScene.substr(0, n), "cut.json"); });

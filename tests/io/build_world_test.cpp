@@ -62,6 +62,7 @@ template <class Real> void expect_cast_of(const WorldDescription& d, const World
   EXPECT_EQ(w.params().collision_margin, Real(d.params.collision_margin)) << what;
   EXPECT_EQ(w.params().substeps, d.params.substeps) << what;
   EXPECT_EQ(w.params().iterations, d.params.iterations) << what;
+  EXPECT_EQ(w.params().sweep_order, d.params.sweep_order) << what;
   EXPECT_EQ(w.time(), 0.0) << what;
 }
 
