@@ -39,7 +39,7 @@ struct ClothFixture {
     params.iterations = kSweeps;
   }
   /// One sub-step's solve in the calling thread's arena.
-  void substep(const ParallelConfig& config = {}) { detail::solve(model, state, scratch, params, config, 0.0); }
+  void substep(const ParallelConfig& config = {}) { detail::solve(model, state, scratch, params, config, 0.0, false); }
   /// The positions being solved.
   const Matrix3X<Real>& p() const { return scratch.p; }
   std::size_t constraints() const { return world.num_constraints(); }

@@ -149,8 +149,10 @@ template <class Real> void World<Real>::advance(const Real* forces) {
         generate_collisions(model_.colliders, state_.x, k.p, model_.inverse_mass, params_.collision_margin,
                             k.collisions.items);
       const auto t3 = clock::now();
-      // 4. solve
-      detail::solve(model_, state_, k, params_, parallel_, t);
+      // 4. solve (symmetric order: odd sub-steps, numbered from the world's time, sweep backwards)
+      const long long substep = std::llround(state_.time / double(params_.dt)) * params_.substeps + s;
+      const bool reverse = params_.sweep_order == SweepOrder::symmetric && (substep & 1) != 0;
+      detail::solve(model_, state_, k, params_, parallel_, t, reverse);
       const auto t4 = clock::now();
       // 5. update: v = (p − x)/h, x = p. Computed as v += (p − p̂)/h with p̂ = x + h·v the prediction (the same
       // operations as in step 2, so the same bits): equal in exact arithmetic, but in floating point a velocity no

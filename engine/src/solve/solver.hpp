@@ -13,7 +13,9 @@
 //                           ends within the margin (colliders.hpp); colored for the colored solvers
 //   4. solve                `iterations` sweeps (sweep.hpp): each visits the built-in types in solver order
 //                           (constraint_types.hpp), the user-defined types, the volume constraints, the collisions;
-//                           with SweepOrder::symmetric every other sweep visits them backwards, collisions still last
+//                           with SweepOrder::symmetric, odd sub-steps visit each type backwards (the sub-step's
+//                           number is round(time / dt) · substeps + s: a function of the world's time, so a copy
+//                           made at any step, or a world whose time was set, sweeps the same way)
 //   5. update               v = (p − x) / h, x = p; computed as v += (p − p̂)/h (p̂ = x + h·v, the prediction), so a
 //                           velocity no constraint changed keeps every digit (in float, v = (p − x)/h rounds to
 //                           multiples of ulp(x)/h, and a slow body whose damping is under half of that never
@@ -36,10 +38,10 @@
 namespace pbd::detail {
 
 /// Step 4 of a sub-step: λ reset where needed, `params.iterations` sweeps of `params.solver` on scratch.p, at time
-/// `time` (s, for volume targets). The collisions in scratch.collisions are those of this sub-step, in generation
+/// `time` (s, for volume targets); `reverse`: each type backwards (SweepOrder::symmetric, odd sub-step). The collisions in scratch.collisions are those of this sub-step, in generation
 /// order; colored solvers lay them out by color first. The colors must be up to date (update_colors).
 template <class Real>
 void solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, const StepParams<Real>& params,
-           const ParallelConfig& config, double time);
+           const ParallelConfig& config, double time, bool reverse);
 
 }  // namespace pbd::detail

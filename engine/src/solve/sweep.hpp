@@ -11,8 +11,9 @@
 //                        the sweep applies exactly w_i ∇C·(ω Δλ) per constraint and λ += ω Δλ tracks it (XPBD's λ
 //                        then converges to Gauss-Seidel's, and every correction conserves momentum)
 //   order     forward:   every sub-step visits each type in insertion or color order
-//             symmetric: odd sub-steps (State::substeps) visit each type backwards, colors reversed too (a color's
-//                        constraints share no particle, so their own order never matters)
+//             symmetric: odd sub-steps visit each type backwards, colors reversed too (a color's constraints
+//                        share no particle, so their own order never matters); a sub-step's number comes from the
+//                        world's time (solver.hpp), so a copy of the world taken at any step sweeps the same way
 // A sweep visits, in this order: the built-in types (constraint_types.hpp), the user-defined types (in the order
 // first added), the volume constraints, then the sub-step's collisions. The volumes and the collisions are projected
 // in place under every update (Jacobi after applying its deltas): a volume is one constraint, parallel within
@@ -65,10 +66,11 @@ template <bool kInPlace, bool kReverse, class C, class Real, class CoeffOf>
 /// One sub-step's sweeps over a model: begin(), sweep() × iterations, end().
 template <class Real> class Sweeper {
 public:
+  /// reverse: this sub-step sweeps each type backwards (SweepOrder::symmetric on an odd sub-step; not for Jacobi).
   Sweeper(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, Schedule schedule, Update update,
-          SweepOrder order, bool parallel, const ParallelConfig& config)
-      : m_(model), s_(state), k_(scratch), schedule_(schedule), update_(update), order_(order), parallel_(parallel),
-        config_(config) {}
+          bool reverse, bool parallel, const ParallelConfig& config)
+      : m_(model), s_(state), k_(scratch), schedule_(schedule), update_(update),
+        reverse_(reverse && update == Update::in_place), parallel_(parallel), config_(config) {}
 
   /// Starts a sub-step at `time` (s): volume targets, λ reset (only if some λ may be non-zero), Jacobi's counts and
   /// split masses.
@@ -111,8 +113,6 @@ public:
     for_each_store(m_.stores, [&](const auto& st, auto i) { stretch_only_ = stretch_only_ && (i == 0 || st.empty()); });
     stretch_only_ = stretch_only_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0;
     padded_ = false;
-    reverse_ = update_ == Update::in_place && order_ == SweepOrder::symmetric && (s_.substeps & 1u);
-    ++s_.substeps;
   }
 
   /// One sweep over every constraint, updating p (3 per particle).
@@ -286,14 +286,13 @@ private:
   Scratch<Real>& k_;
   Schedule schedule_;
   Update update_;
-  SweepOrder order_;
+  bool reverse_;                // this sub-step's sweeps run backwards
   bool parallel_;
   const ParallelConfig& config_;
   std::size_t part_ = 0;        // next partitioner slot of this sweep
   std::size_t unpad_slot_ = 0;  // partitioner slot of the copy back (the stretch colors reserve it)
   bool stretch_only_ = false;   // stretch is all a sweep projects: positions may stay padded between sweeps
   bool padded_ = false;         // k_.padded holds the positions and p is stale (until end())
-  bool reverse_ = false;        // this sub-step's sweeps run backwards
 };
 
 }  // namespace pbd::detail

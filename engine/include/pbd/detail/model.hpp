@@ -71,7 +71,6 @@ template <class Real> struct State {
   Matrix3X<Real> x;   ///< positions, m
   Matrix3X<Real> v;   ///< velocities, m/s
   double time = 0.0;  ///< simulated time, s
-  std::uint64_t substeps = 0;  ///< sub-steps taken so far: with SweepOrder::symmetric, odd ones sweep backwards
   std::array<std::vector<Real>, kNumBuiltinTypes> lambda;  ///< XPBD λ per built-in type, in stored order
   std::vector<std::vector<Real>> user_lambda;               ///< λ per user-defined type, in stored order
   std::vector<Real> volume_lambda;                          ///< λ per volume constraint
