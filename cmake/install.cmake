@@ -1,5 +1,5 @@
 # Installs headers, libraries, the pbd program, the built-in scenes and a relocatable CMake package
-# (find_package(pbd) → pbd::engine, pbd::io, pbd::graph_coloring, with Eigen3 and TBB found for the consumer).
+# (find_package(pbd) → pbd::engine, pbd::io, pbd::graph_coloring, with Eigen3, TBB and METIS found for the consumer).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
@@ -25,4 +25,5 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/pbdConfig.cmake.in
   ${PROJECT_BINARY_DIR}/pbdConfig.cmake INSTALL_DESTINATION ${config_dir})
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/pbdConfigVersion.cmake COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/pbdConfig.cmake ${PROJECT_BINARY_DIR}/pbdConfigVersion.cmake
+              ${PROJECT_SOURCE_DIR}/cmake/FindMETIS.cmake
   DESTINATION ${config_dir})
