@@ -92,6 +92,18 @@ inline Graph cloth_bending(std::uint32_t n) {
   return g;
 }
 
+/// The items of a, then those of b, over the larger node count (e.g. a cloth's stretch and bending constraints);
+/// fixed flags are a's.
+inline Graph merge(const Graph& a, const Graph& b) {
+  Graph g = a;
+  g.num_nodes = a.num_nodes > b.num_nodes ? a.num_nodes : b.num_nodes;
+  const std::uint32_t base = static_cast<std::uint32_t>(g.nodes.size());
+  g.nodes.insert(g.nodes.end(), b.nodes.begin(), b.nodes.end());
+  for (std::size_t i = 1; i < b.offsets.size(); ++i) g.offsets.push_back(base + b.offsets[i]);
+  if (!g.fixed.empty()) g.fixed.resize(g.num_nodes, 0);
+  return g;
+}
+
 /// num_items items of min_degree..max_degree distinct nodes among num_nodes (num_nodes >= max_degree),
 /// with each node fixed with probability pinned_percent / 100.
 inline Graph random_hypergraph(std::uint32_t num_items, std::uint32_t num_nodes, std::uint32_t min_degree,
