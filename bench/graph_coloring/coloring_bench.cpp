@@ -1,12 +1,16 @@
 // Coloring time per item for every algorithm (with and without balancing) on cloth stretch
 // constraints and random hypergraphs of ~10^4, 10^5 and 10^6 items, with the coloring's figures as
 // counters; plus, as the yardstick, one serial Gauss-Seidel sweep over the same cloth stretch
-// constraints (float positions, PBD distance projection, natural order).
+// constraints (float positions, PBD distance projection, natural order); plus partition() (both
+// methods, 4, 16 and 64 parts) on 100 x 100 and 300 x 300 cloths' stretch and bending constraints.
 //
 // Counters: colors, lower_bound, max_over_mean (largest / mean regular batch), per_item (seconds
-// per item; Google Benchmark prints it with an SI prefix, e.g. "4.1n" = 4.1 ns).
+// per item; Google Benchmark prints it with an SI prefix, e.g. "4.1n" = 4.1 ns); for partitions,
+// cut_fraction (cut items / items) and imbalance (largest / mean block weight, a node weighing the
+// items touching it).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -57,6 +61,37 @@ void bm_color(benchmark::State& state, std::string kind, Algorithm algorithm, bo
   }
   if (find_coloring_error(g, c)) state.SkipWithError("improper coloring");
   set_counters(state, g, c);
+}
+
+// Stretch (2 nodes: horizontal, vertical, one diagonal per cell) and bending (4 nodes: two triangles
+// sharing an edge) constraints of an n x n cloth.
+const inputs::Graph& cloth_with_bending(std::uint32_t n) {
+  static std::map<std::uint32_t, inputs::Graph> cache;
+  auto it = cache.find(n);
+  if (it == cache.end()) it = cache.emplace(n, inputs::merge(inputs::cloth_edges(n), inputs::cloth_bending(n))).first;
+  return it->second;
+}
+
+// Arguments: cloth side, parts.
+void bm_partition(benchmark::State& state, PartitionMethod method) {
+  const inputs::Graph& owned = cloth_with_bending(static_cast<std::uint32_t>(state.range(0)));
+  const Hypergraph g = owned.view();
+  const PartitionOptions options{method, static_cast<std::uint32_t>(state.range(1))};
+  Partition p;
+  for (auto _ : state) {
+    p = partition(g, options);
+    benchmark::DoNotOptimize(p.block.data());
+  }
+  std::vector<std::uint64_t> block_weight(p.parts, 0);
+  std::uint64_t total = 0;
+  for (std::uint32_t v : owned.nodes)
+    if (p.block[v] != kNoBlock) ++block_weight[p.block[v]], ++total;
+  std::uint64_t largest = 0;
+  for (auto w : block_weight) largest = std::max(largest, w);
+  state.counters["parts"] = p.parts;
+  state.counters["items"] = g.num_items();
+  state.counters["cut_fraction"] = static_cast<double>(cut_items(g, p)) / g.num_items();
+  state.counters["imbalance"] = p.parts == 0 ? 0.0 : static_cast<double>(largest) * p.parts / static_cast<double>(total);
 }
 
 // One Gauss-Seidel sweep of PBD distance constraints (k = 1) in natural (item) order.
@@ -112,6 +147,13 @@ int main(int argc, char** argv) {
         for (auto s : sizes) b->Arg(s);
         b->Unit(benchmark::kMillisecond)->UseRealTime();
       }
+  for (PartitionMethod method : {PartitionMethod::metis, PartitionMethod::index_ranges}) {
+    const std::string label = std::string("partition/cloth+bending/") +
+                              (method == PartitionMethod::metis ? "metis" : "index_ranges");
+    auto* b = benchmark::RegisterBenchmark(label.c_str(), bm_partition, method);
+    b->ArgNames({"side", "parts"})->ArgsProduct({{100, 300}, {4, 16, 64}});
+    b->Unit(benchmark::kMillisecond)->UseRealTime();
+  }
   auto* sweep = benchmark::RegisterBenchmark("reference/serial_gauss_seidel_sweep/cloth", bm_sweep);
   for (auto s : sizes) sweep->Arg(s);
   sweep->Unit(benchmark::kMillisecond)->UseRealTime();
