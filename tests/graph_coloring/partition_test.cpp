@@ -254,6 +254,20 @@ TEST(Partition, SeparatesDisconnectedComponents) {
   EXPECT_NE(p.block[0], p.block[a.num_nodes]);
 }
 
+TEST(Partition, SplitsAGraphWithoutEdges) {
+  inputs::Graph g;  // ten lone nodes, each touched by a 1-node item: METIS gets no adjacency at all
+  g.num_nodes = 10;
+  for (std::uint32_t v = 0; v < 10; ++v) g.add({v});
+  for (PartitionMethod m : kMethods)
+    for (std::uint32_t parts : {2u, 5u, 10u}) {
+      SCOPED_TRACE(method_name(m) + " parts=" + std::to_string(parts));
+      const Partition p = split(g, m, parts);
+      expect_well_formed(g, p);
+      EXPECT_EQ(p.parts, parts);
+      EXPECT_EQ(cut_items(g.view(), p), 0u);
+    }
+}
+
 TEST(Partition, WideItemsAddNoCliqueButKeepTheirWeight) {
   inputs::Graph g = cloth(30);
   std::vector<std::uint32_t> all(g.num_nodes);
