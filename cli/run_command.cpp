@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 namespace pbd::cli {
@@ -27,6 +28,7 @@ struct RunOptions {
   std::string sweep_order;  // empty: the scene's own
   int threads = 0;  // 0: the arena's default
   std::string precision = "float";
+  std::optional<double> chebyshev_rho;  // --chebyshev: accelerate with this ρ (0: estimated)
 };
 
 template <class Real> void run(const Scene& scene, const RunOptions& o, int steps) {
@@ -34,6 +36,10 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
   StepParams<Real> params = world.params();
   params.solver = *parse_solver(o.solver);
   if (!o.sweep_order.empty()) params.sweep_order = *parse_sweep_order(o.sweep_order);
+  if (o.chebyshev_rho) {
+    params.chebyshev.enabled = true;
+    params.chebyshev.rho = Real(*o.chebyshev_rho);
+  }
   world.set_params(params);
   const FrameTopology topology = frame_topology(world, scene.triangles);
   std::filesystem::path dir;
@@ -104,9 +110,12 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--steps", o->steps, "Number of steps (default: the scene's own)")->check(CLI::Range(1, 100000000));
   cmd->add_option("--frames", o->frames, "Write frames as DIR/<scene>_<step>.obj (step 0 included)");
   cmd->add_option("--every", o->every, "Write every K-th step's frame")->check(CLI::Range(1, 100000000))->capture_default_str();
-  cmd->add_option("--solver", o->solver, "serial, serial-colored, colored or jacobi")
-      ->check(CLI::IsMember({"serial", "serial-colored", "colored", "jacobi"}))
-      ->capture_default_str();
+  std::vector<std::string> solvers;
+  for (Solver s : kSolvers) solvers.emplace_back(name(s));
+  cmd->add_option("--solver", o->solver, solver_names())->check(CLI::IsMember(solvers))->capture_default_str();
+  cmd->add_option("--chebyshev", o->chebyshev_rho,
+                  "Chebyshev acceleration of the sweeps with this spectral radius in [0, 1) (0: estimated)")
+      ->check(CLI::Range(0.0, 0.999999));
   cmd->add_option("--sweep-order", o->sweep_order, "forward or symmetric (default: the scene's own)")
       ->check(CLI::IsMember({"forward", "symmetric"}));
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));

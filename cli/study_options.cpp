@@ -43,11 +43,11 @@ std::vector<StudySolver> solver_list(const std::string& text) {
   std::vector<StudySolver> out;
   for (const std::string& item : split(text)) {
     const auto s = parse_solver(item);
-    if (!s) throw Error("--solvers: unknown solver \"" + item + "\" (valid: serial, serial-colored, colored, jacobi)");
+    if (!s) throw Error("--solvers: unknown solver \"" + item + "\" (valid: " + solver_names() + ")");
     if (std::any_of(out.begin(), out.end(), [&](const StudySolver& o) { return o.solver == *s; })) continue;
-    out.push_back({item, *s, *s == Solver::colored || *s == Solver::jacobi});
+    out.push_back({item, *s, is_parallel(*s)});
   }
-  if (out.empty()) throw Error("--solvers: the list is empty (valid: serial, serial-colored, colored, jacobi)");
+  if (out.empty()) throw Error("--solvers: the list is empty (valid: " + solver_names() + ")");
   return out;
 }
 

@@ -11,7 +11,7 @@ namespace pbd::cli {
 /// The options exactly as the command line gave them (lists still comma-separated text).
 struct StudyOptions {
   std::vector<std::string> scenes;                  ///< --scene (repeatable or comma-separated); empty: default
-  std::string solvers = "serial,colored,jacobi";    ///< --solvers
+  std::string solvers = "serial,colored,jacobi,block";    ///< --solvers
   std::string threads = "1,2";                      ///< --threads
   std::string iterations = "1,2,4,8,16,32";         ///< --iterations
   std::string substeps = "1";                       ///< --substeps

@@ -291,6 +291,20 @@ template <class Real> void World<Real>::set_params(const StepParams<Real>& p) {
   if (!(p.jacobi_omega > Real(0) && p.jacobi_omega < Real(2)))
     throw Error(detail::message("set_params: jacobi_omega must be in (0, 2), got ", p.jacobi_omega));
   if (name(p.solver) == "?") throw Error("set_params: unknown solver");
+  if (p.chebyshev.enabled) {
+    const auto& c = p.chebyshev;
+    if (p.solver == Solver::serial)
+      throw Error("set_params: chebyshev: the serial reference solver is never accelerated (use serial-colored)");
+    if (!(c.rho >= Real(0) && c.rho < Real(1)))
+      throw Error(detail::message("set_params: chebyshev.rho must be in [0, 1) (0: estimated), got ", c.rho));
+    if (!(c.max_rho > Real(0) && c.max_rho < Real(1)))
+      throw Error(detail::message("set_params: chebyshev.max_rho must be in (0, 1), got ", c.max_rho));
+    if (c.delay < 1) throw Error(detail::message("set_params: chebyshev.delay must be >= 1, got ", c.delay));
+    if (c.rho == Real(0) && p.iterations < 4)
+      throw Error(detail::message("set_params: chebyshev: estimating rho needs iterations >= 4, got ", p.iterations));
+    if (!(c.diverge > Real(1)) || !std::isfinite(c.diverge))
+      throw Error(detail::message("set_params: chebyshev.diverge must be finite and > 1, got ", c.diverge));
+  }
   params_ = p;
 }
 
@@ -302,6 +316,12 @@ template <class Real> void World<Real>::set_time(double seconds) {
 template <class Real> void World<Real>::set_coloring(const coloring::Options& options) {
   model_.coloring = options;
   model_.colors_current = false;
+}
+
+template <class Real> void World<Real>::set_blocking(const BlockOptions& options) {
+  if (options.constraints_per_block == 0) throw Error("set_blocking: constraints_per_block must be >= 1");
+  model_.blocking = options;
+  if (model_.layout == detail::Layout::blocks) model_.colors_current = false;
 }
 
 template <class Real>
@@ -383,6 +403,7 @@ template <class Real> void World<Real>::validate() const {
   template void World<Real>::add_sphere(const Vec3<Real>&, Real);                                  \
   template void World<Real>::set_params(const StepParams<Real>&);                                  \
   template void World<Real>::set_coloring(const coloring::Options&);                               \
+  template void World<Real>::set_blocking(const BlockOptions&);                                     \
   template void World<Real>::set_time(double);                               \
   template std::vector<coloring::NamedStats> World<Real>::color_statistics(const coloring::Options&) const; \
   template void World<Real>::validate() const;                                                     \

@@ -8,14 +8,21 @@ std::string_view name(Solver solver) {
     case Solver::serial_colored: return "serial-colored";
     case Solver::colored: return "colored";
     case Solver::jacobi: return "jacobi";
+    case Solver::block: return "block";
   }
   return "?";
 }
 
 std::optional<Solver> parse_solver(std::string_view n) {
-  for (Solver s : {Solver::serial, Solver::serial_colored, Solver::colored, Solver::jacobi})
+  for (Solver s : kSolvers)
     if (name(s) == n) return s;
   return std::nullopt;
+}
+
+std::string solver_names() {
+  std::string out;
+  for (Solver s : kSolvers) out += (out.empty() ? "" : ", ") + std::string(name(s));
+  return out;
 }
 
 std::string_view name(SweepOrder order) {

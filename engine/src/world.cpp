@@ -58,7 +58,9 @@ template <class Real> void World<Real>::step(Eigen::Ref<const Positions> forces)
   advance(copy.data());
 }
 
-template <class Real> void World<Real>::ensure_colored() { detail::update_colors(model_); }
+template <class Real> void World<Real>::ensure_colored() {
+  detail::update_colors(model_, uses_blocks(params_.solver) ? detail::Layout::blocks : detail::Layout::colors);
+}
 
 template <class Real> Index World<Real>::num_colors() {
   ensure_colored();
@@ -120,7 +122,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
     k.rollback_x = state_.x;
     k.rollback_v = state_.v;
   }
-  const bool parallel = params_.solver == Solver::colored || params_.solver == Solver::jacobi;
+  const bool parallel = is_parallel(params_.solver);
   const Index n = num_particles();
   detail::update_free_bodies(model_, k.free_bodies);
   try {
@@ -152,7 +154,9 @@ template <class Real> void World<Real>::advance(const Real* forces) {
       // 4. solve (symmetric order: odd sub-steps, numbered from the world's time, sweep backwards)
       const long long substep = std::llround(state_.time / double(params_.dt)) * params_.substeps + s;
       const bool reverse = params_.sweep_order == SweepOrder::symmetric && (substep & 1) != 0;
-      detail::solve(model_, state_, k, params_, parallel_, t, reverse);
+      const detail::SolveReport solved = detail::solve(model_, state_, k, params_, parallel_, t, reverse);
+      stats_.chebyshev_fallbacks += solved.chebyshev_fell_back ? 1 : 0;
+      if (solved.chebyshev_estimate > 0.0) params_.chebyshev.rho = Real(solved.chebyshev_estimate);  // chebyshev.hpp
       const auto t4 = clock::now();
       // 5. update: v = (p − x)/h, x = p. Computed as v += (p − p̂)/h with p̂ = x + h·v the prediction (the same
       // operations as in step 2, so the same bits): equal in exact arithmetic, but in floating point a velocity no
@@ -174,7 +178,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
           const Index body = fb.body[i];
           if (body == detail::FreeBodies<Real>::kNone || std::isnan(fb.omega[9 * std::size_t(body)])) continue;
           const double* w = fb.omega.data() + 9 * std::size_t(body);
-          const Eigen::Vector3d r(double(p[3 * i]) - w[3], double(p[3 * i + 1]) - w[4], double(p[3 * i + 2]) - w[5]);
+          const Eigen::Vector3d r = Eigen::Vector3d(double(p[3 * i]) - w[3], double(p[3 * i + 1]) - w[4], double(p[3 * i + 2]) - w[5]);
           const Eigen::Vector3d spin = Eigen::Vector3d(w[0], w[1], w[2]).cross(r);
           for (int d = 0; d < 3; ++d) v[3 * std::size_t(i) + d] -= Real(spin[d] + w[6 + d]);
         }
@@ -196,6 +200,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   stats_.substeps = params_.substeps;
   stats_.sweeps = params_.substeps * params_.iterations;
   stats_.collisions = k.collisions.size();
+  stats_.chebyshev_rho = params_.chebyshev.enabled ? double(params_.chebyshev.rho) : 0.0;
   if (measure_violation_) stats_.violation = constraint_violations(*this);
   stats_.seconds = seconds_since(t0);
 }

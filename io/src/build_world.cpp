@@ -75,8 +75,11 @@ template <class Real> World<Real> build_world(const WorldDescription& d) {
   for (const PlaneDescription& p : d.planes) w.add_plane(Vec3<Real>(p.normal.cast<Real>()), Real(p.offset));
   for (const SphereDescription& s : d.spheres) w.add_sphere(Vec3<Real>(s.center.cast<Real>()), Real(s.radius));
   const StepParams<double>& p = d.params;
+  const Chebyshev<double>& c = p.chebyshev;
   w.set_params({Real(p.dt), p.substeps, p.iterations, Vec3<Real>(p.gravity.cast<Real>()), Real(p.damping),
-                Real(p.collision_margin), p.solver, Real(p.jacobi_omega), p.sweep_order});
+                Real(p.collision_margin), p.solver, Real(p.jacobi_omega), p.sweep_order,
+                Chebyshev<Real>{c.enabled, Real(c.rho), c.delay, Real(c.max_rho), Real(c.diverge)}});
+  w.set_blocking(d.blocking);
   return w;
 }
 

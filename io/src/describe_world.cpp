@@ -27,8 +27,11 @@ template <class Real> WorldDescription describe_world(const World<Real>& w) {
   for (const auto& p : w.colliders().planes) d.planes.push_back({p.normal.template cast<double>(), double(p.offset)});
   for (const auto& s : w.colliders().spheres) d.spheres.push_back({s.center.template cast<double>(), double(s.radius)});
   const StepParams<Real>& p = w.params();
+  const Chebyshev<Real>& c = p.chebyshev;
   d.params = {double(p.dt), p.substeps, p.iterations, p.gravity.template cast<double>(), double(p.damping),
-              double(p.collision_margin), p.solver, double(p.jacobi_omega), p.sweep_order};
+              double(p.collision_margin), p.solver, double(p.jacobi_omega), p.sweep_order,
+              Chebyshev<double>{c.enabled, double(c.rho), c.delay, double(c.max_rho), double(c.diverge)}};
+  d.blocking = w.blocking();
   return d;
 }
 

@@ -69,7 +69,7 @@ def main(pbd, out):
         if not os.path.getsize(os.path.join(out, name)):
             fail(f"plot {name} missing")
     # Bad options: status 2 and a message that lists the valid values.
-    for args, expected in ((["--solvers", "serial,gauss"], "serial, serial-colored, colored, jacobi"),
+    for args, expected in ((["--solvers", "serial,gauss"], "serial, serial-colored, colored, jacobi, block"),
                            (["--scene", "no-such-scene"], "cloth100"),
                            (["--threads", "0"], "out of range")):
         bad = subprocess.run([pbd, "study", "--quick"] + args, capture_output=True, text=True)

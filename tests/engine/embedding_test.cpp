@@ -263,7 +263,7 @@ TEST(Incremental, AddingParticlesDoesNotRecolor) {
 }
 
 TEST(CustomConstraints, HostTypeMatchesTheBuiltInStretchBitForBit) {
-  for (Solver s : {Solver::serial, Solver::serial_colored, Solver::colored, Solver::jacobi}) {
+  for (Solver s : kSolvers) {
     World<double> builtin = cloth(8, s);
     World<double> hosted;
     hosted.add_particles(builtin.positions(), Eigen::VectorXd::Ones(64));

@@ -33,7 +33,7 @@ using Precisions = ::testing::Types<float, double>;
 TYPED_TEST_SUITE(Physics, Precisions);
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr Solver kSolvers[] = {Solver::serial, Solver::serial_colored, Solver::colored, Solver::jacobi};
+
 
 template <class Real> const char* real_name() { return sizeof(Real) == 4 ? "float" : "double"; }
 

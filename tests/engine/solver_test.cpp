@@ -87,11 +87,13 @@ template <class Real> World<Real> mesh_world() {
   return w;
 }
 
-template <class Real> std::vector<Real> run(World<Real> w, Solver solver, int threads, int steps) {
+template <class Real>
+std::vector<Real> run(World<Real> w, Solver solver, int threads, int steps, SweepOrder order = SweepOrder::forward) {
   StepParams<Real> p = w.params();
   p.solver = solver;
   p.iterations = 5;
   p.substeps = 2;
+  p.sweep_order = order;
   w.set_params(p);
   w.set_parallel_config(kAlwaysFork);
   tbb::task_arena arena(threads);
@@ -227,6 +229,220 @@ TYPED_TEST(SolverTest, JacobiIsBitwiseIdenticalForAnyThreadCount) {
   }
 }
 
+// Small blocks (64 constraints each) so that even the test scenes have many blocks and a boundary.
+template <class Real> World<Real> with_small_blocks(World<Real> w) {
+  w.set_blocking({64, true});
+  return w;
+}
+
+TYPED_TEST(SolverTest, BlockIsBitwiseIdenticalForAnyThreadCountAndToItsOneThreadRun) {
+  using Real = TypeParam;
+  const std::vector<std::pair<const char*, World<Real>>> scenes = {
+      {"cloth", cloth_world<Real>(16)}, {"rope", rope_world<Real>()}, {"random 1", random_world<Real>(1)},
+      {"random 2", random_world<Real>(2)}, {"meshes", mesh_world<Real>()}};
+  for (const auto& [name, world] : scenes)
+    for (SweepOrder order : {SweepOrder::forward, SweepOrder::symmetric}) {
+      const World<Real> blocked = with_small_blocks(world);
+      const auto reference = run(blocked, Solver::block, 1, 30, order);  // one thread: the blocks one after the other
+      for (Real v : reference) ASSERT_TRUE(std::isfinite(v)) << name;
+      for (int threads : {2, 3, 4})
+        EXPECT_TRUE(bitwise_equal(reference, run(blocked, Solver::block, threads, 30, order)))
+            << name << ", " << threads << " threads, " << pbd::name(order);
+      // The blocks change the order, so the result: not the colored one's (a check that the blocks are used).
+      EXPECT_FALSE(bitwise_equal(reference, run(world, Solver::serial_colored, 1, 30, order))) << name;
+    }
+}
+
+// With one block holding everything, the block schedule is the insertion order: the serial reference's bits (the
+// boundary is empty; volumes and contacts run after the constraints under both).
+TYPED_TEST(SolverTest, OneBlockIsTheSerialReference) {
+  using Real = TypeParam;
+  for (World<Real> w : {cloth_world<Real>(12), rope_world<Real>(), mesh_world<Real>()}) {
+    w.set_blocking({1u << 30, true});
+    EXPECT_TRUE(bitwise_equal(run(w, Solver::serial, 1, 20), run(w, Solver::block, 2, 20)));
+  }
+}
+
+TEST(BlockLayout, InteriorsAreDisjointTheBoundaryColoredAndTheMapExact) {
+  for (bool metis : {true, false}) {
+    World<double> w = cloth_world<double>(24);
+    const World<double> uncolored = w;
+    w.set_blocking({100, metis});
+    StepParams<double> p = w.params();
+    p.solver = Solver::block;
+    w.set_params(p);
+    w.step();
+    const Index blocks = w.num_blocks();
+    EXPECT_GE(blocks, 10u);  // 1633 constraints, 100 a block
+    const auto c = w.colors<StretchConstraint<double>>();
+    ASSERT_GT(c.num_colors, blocks);  // the blocks' interiors, then the boundary colors
+    const auto inv_mass = w.inverse_masses();
+    std::vector<Index> owner(w.num_particles(), ~Index(0));
+    std::size_t interior = 0;
+    for (Index g = 0; g < c.num_colors; ++g) {
+      std::set<Index> in_color;
+      for (Index i = c.offsets[g]; i < c.offsets[g + 1]; ++i)
+        for (Index q : c.items[i].particles) {
+          if (inv_mass[q] == 0) continue;
+          if (g < blocks) {
+            EXPECT_TRUE(owner[q] == ~Index(0) || owner[q] == g) << "particle " << q << " in blocks " << owner[q] << ", " << g;
+            owner[q] = g;
+          } else {
+            EXPECT_TRUE(in_color.insert(q).second) << "particle " << q << " twice in boundary color " << g;
+          }
+        }
+      if (g < blocks) interior += c.offsets[g + 1] - c.offsets[g];
+    }
+    EXPECT_GT(interior, c.items.size() / 2) << "most constraints should be inside a block";
+    // Within a block, insertion order.
+    for (Index g = 0; g < blocks; ++g)
+      for (Index i = c.offsets[g] + 1; i < c.offsets[g + 1]; ++i) {
+        Index prev = 0, cur = 0;
+        for (Index u = 0; u < c.stored.size(); ++u) {
+          if (c.stored[u] == i - 1) prev = u;
+          if (c.stored[u] == i) cur = u;
+        }
+        EXPECT_LT(prev, cur) << "block " << g;
+      }
+    for (std::size_t i = 0; i < test::stretch_of(w).size(); ++i)
+      EXPECT_EQ(test::stretch_of(w)[i].particles, test::stretch_of(uncolored)[i].particles) << i;
+    EXPECT_NO_THROW(w.validate());
+  }
+}
+
+// Adding constraints lays out only the stores that changed, on the same blocks (only their boundary is colored);
+// removing keeps every group. Each result stays proper, and 1 and 4 threads agree bit for bit throughout.
+TEST(BlockLayout, AddingAndRemovingConstraintsKeepsThePartitionAndStaysDeterministic) {
+  auto scenario = [](int threads) {
+    World<double> w = with_small_blocks(cloth_world<double>(16));
+    StepParams<double> p = w.params();
+    p.solver = Solver::block;
+    p.iterations = 4;
+    w.set_params(p);
+    w.set_parallel_config(kAlwaysFork);
+    tbb::task_arena arena(threads);
+    std::vector<double> out;
+    Index blocks = 0;
+    arena.execute([&] {
+      w.step();
+      blocks = w.num_blocks();
+      const Index set = 0;
+      w.add_stretch(17, 18 + 16, set);  // a diagonal: inside a block or across two
+      w.add_stretch(0, 255, set);       // across the cloth: a boundary constraint
+      w.add_anchor(100, set);           // a new type, one particle: inside its block
+      w.step();
+      EXPECT_EQ(w.num_blocks(), blocks) << "adding a few constraints must not partition anew";
+      EXPECT_NO_THROW(w.validate());
+      w.remove_stretch(std::vector<Index>{3, 40, 41});
+      w.step();
+      EXPECT_EQ(w.num_blocks(), blocks);
+      EXPECT_NO_THROW(w.validate());
+      out.assign(w.positions().data(), w.positions().data() + w.positions().size());
+    });
+    EXPECT_GT(blocks, 4u);
+    return out;
+  };
+  EXPECT_TRUE(bitwise_equal(scenario(1), scenario(4)));
+}
+
+TEST(BlockLayout, SwitchingBetweenColoredAndBlockLaysOutAgain) {
+  World<double> w = with_small_blocks(cloth_world<double>(12));
+  StepParams<double> p = w.params();
+  for (Solver s : {Solver::block, Solver::colored, Solver::block, Solver::jacobi, Solver::serial, Solver::block}) {
+    p.solver = s;
+    w.set_params(p);
+    w.step();
+    EXPECT_EQ(w.num_blocks() > 0, s == Solver::block) << name(s);
+    EXPECT_NO_THROW(w.validate()) << name(s);
+  }
+  EXPECT_THROW(w.set_blocking({0, true}), Error);
+}
+
+// Chebyshev acceleration (Wang 2015) on a perturbed cloth without gravity, one sub-step of many sweeps: the RMS
+// stretch it reaches, with ρ as given (0: this step estimates it, sweeping plain, and stores it in the params).
+template <class Real> World<Real> perturbed_cloth(Solver s, int iterations, bool accelerate, Real rho) {
+  World<Real> w = with_small_blocks(cloth_world<Real>(24));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.01, 0.01);
+  auto x = w.positions();
+  for (Eigen::Index i = 0; i < x.cols(); ++i)
+    if (w.inverse_masses()[i] != 0) x.col(i) += Vec3<Real>(Real(u(rng)), Real(u(rng)), Real(u(rng)));
+  StepParams<Real> p = w.params();
+  p.solver = s;
+  p.iterations = iterations;
+  p.gravity.setZero();
+  p.chebyshev.enabled = accelerate;
+  p.chebyshev.rho = rho;
+  w.set_params(p);
+  return w;
+}
+
+TEST(Chebyshev, TheEstimatedRhoCutsJacobisErrorAndAGuessTooLargeFallsBack) {
+  World<double> plain = perturbed_cloth<double>(Solver::jacobi, 60, false, 0.0);
+  plain.step();
+  // The estimate: a first step sweeps plain (the same bits as without acceleration) and measures ρ.
+  World<double> estimating = perturbed_cloth<double>(Solver::jacobi, 60, true, 0.0);
+  estimating.step();
+  EXPECT_EQ(stretch_violation(estimating).rms, stretch_violation(plain).rms);
+  const double rho = estimating.params().chebyshev.rho;
+  EXPECT_EQ(estimating.last_step_stats().chebyshev_rho, rho);
+  EXPECT_GT(rho, 0.9);
+  EXPECT_LT(rho, 0.999);
+  World<double> fast = perturbed_cloth<double>(Solver::jacobi, 60, true, rho);
+  fast.step();
+  std::printf("CHEBYSHEV jacobi 60 sweeps: rms stretch plain %.3e accelerated %.3e (rho %.4f)\n",
+              stretch_violation(plain).rms, stretch_violation(fast).rms, rho);
+  EXPECT_EQ(fast.last_step_stats().chebyshev_fallbacks, 0);
+  EXPECT_LT(stretch_violation(fast).rms, stretch_violation(plain).rms / 2.5);  // measured: 3.4x lower
+  for (Solver s : {Solver::colored, Solver::block}) {
+    World<double> gs = perturbed_cloth<double>(s, 60, true, 0.9999);
+    gs.step();
+    std::printf("CHEBYSHEV %s rho 0.9999: rms stretch %.3e fallbacks %d\n", std::string(name(s)).c_str(),
+                stretch_violation(gs).rms, gs.last_step_stats().chebyshev_fallbacks);
+    EXPECT_EQ(gs.last_step_stats().chebyshev_fallbacks, 1) << name(s);
+    EXPECT_TRUE(gs.positions().allFinite()) << name(s);
+  }
+}
+
+TYPED_TEST(SolverTest, ChebyshevIsBitwiseIdenticalForAnyThreadCount) {
+  using Real = TypeParam;
+  for (Solver s : {Solver::jacobi, Solver::colored, Solver::block}) {
+    World<Real> world = with_small_blocks(mesh_world<Real>());  // compliant sets: λ is extrapolated too
+    StepParams<Real> p = world.params();
+    p.chebyshev.enabled = true;
+    p.chebyshev.delay = 3;
+    world.set_params(p);
+    const auto reference = run(world, s, 1, 20);
+    for (Real v : reference) ASSERT_TRUE(std::isfinite(v)) << name(s);
+    for (int threads : {2, 4}) EXPECT_TRUE(bitwise_equal(reference, run(world, s, threads, 20))) << name(s) << threads;
+  }
+}
+
+TEST(Chebyshev, BadParametersAreRejected) {
+  World<double> w;
+  StepParams<double> p;
+  p.chebyshev.enabled = true;
+  p.solver = Solver::serial;
+  EXPECT_THROW(w.set_params(p), Error);
+  p.solver = Solver::jacobi;
+  EXPECT_NO_THROW(w.set_params(p));
+  for (double rho : {-0.1, 1.0, std::nan("")}) {
+    p.chebyshev.rho = rho;
+    EXPECT_THROW(w.set_params(p), Error) << rho;
+  }
+  p.chebyshev.rho = 0;
+  p.iterations = 3;  // an estimate needs the rate over the second half of at least 4 sweeps
+  EXPECT_THROW(w.set_params(p), Error);
+  p.iterations = 10;
+  p.chebyshev.delay = 0;
+  EXPECT_THROW(w.set_params(p), Error);
+  p.chebyshev.rho = 0.9;
+  p.chebyshev.delay = 1;
+  EXPECT_NO_THROW(w.set_params(p));
+  p.chebyshev.diverge = 1;
+  EXPECT_THROW(w.set_params(p), Error);
+}
+
 TEST(ColoredConstraints, EveryColorIsIndependentAndTheIndexMapIsExact) {
   for (unsigned seed : {1u, 2u, 3u}) {
     World<double> w = random_world<double>(seed);
@@ -292,7 +508,7 @@ template <class Real> double rope_stretch_after(Solver s, int iterations) {
 
 TYPED_TEST(SolverTest, EverySolverConvergesWithMoreSweeps) {
   using Real = TypeParam;
-  for (Solver s : {Solver::serial, Solver::serial_colored, Solver::colored, Solver::jacobi}) {
+  for (Solver s : kSolvers) {
     const double few = rope_stretch_after<Real>(s, 5), many = rope_stretch_after<Real>(s, 100);
     EXPECT_LT(many, few / 4) << name(s);
     EXPECT_LT(many, 0.01) << name(s);
@@ -301,7 +517,7 @@ TYPED_TEST(SolverTest, EverySolverConvergesWithMoreSweeps) {
 
 TYPED_TEST(SolverTest, ContactsHoldUnderGaussSeidelAndStayBoundedUnderJacobi) {
   using Real = TypeParam;
-  for (Solver s : {Solver::serial, Solver::serial_colored, Solver::colored, Solver::jacobi}) {
+  for (Solver s : kSolvers) {
     World<Real> w = cloth_world<Real>(12);
     StepParams<Real> p;
     p.solver = s;
@@ -316,7 +532,7 @@ TYPED_TEST(SolverTest, ContactsHoldUnderGaussSeidelAndStayBoundedUnderJacobi) {
 }
 
 TEST(Solver, NamesRoundTrip) {
-  for (Solver s : {Solver::serial, Solver::serial_colored, Solver::colored, Solver::jacobi}) EXPECT_EQ(parse_solver(name(s)), s);
+  for (Solver s : kSolvers) EXPECT_EQ(parse_solver(name(s)), s);
   EXPECT_FALSE(parse_solver("gauss").has_value());
 }
 

@@ -120,7 +120,7 @@ template <class Real> World<Real> inflating_dodecahedron(Solver solver) {
 }
 
 TEST(Volume, DodecahedronReachesItsTargetWithinOnePercentAndStaysThere) {
-  for (Solver s : {Solver::serial, Solver::serial_colored, Solver::colored, Solver::jacobi}) {
+  for (Solver s : kSolvers) {
     World<float> w = inflating_dodecahedron<float>(s);
     const auto& v = w.volumes();
     const double v0 = v.items[0].rest;

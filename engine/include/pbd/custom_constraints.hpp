@@ -11,6 +11,7 @@
 /// detail::Store<C> like a built-in one; the only virtual call is one per color range (never per constraint), so a
 /// user type runs the same tight, inlined loop as a built-in one and is just as deterministic.
 #include "pbd/constraints/projection.hpp"
+#include "pbd/detail/block_layout.hpp"
 #include "pbd/detail/constraint_store.hpp"
 
 #include <functional>
@@ -45,8 +46,12 @@ public:
   virtual bool up_to_date() const = 0;                       ///< every constraint has a color
   virtual void color_all(const std::vector<std::uint8_t>& fixed, const coloring::Options& o) = 0;  ///< colors all
   virtual bool color_tail(const std::vector<std::uint8_t>& fixed) = 0;  ///< colors the appended ones (false: all)
-  virtual Index num_colors() const = 0;                                  ///< colors laid out
-  virtual Index color_begin(Index c) const = 0;                          ///< first stored position of color c
+  /// Lays out every constraint for the block schedule (block_layout.hpp).
+  virtual void lay_out_blocks(const std::vector<std::uint8_t>& fixed, std::span<const std::uint32_t> block,
+                              Index blocks, const coloring::Options& o) = 0;
+  virtual Index num_colors() const = 0;                                  ///< groups laid out (blocks and colors)
+  virtual Index num_blocks() const = 0;                                  ///< leading groups that are block interiors
+  virtual Index color_begin(Index c) const = 0;                          ///< first stored position of group c
   /// Adds 1 per constraint at each of its particles, for the constraints with user index ≥ first.
   virtual void count_particles(std::vector<Index>& count, Index first) const = 0;
   virtual std::size_t erase_touching(Index particle) = 0;  ///< removes every constraint on `particle`; how many
@@ -57,9 +62,9 @@ public:
   /// Jacobi deltas, λ += relax·Δλ).
   virtual void project_insertion(const Real* p, const Real* w, const SolveCoefficients<Real>* coeff, Real* lambda,
                                  Real* out, Real relax, bool reverse) const = 0;
-  /// Stored positions [b, e) (inside one color), each projected into `out`.
+  /// Stored positions [b, e) (inside one group), each projected into `out`, in stored order or backwards.
   virtual void project_range(Index b, Index e, const Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
-                             Real* lambda, Real* out, Real relax) const = 0;
+                             Real* lambda, Real* out, Real relax, bool reverse) const = 0;
 };
 
 /// The store of host type C.
@@ -76,7 +81,12 @@ public:
     detail::color_all(store, fixed, o);
   }
   bool color_tail(const std::vector<std::uint8_t>& fixed) override { return detail::color_tail(store, fixed); }
+  void lay_out_blocks(const std::vector<std::uint8_t>& fixed, std::span<const std::uint32_t> block, Index blocks,
+                      const coloring::Options& o) override {
+    detail::lay_out_blocks(store, fixed, block, blocks, o);
+  }
   Index num_colors() const override { return store.num_colors(); }
+  Index num_blocks() const override { return store.sequential; }
   Index color_begin(Index c) const override { return store.offsets[c]; }
   void count_particles(std::vector<Index>& count, Index first) const override {
     for (Index u = first; u < Index(store.size()); ++u)
@@ -112,8 +122,12 @@ public:
     }
   }
   void project_range(Index b, Index e, const Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
-                     Real* lambda, Real* out, Real relax) const override {
-    for (Index i = b; i < e; ++i) project_into(store.items[i], p, w, coeff[store.items[i].set], lambda[i], out, relax);
+                     Real* lambda, Real* out, Real relax, bool reverse) const override {
+    if (reverse) {
+      for (Index i = e; i-- > b;) project_into(store.items[i], p, w, coeff[store.items[i].set], lambda[i], out, relax);
+    } else {
+      for (Index i = b; i < e; ++i) project_into(store.items[i], p, w, coeff[store.items[i].set], lambda[i], out, relax);
+    }
   }
 };
 

@@ -9,6 +9,21 @@
 
 namespace pbd {
 
+/// Chebyshev semi-iterative acceleration of a sub-step's sweeps (Wang 2015; Fratarcangeli et al. 2016): after
+/// sweep k + 1 has turned q_k into q̂, the positions become q_{k+1} = ω_{k+1}·(q̂ − q_{k−1}) + q_{k−1} (and every XPBD
+/// λ likewise, so that λ keeps matching the positions), with ω = 2 / (2 − ρ²) at the first accelerated sweep and
+/// ω ← 4 / (4 − ρ²·ω) after it. For the Jacobi, serial-colored, colored and block solvers, not the serial reference.
+template <class Real> struct Chebyshev {
+  bool enabled = false;  ///< accelerate the sweeps
+  Real rho = 0;          ///< spectral radius of one sweep, in [0, 1); 0: the next sub-step sweeps plain and measures
+                         ///< it (the rate its position changes shrink at), and step() stores it here
+  int delay = 4;         ///< plain sweeps before the first accelerated one, ≥ 1
+  Real max_rho = Real(0.999);  ///< cap on an estimated ρ, in (0, 1)
+  /// The guard: a sweep whose position change exceeds `diverge` times the smallest one of the sub-step so far ends
+  /// the acceleration for the rest of the sub-step (plain sweeps from there on; counted in StepStats), > 1.
+  Real diverge = Real(2);
+};
+
 /// Parameters of step(); validated by World::set_params.
 template <class Real> struct StepParams {
   Real dt = Real(1) / Real(60);              ///< time step in seconds, > 0
@@ -20,6 +35,7 @@ template <class Real> struct StepParams {
   Solver solver = Solver::colored;           ///< which solver step() runs
   Real jacobi_omega = 1;                     ///< Jacobi over-relaxation factor ω, in (0, 2)
   SweepOrder sweep_order = SweepOrder::forward;  ///< Gauss-Seidel sweep order (symmetric: for closed bodies)
+  Chebyshev<Real> chebyshev;                 ///< acceleration of the sweeps (off by default)
 };
 
 /// What the last step() did and how long each phase took (wall-clock seconds, summed over sub-steps).
@@ -31,7 +47,10 @@ struct StepStats {
   double seconds_solve = 0.0;       ///< the sweeps
   int substeps = 0;                 ///< sub-steps taken
   int sweeps = 0;                   ///< sweeps taken (substeps × iterations)
-  Index colors = 0;                 ///< colors of the persistent constraints (0 for the serial solver)
+  Index colors = 0;                 ///< groups of the persistent constraints (0 for the serial solver): colors, or
+                                    ///< for the block solver every type's blocks and boundary colors
+  int chebyshev_fallbacks = 0;      ///< sub-steps whose Chebyshev acceleration the guard stopped (diverging)
+  double chebyshev_rho = 0.0;       ///< ρ of the acceleration after the step (given or estimated; 0: none yet)
   std::size_t collisions = 0;       ///< collision constraints of the last sub-step
   std::vector<NamedViolation> violation;  ///< per type, at the end of the step (only with measure_violation on)
 };

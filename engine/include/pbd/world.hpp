@@ -131,12 +131,21 @@ public:
   // ---- coloring ----
   /// Sets how constraints are colored for the colored and Jacobi solvers (recolors at the next step).
   void set_coloring(const coloring::Options& options);
+  /// Sets how the block solver splits the particles into blocks (partitions anew at the next block step);
+  /// throws pbd::Error when constraints_per_block is 0.
+  void set_blocking(const BlockOptions& options);
+  /// How the block solver splits the particles.
+  const BlockOptions& blocking() const { return model_.blocking; }
   /// Sets how parallel loops are cut (never changes results).
   void set_parallel_config(const ParallelConfig& config) { parallel_ = config; }
-  /// Colors now if needed and gives type C's colors (built in or user-defined).
+  /// Lays out now if needed for the current solver and gives type C's groups (colors; for the block solver the
+  /// blocks' interiors first, then the boundary colors).
   template <class C> ConstraintColors<C> colors();
-  /// Colors of the persistent constraints as the colored solvers run them (colors now if needed).
+  /// Groups of the persistent constraints as the current solver runs them (lays out now if needed): colors, or for
+  /// the block solver each type's blocks plus its boundary colors.
   Index num_colors();
+  /// Blocks of the block solver's partition (0 until a block step or num_colors() under Solver::block).
+  Index num_blocks() const { return model_.layout == detail::Layout::blocks ? model_.num_blocks : 0; }
   /// Colors each constraint type's conflict graph anew with `options`, checks each coloring, and returns its
   /// statistics per type (kName), without changing the world's own colors.
   std::vector<coloring::NamedStats> color_statistics(const coloring::Options& options) const;

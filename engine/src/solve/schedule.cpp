@@ -1,5 +1,9 @@
 #include "schedule.hpp"
 
+#include "pbd/detail/block_layout.hpp"
+
+#include <pbd/graph_coloring/partition.hpp>
+
 #include <algorithm>
 #include <cassert>
 
@@ -55,6 +59,49 @@ template <class Real> void color_volumes(Model<Real>& m) {
   v.offsets.assign(col.color_offsets.begin(), col.color_offsets.end());
 }
 
+// Splits the particles into blocks of about BlockOptions::constraints_per_block built-in and user constraints each
+// (graph_coloring::partition over the particles the constraints join; volumes and contacts are not blocked).
+template <class Real> void partition_particles(Model<Real>& m) {
+  ConstraintGraph g;
+  g.num_particles = std::uint32_t(m.num_particles());
+  g.fixed = m.fixed;
+  g.offsets.push_back(0);
+  std::size_t constraints = 0;
+  for_each_store(m.stores, [&](const auto& s, auto) {
+    constraints += s.size();
+    for (const auto& c : s.items) {
+      for (Index p : c.particles) g.nodes.push_back(p);
+      g.offsets.push_back(std::uint32_t(g.nodes.size()));
+    }
+  });
+  for (const auto& t : m.user.types()) {  // a user constraint joins its first particle to each other one
+    constraints += t->size();
+    t->join_particles([&](Index a, Index b) {
+      g.nodes.push_back(a);
+      g.nodes.push_back(b);
+      g.offsets.push_back(std::uint32_t(g.nodes.size()));
+    });
+  }
+  const std::size_t per = std::max<std::size_t>(1, m.blocking.constraints_per_block);
+  coloring::PartitionOptions o;
+  o.method = m.blocking.use_metis ? coloring::PartitionMethod::metis : coloring::PartitionMethod::index_ranges;
+  o.parts = std::uint32_t(std::max<std::size_t>(1, (constraints + per / 2) / per));
+  coloring::Partition part;
+  try {
+    part = coloring::partition(g.view(), o);
+  } catch (const coloring::Error& e) {
+    throw Error(std::string("partitioning the particles into blocks: ") + e.what());
+  }
+  m.block = std::move(part.block);
+  m.num_blocks = Index(std::max<std::uint32_t>(1, part.parts));
+}
+
+// Every store laid out for the block schedule on the current partition (only the boundary constraints are colored).
+template <class Real> void lay_out_all_blocks(Model<Real>& m) {
+  for_each_store(m.stores, [&](auto& s, auto) { lay_out_blocks(s, m.fixed, m.block, m.num_blocks, m.coloring); });
+  for (const auto& t : m.user.types()) t->lay_out_blocks(m.fixed, m.block, m.num_blocks, m.coloring);
+}
+
 }  // namespace
 
 template <class Real> std::vector<std::uint8_t> pinned_flags(const VectorX<Real>& w) {
@@ -65,19 +112,53 @@ template <class Real> std::vector<std::uint8_t> pinned_flags(const VectorX<Real>
 
 template <class Real> void color_everything(Model<Real>& m) {
   m.fixed = pinned_flags(m.inverse_mass);
-  for_each_store(m.stores, [&](auto& s, auto) { color_all(s, m.fixed, m.coloring); });
-  for (const auto& t : m.user.types()) t->color_all(m.fixed, m.coloring);
+  if (m.layout == Layout::blocks) {
+    partition_particles(m);
+    lay_out_all_blocks(m);
+  } else {
+    m.block.clear();
+    m.num_blocks = 0;
+    for_each_store(m.stores, [&](auto& s, auto) { color_all(s, m.fixed, m.coloring); });
+    for (const auto& t : m.user.types()) t->color_all(m.fixed, m.coloring);
+  }
   color_volumes(m);
   count_touches(m);
   note_stretch_sets(m, 0);
   m.colors_current = true;
 }
 
-template <class Real> void update_colors(Model<Real>& m) {
+template <class Real> void update_colors(Model<Real>& m, Layout layout) {
+  if (m.layout != layout) {
+    m.layout = layout;
+    m.colors_current = false;
+  }
   if (!m.colors_current) return color_everything(m);
   const Index n = m.num_particles();
   for (Index i = Index(m.fixed.size()); i < n; ++i) m.fixed.push_back(m.inverse_mass[i] == Real(0));  // added ones
   m.touch_count.resize(n, 0);  // particles added since: nothing touches them yet
+  if (layout == Layout::blocks) {
+    // Particles added since the partition are in no block, so their constraints cross blocks: partition anew once
+    // they are more than a tenth. Otherwise a store with new constraints is laid out again on the same blocks,
+    // which colors only its boundary constraints.
+    if (std::size_t(n) - m.block.size() > m.block.size() / 10) return color_everything(m);
+    bool changed = false;
+    for_each_store(m.stores, [&](auto& s, auto) {
+      if (s.up_to_date()) return;
+      lay_out_blocks(s, m.fixed, m.block, m.num_blocks, m.coloring);
+      changed = true;
+    });
+    for (const auto& t : m.user.types())
+      if (!t->up_to_date()) {
+        t->lay_out_blocks(m.fixed, m.block, m.num_blocks, m.coloring);
+        changed = true;
+      }
+    if (m.volume.offsets.empty() != m.volume.table.empty() || m.volume.order.size() != m.volume.table.size()) {
+      color_volumes(m);
+      changed = true;
+    }
+    if (changed) note_layout(m);
+    return;
+  }
   bool ok = true;
   for_each_store(m.stores, [&](auto& s, auto) {
     const Index first = Index(s.color.size());
@@ -138,7 +219,7 @@ template <class Real> void color_collisions(Store<CollisionConstraint<Real>>& s)
 #define PBD_SCHEDULE_INSTANTIATE(Real)                                                  \
   template std::vector<std::uint8_t> pinned_flags(const VectorX<Real>&);                \
   template void color_everything(Model<Real>&);                                         \
-  template void update_colors(Model<Real>&);                                            \
+  template void update_colors(Model<Real>&, Layout);                                            \
   template void note_layout(Model<Real>&);                                              \
   template void color_collisions(Store<CollisionConstraint<Real>>&);
 PBD_SCHEDULE_INSTANTIATE(float)

@@ -10,12 +10,15 @@ namespace pbd::detail {
 /// Pinned flags (inverse mass 0) of every particle: pinned particles are never written, so they never conflict.
 template <class Real> std::vector<std::uint8_t> pinned_flags(const VectorX<Real>& inverse_mass);
 
-/// Colors every store of `m` anew (built-in, user-defined, volume), then the cooked data; sets colors_current.
+/// Colors (or partitions and lays out, for Layout::blocks) every store of `m` anew (built-in, user-defined,
+/// volume), then the cooked data; sets colors_current.
 template <class Real> void color_everything(Model<Real>& m);
 
-/// Brings the colors up to date after constraints or particles were added (only the new constraints are colored,
-/// into tail colors) or colors everything when they are not current or a tail overflows.
-template <class Real> void update_colors(Model<Real>& m);
+/// Brings the stores up to date for `layout` after constraints or particles were added, or cooks everything anew
+/// when they are not current, were laid out for the other layout, or the increment would cost too much. Colors:
+/// only the new constraints are colored, into tail colors. Blocks: a store with new constraints is laid out again
+/// on the same partition (only its boundary constraints are colored); many new particles partition anew.
+template <class Real> void update_colors(Model<Real>& m, Layout layout);
 
 /// After a store's layout changed without recoloring (a removal): the Jacobi counts and the stretch colors' sets.
 template <class Real> void note_layout(Model<Real>& m);

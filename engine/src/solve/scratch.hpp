@@ -41,6 +41,10 @@ template <class Real> struct Scratch {
   PartitionerPool partitioners;                     // one per color and pass of the sweeps
   PartitionerPool particle_partitioners;            // the two per-particle passes of a sub-step
   FreeBodies<Real> free_bodies;                     // bodies nothing outside touches, and their solver spin
+  std::vector<Real> cheb_prev, cheb_cur;            // Chebyshev: positions before the last sweep and this one
+  std::vector<Real> cheb_lambda_prev, cheb_lambda_cur;  // Chebyshev: every λ likewise (compliant sets only)
+  std::vector<double> cheb_sums;                    // Chebyshev: per block of particles, the sweep's change
+  PartitionerPool cheb_partitioners;                // Chebyshev: its three particle passes
   Matrix3X<Real> callback_forces;                   // filled by the force callback
   Matrix3X<Real> rollback_x, rollback_v;            // state at the start of a step with a callback and sub-steps
 };

@@ -12,7 +12,9 @@
 //   3. collisions           one inequality per (movable particle, collider) whose path x → p enters the collider or
 //                           ends within the margin (colliders.hpp); colored for the colored solvers
 //   4. solve                `iterations` sweeps (sweep.hpp): each visits the built-in types in solver order
-//                           (constraint_types.hpp), the user-defined types, the volume constraints, the collisions;
+//                           (constraint_types.hpp), the user-defined types, the volume constraints, the collisions
+//                           (the block solver: every type's block interiors first, then the rest as colored);
+//                           with Chebyshev acceleration, each sweep's result is extrapolated (chebyshev.hpp);
 //                           with SweepOrder::symmetric, odd sub-steps visit each type backwards (the sub-step's
 //                           number is round(time / dt) · substeps + s: a function of the world's time, so a copy
 //                           made at any step, or a world whose time was set, sweeps the same way)
@@ -37,11 +39,18 @@
 
 namespace pbd::detail {
 
+/// What a sub-step's solve reports.
+struct SolveReport {
+  bool chebyshev_fell_back = false;  ///< the Chebyshev guard stopped the acceleration
+  double chebyshev_rho = 0.0;        ///< ρ the acceleration used (0: none, or this sub-step estimated it)
+  double chebyshev_estimate = 0.0;   ///< ρ this sub-step measured (0: none)
+};
+
 /// Step 4 of a sub-step: λ reset where needed, `params.iterations` sweeps of `params.solver` on scratch.p, at time
 /// `time` (s, for volume targets); `reverse`: each type backwards (SweepOrder::symmetric, odd sub-step). The collisions in scratch.collisions are those of this sub-step, in generation
 /// order; colored solvers lay them out by color first. The colors must be up to date (update_colors).
 template <class Real>
-void solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, const StepParams<Real>& params,
+SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, const StepParams<Real>& params,
            const ParallelConfig& config, double time, bool reverse);
 
 }  // namespace pbd::detail

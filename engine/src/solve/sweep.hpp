@@ -4,6 +4,10 @@
 //             colors:    color after color; within a color no two constraints write the same movable particle, so a
 //                        color's constraints run in parallel (tbb::parallel_for) or one after the other with the
 //                        same bits
+//             blocks:    the blocks' interiors first, in one parallel loop over the blocks: a task projects its
+//                        block's constraints of every type (types in solver order, each in insertion order), and no
+//                        two blocks share a movable particle, so any number of threads gives the same bits; then
+//                        the constraints that cross blocks, color after color as above (block_layout.hpp)
 //   update    in place:  Gauss-Seidel, each projection moves p at once
 //             Jacobi:    the built-in and user-defined constraints all read the same p and add their corrections to
 //                        a delta per particle, computed with split masses (Tonge et al. 2012): particle i, touched
@@ -31,7 +35,7 @@
 
 namespace pbd::detail {
 
-enum class Schedule { insertion, colors };  // which order a sweep visits the constraints in
+enum class Schedule { insertion, colors, blocks };  // which order a sweep visits the constraints in
 enum class Update { in_place, jacobi };     // Gauss-Seidel or Jacobi
 
 /// Every constraint of `st` in insertion order (kReverse: backwards), each projected into `out`. A function of its
@@ -60,6 +64,19 @@ template <bool kInPlace, bool kReverse, class C, class Real, class CoeffOf>
     } else {
       for (Index i : st.slot) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
     }
+  }
+}
+
+/// Stored positions [b, e) of `st` in order (kReverse: backwards), each projected in place. A function of its own,
+/// like project_in_insertion_order, so that the projection is inlined into its loop.
+template <bool kReverse, class C, class Real>
+[[gnu::noinline]] void project_group_in_place(const Store<C>& st, Index b, Index e, Real* lam, Real* p, const Real* w,
+                                              const SolveCoefficients<Real>* coeff) {
+  const C* items = st.items.data();
+  if constexpr (kReverse) {
+    for (Index i = e; i-- > b;) project_into(items[i], p, w, coeff[items[i].set], lam[i], p, Real(1));
+  } else {
+    for (Index i = b; i < e; ++i) project_into(items[i], p, w, coeff[items[i].set], lam[i], p, Real(1));
   }
 }
 
@@ -111,8 +128,11 @@ public:
     // Stretch alone (float): the kernel may keep the positions padded from one sweep to the next.
     stretch_only_ = true;
     for_each_store(m_.stores, [&](const auto& st, auto i) { stretch_only_ = stretch_only_ && (i == 0 || st.empty()); });
-    stretch_only_ = stretch_only_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0;
+    stretch_only_ = stretch_only_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0 && keep_padded;
     padded_ = false;
+    interior_items_ = 0;
+    for_each_store(m_.stores, [&](const auto& st, auto) { interior_items_ += st.sequential ? st.offsets[st.sequential] : 0; });
+    for (const auto& t : m_.user.types()) interior_items_ += t->num_blocks() ? t->color_begin(t->num_blocks()) : 0;
   }
 
   /// One sweep over every constraint, updating p (3 per particle).
@@ -129,6 +149,9 @@ public:
 
   /// Jacobi's over-relaxation factor ω.
   Real omega = 1;
+  /// The float stretch kernel may leave the positions padded between sweeps when stretch is all there is (false:
+  /// p holds the positions after every sweep, as Chebyshev acceleration needs).
+  bool keep_padded = true;
 
 private:
   // kInPlace: Gauss-Seidel, every projection writes p itself (known at compile time, so the compiler knows the
@@ -144,6 +167,8 @@ private:
       out = k_.delta.data();
     }
     part_ = 0;
+    if constexpr (kInPlace)
+      if (schedule_ == Schedule::blocks) project_interiors<kReverse>(p, w, coeff);
     auto store = [&](const auto& st, auto i) { project_store<kInPlace, kReverse>(st, s_.lambda[i].data(), p, w, coeff, relax, out); };
     for_each_store(m_.stores, store);
     project_user_types<kReverse>(p, w, coeff, relax, out);
@@ -164,12 +189,13 @@ private:
         type.project_insertion(p, w, coeff, lam, out, relax, kReverse);
       } else {
         const std::size_t base = part_;
-        const Index colors = type.num_colors();
+        const Index first = type.num_blocks(), colors = type.num_colors() - first;  // blocks: projected before
         part_ += std::size_t(colors);
         for (Index j = 0; j < colors; ++j) {  // one virtual call per color range, never per constraint
           const Index c = kReverse ? colors - 1 - j : j;
-          run_range(type.color_begin(c), type.color_begin(c + 1), parallel_, config_, k_.partitioners[base + c],
-                    [&](Index b, Index e) { type.project_range(b, e, p, w, coeff, lam, out, relax); });
+          run_range(type.color_begin(first + c), type.color_begin(first + c + 1), parallel_, config_,
+                    k_.partitioners[base + c],
+                    [&](Index b, Index e) { type.project_range(b, e, p, w, coeff, lam, out, relax, false); });
         }
       }
     }
@@ -192,18 +218,52 @@ private:
       return;
     }
     if constexpr (kInPlace && std::is_same_v<C, StretchConstraint<float>> && kPaddedStretch) {
-      if (st.num_colors() > 0) project_stretch_padded_colors<kReverse>(st, lam, p, w, coeff);
-      return;
+      if (schedule_ == Schedule::colors) {
+        if (st.num_colors() > 0) project_stretch_padded_colors<kReverse>(st, lam, p, w, coeff);
+        return;
+      }
     }
+    // The colors (under the block schedule, the boundary colors after the blocks, whose interiors ran before).
     const std::size_t base = part_;
-    const Index colors = st.num_colors();
+    const Index first = st.sequential, colors = st.num_colors() - first;
     part_ += std::size_t(colors);
     for (Index j = 0; j < colors; ++j) {
-      const Index c = kReverse ? colors - 1 - j : j;
-      run_range(st.offsets[c], st.offsets[c + 1], parallel_, config_, k_.partitioners[base + c], [&](Index b, Index e) {
+      const Index c = first + (kReverse ? colors - 1 - j : j);
+      run_range(st.offsets[c], st.offsets[c + 1], parallel_, config_, k_.partitioners[base + c - first], [&](Index b, Index e) {
         for (Index i = b; i < e; ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
       });
     }
+  }
+
+  // The blocks' interiors (Schedule::blocks): one parallel loop over the blocks; block b's task projects group b of
+  // every built-in store, then of every user type, each in stored (insertion) order or backwards. Blocks share no
+  // movable particle, so the blocks run in any order and on any thread with the same bits.
+  template <bool kReverse> void project_interiors(Real* p, const Real* w, const SolveCoefficients<Real>* coeff) {
+    tbb::affinity_partitioner& ap = k_.partitioners[part_++];
+    const Index blocks = m_.num_blocks;
+    auto block = [&](Index b) {
+      for_each_store(m_.stores, [&](const auto& st, auto i) {
+        if (st.sequential) project_group_in_place<kReverse>(st, st.offsets[b], st.offsets[b + 1], s_.lambda[i].data(), p, w, coeff);
+      });
+      for (std::size_t t = 0; t < m_.user.types().size(); ++t) {
+        const auto& type = *m_.user.types()[t];
+        if (type.num_blocks())
+          type.project_range(type.color_begin(b), type.color_begin(b + 1), p, w, coeff, s_.user_lambda[t].data(), p,
+                             Real(1), kReverse);
+      }
+    };
+    const bool fork = parallel_ && blocks > 1 && tbb::this_task_arena::max_concurrency() > 1 &&
+                      interior_items_ >= config_.inline_below;
+    if (!fork) {
+      for (Index b = 0; b < blocks; ++b) block(b);
+      return;
+    }
+    tbb::parallel_for(
+        tbb::blocked_range<Index>(0, blocks, 1),
+        [&](const tbb::blocked_range<Index>& r) {
+          for (Index b = r.begin(); b < r.end(); ++b) block(b);
+        },
+        ap);
   }
 
   // Every stretch color on padded positions (x y z w): one aligned load and store per particle in the kernel
@@ -293,6 +353,7 @@ private:
   std::size_t unpad_slot_ = 0;  // partitioner slot of the copy back (the stretch colors reserve it)
   bool stretch_only_ = false;   // stretch is all a sweep projects: positions may stay padded between sweeps
   bool padded_ = false;         // k_.padded holds the positions and p is stale (until end())
+  std::size_t interior_items_ = 0;  // constraints in the blocks' interiors (block schedule): decides the fork
 };
 
 }  // namespace pbd::detail

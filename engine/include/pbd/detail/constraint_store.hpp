@@ -1,9 +1,12 @@
 #pragma once
 /// \file detail/constraint_store.hpp
 /// One constraint type's constraints, stored once (engine internals; a host needs it only through World and
-/// ConstraintView). Until the first coloring the items sit in insertion order; coloring lays them out color by color
-/// (by insertion index within a color) and keeps the map from the user's index to the stored position, which the
-/// serial reference solver also follows to visit them in insertion order. Constraints added after a coloring sit at
+/// ConstraintView). Until the first coloring the items sit in insertion order; coloring lays them out group by group
+/// (by insertion index within a group) and keeps the map from the user's index to the stored position, which the
+/// serial reference solver also follows to visit them in insertion order. A group is a color (no two of its
+/// constraints share a movable particle) or, in the block layout (block_layout.hpp), one of the leading
+/// `sequential` groups: a block's interior, projected in order by one task, sharing no movable particle with any
+/// other block's interior. Constraints added after a coloring sit at
 /// the end, uncolored, until the next colored step gives them "tail" colors after the others (first fit, see
 /// color_tail) without touching the rest.
 #include "pbd/error.hpp"
@@ -26,8 +29,9 @@ template <class C> struct Store {
   using value_type = C;          ///< the constraint type
   std::vector<C> items;          ///< stored order: insertion order until colored, then color by color
   std::vector<Index> slot;       ///< user index → position in items; empty while items are in insertion order
-  std::vector<Index> color;      ///< user index → color; empty while uncolored
-  std::vector<Index> offsets;    ///< color c is items[offsets[c], offsets[c + 1]); empty while uncolored
+  std::vector<Index> color;      ///< user index → group (a color, or a block below `sequential`); empty while uncolored
+  std::vector<Index> offsets;    ///< group c is items[offsets[c], offsets[c + 1]); empty while uncolored
+  Index sequential = 0;          ///< block layout: groups [0, sequential) are the blocks' interiors (kept, even empty)
   /// Constraints colored since the last full coloring live in tail colors [tail_color, num_colors()), user indices
   /// from tail_item on; tail_used has, per particle, bit k set when tail color tail_color + k is at it.
   static constexpr Index kNoTail = ~Index(0);
@@ -57,6 +61,7 @@ template <class C> struct Store {
     slot.clear();
     color.clear();
     offsets.clear();
+    sequential = 0;
     tail_color = kNoTail;
     tail_used.clear();
   }
@@ -66,6 +71,7 @@ template <class C> struct Store {
     slot.clear();
     color.clear();
     offsets.clear();
+    sequential = 0;
     tail_color = kNoTail;
     tail_used.clear();
   }
@@ -106,16 +112,17 @@ void place_by_color(Store<C>& s, const std::vector<C>& by_user, Index first_user
   }
 }
 
-/// Lays out `by_user` (the constraints in insertion order) by the colors in s.color (one per constraint): grouped by
-/// color, by user index within a color; empty colors are dropped and the others renumbered in order; no tail.
+/// Lays out `by_user` (the constraints in insertion order) by the groups in s.color (one per constraint): grouped by
+/// group, by user index within a group; empty colors are dropped and the others renumbered in order (the
+/// s.sequential block groups are kept, empty or not, so block b stays group b); no tail.
 template <class C> void layout_by_color(Store<C>& s, const std::vector<C>& by_user) {
   const Index n = Index(by_user.size());
-  Index colors = 0;
+  Index colors = s.sequential;
   for (Index c : s.color) colors = std::max(colors, c + 1);
   std::vector<Index> count(colors, 0), renumber(colors, 0);
   for (Index c : s.color) ++count[c];
   Index used = 0;
-  for (Index c = 0; c < colors; ++c) renumber[c] = count[c] ? used++ : 0;
+  for (Index c = 0; c < colors; ++c) renumber[c] = (count[c] || c < s.sequential) ? used++ : 0;
   for (Index& c : s.color) c = renumber[c];
   // Room for the tail that color_tail may add (at most 10%) without moving the arrays.
   const std::size_t room = std::size_t(n) + n / 10 + 16;
@@ -124,7 +131,10 @@ template <class C> void layout_by_color(Store<C>& s, const std::vector<C>& by_us
   s.color.reserve(room);
   s.offsets.assign(std::size_t(used) + 1, 0);
   place_by_color(s, by_user, 0, 0, used);
-  if (n == 0) s.offsets.clear();
+  if (n == 0) {
+    s.offsets.clear();
+    s.sequential = 0;
+  }
   s.tail_color = Store<C>::kNoTail;
   s.tail_used.clear();
 }
@@ -158,6 +168,7 @@ ConstraintGraph constraint_graph(std::span<const C> items, const std::vector<std
 /// Colors every constraint of `s` anew with graph_coloring (pinned particles never conflict) and lays it out.
 template <class C> void color_all(Store<C>& s, const std::vector<std::uint8_t>& fixed, const coloring::Options& options) {
   if (s.empty()) return s.clear();
+  s.sequential = 0;
   // Never colored: the items are already in insertion order, so take them instead of copying them.
   const bool in_order = s.slot.empty();
   std::vector<C> by_user = in_order ? std::move(s.items) : s.in_insertion_order();
@@ -186,6 +197,7 @@ template <class C> void color_all(Store<C>& s, const std::vector<std::uint8_t>& 
 /// 8 colors or 10% of the constraints: the caller then colors everything anew, which keeps the color count low.
 template <class C> bool color_tail(Store<C>& s, const std::vector<std::uint8_t>& fixed) {
   constexpr Index kMaxTailColors = 8;
+  if (s.sequential != 0) return false;  // the block layout lays out again instead (block_layout.hpp)
   const Index first = Index(s.color.size()), n = Index(s.items.size());
   if (s.tail_color == Store<C>::kNoTail) {
     s.tail_color = s.num_colors();
@@ -241,6 +253,7 @@ template <class C> bool erase(Store<C>& s, const std::vector<std::uint8_t>& drop
   s.slot.clear();
   s.color.clear();
   s.offsets.clear();
+  s.sequential = 0;
   s.tail_color = Store<C>::kNoTail;
   s.tail_used.clear();
   return !was_colored;
@@ -259,13 +272,20 @@ template <class C> void Store<C>::validate(const std::vector<std::uint8_t>& fixe
   }
   if (offsets.empty()) return;
   if (offsets.front() != 0 || offsets.back() > n) throw Error(what + "color ranges do not cover the items");
+  if (sequential > num_colors()) throw Error(what + "more blocks than groups");
   std::vector<Index> owner(fixed.size(), ~Index(0));
   for (Index c = 0; c < num_colors(); ++c) {
-    if (offsets[c] > offsets[c + 1]) throw Error(what + "color " + std::to_string(c) + " has a negative range");
+    if (offsets[c] > offsets[c + 1]) throw Error(what + "group " + std::to_string(c) + " has a negative range");
     for (Index i = offsets[c]; i < offsets[c + 1]; ++i)
       for (Index p : items[i].particles) {
         if (p < fixed.size() && fixed[p]) continue;
-        if (owner[p] == c) throw Error(what + "particle " + std::to_string(p) + " appears twice in color " + std::to_string(c));
+        if (c < sequential) {  // a block's interior: its particles are in no other block's interior
+          if (owner[p] != ~Index(0) && owner[p] != c)
+            throw Error(what + "particle " + std::to_string(p) + " is in the interiors of blocks " +
+                        std::to_string(owner[p]) + " and " + std::to_string(c));
+        } else if (owner[p] == c) {
+          throw Error(what + "particle " + std::to_string(p) + " appears twice in color " + std::to_string(c));
+        }
         owner[p] = c;
       }
   }

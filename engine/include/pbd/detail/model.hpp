@@ -9,6 +9,7 @@
 #include "pbd/constraint_types.hpp"
 #include "pbd/constraints/volume.hpp"
 #include "pbd/custom_constraints.hpp"
+#include "pbd/solver.hpp"
 #include "pbd/stiffness.hpp"
 
 #include <array>
@@ -37,6 +38,9 @@ template <class Real> struct VolumeStore {
   Index num_colors() const { return offsets.empty() ? 0 : Index(offsets.size() - 1); }  ///< colors laid out
 };
 
+/// The arrangement the stores are cooked in: colors (serial_colored, colored, Jacobi) or blocks (block).
+enum class Layout : std::uint8_t { colors, blocks };
+
 /// What the scene describes, and what is cooked from it for the solvers.
 template <class Real> struct Model {
   VectorX<Real> inverse_mass;                                     ///< per particle, 1/kg (0 = pinned)
@@ -46,10 +50,14 @@ template <class Real> struct Model {
   VolumeStore<Real> volume;                                      ///< volume constraints
   Colliders<Real> colliders;                                     ///< static colliders
   coloring::Options coloring;                                    ///< how the colored and Jacobi solvers color
+  BlockOptions blocking;                                         ///< how the block solver splits the particles
   std::uint64_t edits = 0;  ///< particles or constraints added, removed or (un)pinned so far: keys what is cooked
 
-  // Cooked for the colored and Jacobi solvers (schedule.cpp), valid while colors_current is set.
-  bool colors_current = false;         ///< every store's colors match its constraints and the pins below
+  // Cooked for the colored, Jacobi and block solvers (schedule.cpp), valid while colors_current is set.
+  bool colors_current = false;         ///< every store's groups match its constraints, the pins and `layout`
+  Layout layout = Layout::colors;      ///< what the stores are laid out for
+  std::vector<std::uint32_t> block;    ///< block layout: each particle's block (kNoBlock: pinned, free or added since)
+  Index num_blocks = 0;                ///< block layout: number of blocks (groups [0, num_blocks) of every store)
   std::vector<std::uint8_t> fixed;     ///< pinned flags the colors were made with, one per particle then
   std::vector<Index> touch_count;      ///< Jacobi: built-in and user constraints touching each particle
   std::vector<Index> stretch_sets;     ///< per stretch color: the set all its constraints share, or kMixedSets

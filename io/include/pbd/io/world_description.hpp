@@ -65,6 +65,7 @@ struct WorldDescription {
   std::vector<PlaneDescription> planes;        ///< plane colliders
   std::vector<SphereDescription> spheres;      ///< sphere colliders
   StepParams<double> params;                   ///< step parameters
+  BlockOptions blocking;                       ///< how the block solver splits the particles
 
   /// Number of particles.
   Index num_particles() const { return Index(positions.cols()); }
