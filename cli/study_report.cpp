@@ -87,27 +87,29 @@ std::string list(const std::vector<int>& v) {
 
 std::vector<Dominance> dominance(const std::vector<Record>& records) {
   std::vector<Dominance> out;
-  std::map<std::pair<std::string, int>, int> max_threads;  // (scene, substeps) → most threads of a colored record
-  std::vector<std::pair<std::string, int>> order;
-  for (const Record& r : records) {
-    const auto key = std::make_pair(r.scene, r.substeps);
-    if (std::find(order.begin(), order.end(), key) == order.end()) order.push_back(key);
-    if (r.solver == "colored") max_threads[key] = std::max(max_threads[key], r.threads);
-  }
-  for (const auto& key : order) {
-    if (!max_threads.count(key)) continue;
-    for (const std::string error : {"ref_error", "rms_violation"}) {
-      Dominance d{key.first, key.second, max_threads[key], error, 0, {}};
-      for (const Record& s : records) {
-        if (s.scene != key.first || s.substeps != key.second || s.solver != "serial") continue;
-        ++d.serial_points;
-        const bool dominated = std::any_of(records.begin(), records.end(), [&](const Record& c) {
-          return c.scene == s.scene && c.substeps == s.substeps && c.solver == "colored" && c.threads == d.threads &&
-                 c.ms_per_step < s.ms_per_step && error_of(c, error) <= error_of(s, error);
-        });
-        if (!dominated) d.undominated.push_back(s.iterations);
+  for (const std::string solver : {"colored", "block"}) {
+    std::map<std::pair<std::string, int>, int> max_threads;  // (scene, substeps) → most threads of its records
+    std::vector<std::pair<std::string, int>> order;
+    for (const Record& r : records) {
+      const auto key = std::make_pair(r.scene, r.substeps);
+      if (std::find(order.begin(), order.end(), key) == order.end()) order.push_back(key);
+      if (r.solver == solver) max_threads[key] = std::max(max_threads[key], r.threads);
+    }
+    for (const auto& key : order) {
+      if (!max_threads.count(key)) continue;
+      for (const std::string error : {"ref_error", "rms_violation"}) {
+        Dominance d{key.first, key.second, solver, max_threads[key], error, 0, {}};
+        for (const Record& s : records) {
+          if (s.scene != key.first || s.substeps != key.second || s.solver != "serial") continue;
+          ++d.serial_points;
+          const bool dominated = std::any_of(records.begin(), records.end(), [&](const Record& c) {
+            return c.scene == s.scene && c.substeps == s.substeps && c.solver == solver && c.threads == d.threads &&
+                   c.ms_per_step < s.ms_per_step && error_of(c, error) <= error_of(s, error);
+          });
+          if (!dominated) d.undominated.push_back(s.iterations);
+        }
+        if (d.serial_points) out.push_back(d);
       }
-      if (d.serial_points) out.push_back(d);
     }
   }
   return out;
@@ -140,11 +142,11 @@ void print_table(std::ostream& out, const std::vector<Record>& records, const st
     out << line;
   }
   if (dom.empty()) return;
-  out << "\n# Does colored (most threads) dominate serial? For each serial point: a colored point with lower ms/step "
-         "and no higher error.\n";
+  out << "\n# Do colored and block (most threads) dominate serial? For each serial point: a point of theirs with lower "
+         "ms/step and no higher error.\n";
   for (const Dominance& d : dom) {
-    std::snprintf(line, sizeof line, "%-14s substeps %d, colored on %d threads, %-13s: %d of %d serial points dominated%s%s\n",
-                  d.scene.c_str(), d.substeps, d.threads, d.error.c_str(),
+    std::snprintf(line, sizeof line, "%-14s substeps %d, %-7s on %d threads, %-13s: %d of %d serial points dominated%s%s\n",
+                  d.scene.c_str(), d.substeps, d.solver.c_str(), d.threads, d.error.c_str(),
                   d.serial_points - int(d.undominated.size()), d.serial_points,
                   d.undominated.empty() ? "" : "; not at iterations ", list(d.undominated).c_str());
     out << line;
@@ -176,6 +178,7 @@ nlohmann::json report_json(const StudyPlan& plan, const nlohmann::json& environm
   for (const auto& d : dom)
     doc["dominance"].push_back({{"scene", d.scene},
                                 {"substeps", d.substeps},
+                                {"solver", d.solver},
                                 {"threads", d.threads},
                                 {"error", d.error},
                                 {"serial_points", d.serial_points},

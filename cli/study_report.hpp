@@ -15,14 +15,15 @@ namespace pbd::cli {
 struct Dominance {
   std::string scene;                   ///< scene
   int substeps = 1;                    ///< substeps
-  int threads = 0;                     ///< threads of the colored points
+  std::string solver;                  ///< the parallel solver compared with serial: "colored" or "block"
+  int threads = 0;                     ///< threads of its points
   std::string error;                   ///< the error compared: "ref_error" or "rms_violation"
   int serial_points = 0;               ///< serial points on this scene
-  std::vector<int> undominated;        ///< iterations of the serial points no colored point dominates
+  std::vector<int> undominated;        ///< iterations of the serial points none of its points dominates
 };
 
-/// One Dominance per (scene, substeps, error measure) with both serial and colored records, comparing against the
-/// colored records at the most threads measured.
+/// One Dominance per (scene, substeps, parallel Gauss-Seidel solver: colored, block; error measure) with both serial
+/// and that solver's records, comparing against its records at the most threads measured.
 std::vector<Dominance> dominance(const std::vector<Record>& records);
 
 /// Prints the table (one line per record, grouped by scene) and the dominance summary.

@@ -29,12 +29,13 @@ STYLE = {  # solver -> (color, marker)
     "serial-colored": ("tab:gray", "v"),
     "colored": ("tab:blue", "s"),
     "jacobi": ("tab:orange", "^"),
+    "block": ("tab:green", "D"),
 }
 DASH = {1: "-", 2: "--", 4: ":", 8: "-."}
 
 
 def style(solver, threads):
-    color, marker = STYLE.get(solver, ("tab:green", "x"))
+    color, marker = STYLE.get(solver, ("tab:purple", "x"))
     return dict(color=color, marker=marker, linestyle=DASH.get(threads, "-"))
 
 
@@ -129,7 +130,7 @@ def thread_scaling(doc, out, ext):
         serial = {r["iterations"]: r["ms_per_step"] for r in rs if r["solver"] == "serial" and r["substeps"] == sub}
         threads = sorted({r["threads"] for r in rs})
         for it in (its[0], its[-1]) if len(its) > 1 else its:
-            for solver in ("colored", "jacobi"):
+            for solver in ("colored", "jacobi", "block"):
                 pts = sorted((r["threads"], r["ms_per_step"]) for r in rs
                              if r["solver"] == solver and r["iterations"] == it and r["substeps"] == sub)
                 if not pts or it not in serial:
@@ -221,12 +222,12 @@ def summary(doc, out, ext):
                          f"{ref['rms_violation']:.2e} | {ref['seconds']:.1f} |")
         lines.append("")
     if doc.get("dominance"):
-        lines.append("| scene | substeps | error | serial points dominated by colored | not dominated at iterations |")
+        lines.append("| scene | substeps | error | serial points dominated | not dominated at iterations |")
         lines.append("|---|---|---|---|---|")
         for d in doc["dominance"]:
             n = d["serial_points"] - len(d["undominated_iterations"])
             lines.append(f"| {d['scene']} | {d['substeps']} | {d['error']} | {n} of {d['serial_points']} "
-                         f"(colored on {d['threads']} threads) | "
+                         f"({d.get('solver', 'colored')} on {d['threads']} threads) | "
                          f"{', '.join(map(str, d['undominated_iterations'])) or '-'} |")
     path = os.path.join(out, "summary.md")
     with open(path, "w") as f:

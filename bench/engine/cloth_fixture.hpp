@@ -3,6 +3,8 @@
 // perturbed so every projection does work, and the solve of one sub-step as World::step runs it (the engine's
 // internal solver entry, engine/src/solve/solver.hpp: λ reset, kSweeps sweeps, positions back from the padded copy).
 #include "pbd/io/generators.hpp"
+#include "pbd/io/mesh_body.hpp"
+#include "pbd/io/mesh_generators.hpp"
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
 
@@ -21,10 +23,22 @@ struct ClothFixture {
   detail::Scratch<Real> scratch;
   StepParams<Real> params;
 
-  ClothFixture(int n, Solver solver) {
-    ClothOptions o;
-    o.resolution = n;
-    add_cloth(world, o, world.add_constraint_set(Stiffness::pbd_k(1.0)));
+  /// bending: the grid mesh's stretch and dihedral bending (k = 0.2) instead of the cloth's stretch alone.
+  /// per_block: BlockOptions::constraints_per_block (0: the default).
+  ClothFixture(int n, Solver solver, bool bending = false, std::size_t per_block = 0) {
+    if (per_block) world.set_blocking({per_block, true});
+    if (bending) {
+      MeshConstraintSets sets;
+      sets.stretch = world.add_constraint_set(Stiffness::pbd_k(1.0));
+      sets.bending = world.add_constraint_set(Stiffness::pbd_k(0.2));
+      MeshBodyOptions o;
+      o.pinned = {Index(n * (n - 1)), Index(n * n - 1)};
+      add_mesh(world, grid_mesh(n, 1.0), o, sets);
+    } else {
+      ClothOptions o;
+      o.resolution = n;
+      add_cloth(world, o, world.add_constraint_set(Stiffness::pbd_k(1.0)));
+    }
     Matrix3X<Real>& p = scratch.p;
     p = world.positions();
     std::mt19937 rng(42);
@@ -33,8 +47,9 @@ struct ClothFixture {
     for (Eigen::Index i = 0; i < p.cols(); ++i)
       if (world.inverse_masses()[i] != 0) p.col(i) += spacing * Vec3<Real>(u(rng), u(rng), u(rng));
     model = world.model();
+    model.layout = uses_blocks(solver) ? detail::Layout::blocks : detail::Layout::colors;
     if (solver != Solver::serial) detail::color_everything(model);
-    scratch.coeff = {coefficients<Real>(world.constraint_sets()[0], 1.0 / 60, kSweeps)};
+    for (const Stiffness& set : world.constraint_sets()) scratch.coeff.push_back(coefficients<Real>(set, 1.0 / 60, kSweeps));
     params.solver = solver;
     params.iterations = kSweeps;
   }
@@ -44,6 +59,7 @@ struct ClothFixture {
   const Matrix3X<Real>& p() const { return scratch.p; }
   std::size_t constraints() const { return world.num_constraints(); }
   Index colors() const { return model.store<StretchConstraint<Real>>().num_colors(); }
+  Index blocks() const { return model.num_blocks; }
 };
 
 }  // namespace pbd::bench

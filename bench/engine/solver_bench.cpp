@@ -44,8 +44,9 @@ void BM_SerialSweep(benchmark::State& state) {
 
 // Colored Gauss-Seidel (jacobi = false) or Jacobi (true) in an arena of `threads` threads; `config` decides which
 // colors fork (default: those of at least 1024 constraints).
-void colored_sweep(benchmark::State& state, bool jacobi, const pbd::ParallelConfig& config = {}) {
-  ClothFixture f(int(state.range(0)), jacobi ? pbd::Solver::jacobi : pbd::Solver::colored);
+void colored_sweep(benchmark::State& state, bool jacobi, const pbd::ParallelConfig& config = {},
+                   bool bending = false) {
+  ClothFixture f(int(state.range(0)), jacobi ? pbd::Solver::jacobi : pbd::Solver::colored, bending);
   const int threads = int(state.range(1));
   tbb::task_arena arena(threads);
   arena.execute([&] {
@@ -59,6 +60,23 @@ void colored_sweep(benchmark::State& state, bool jacobi, const pbd::ParallelConf
 }
 
 void BM_ColoredSweep(benchmark::State& state) { colored_sweep(state, false); }
+// The same on the cloth with dihedral bending (range(2) = 1).
+void BM_ColoredSweepBending(benchmark::State& state) { colored_sweep(state, false, {}, true); }
+
+// Block Gauss-Seidel (BlockOptions' default blocks) in an arena of `threads` threads; range(2) = 1: with bending.
+void BM_BlockSweep(benchmark::State& state) {
+  ClothFixture f(int(state.range(0)), pbd::Solver::block, state.range(2) != 0);
+  tbb::task_arena arena(int(state.range(1)));
+  arena.execute([&] {
+    for (auto _ : state) {
+      f.substep();
+      benchmark::ClobberMemory();
+    }
+  });
+  set_counters(state, f, f.colors());
+  state.counters["threads"] = double(state.range(1));
+  state.counters["blocks"] = double(f.blocks());
+}
 void BM_JacobiSweep(benchmark::State& state) { colored_sweep(state, true); }
 // Every color forks, however small: shows what the fork/join per color costs on small cloths (compare with
 // BM_ColoredSweep at the same size, where small colors run inline).
@@ -145,14 +163,34 @@ void BM_ColoredScaling(benchmark::State& state) {
   state.counters["constraints"] = double(f[0].constraints());
 }
 
+// Block Gauss-Seidel sub-steps, 1 thread against 2, paired as BM_ColoredScaling (bits checked equal at the end).
+void BM_BlockScaling(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const bool bending = state.range(1) != 0;
+  const std::size_t per_block = std::size_t(state.range(2));
+  ClothFixture f[2] = {ClothFixture(n, pbd::Solver::block, bending, per_block),
+                       ClothFixture(n, pbd::Solver::block, bending, per_block)};
+  paired_scaling(
+      state,
+      [&](int k) {
+        f[k].substep();
+        benchmark::ClobberMemory();
+      },
+      double(f[0].constraints()) * kSweeps);
+  if (std::memcmp(f[0].p().data(), f[1].p().data(), sizeof(Real) * std::size_t(f[0].p().size())) != 0)
+    state.SkipWithError("1-thread and 2-thread positions differ");
+  state.counters["constraints"] = double(f[0].constraints());
+  state.counters["blocks"] = double(f[0].blocks());
+}
+
 // Two threads that share nothing: a unit of work is one sub-step of each of two independent cloths of side `side`,
 // both on one thread, or one per thread at once (every color inline, so no fork, no join, no particle shared).
 // Paired like BM_ColoredScaling; what it loses against 2× is what the two cores cost each other (shared cache and
 // memory) and how unequal their speeds are at that moment.
-void shared_nothing_scaling(benchmark::State& state, int side) {
-  const pbd::Solver colored = pbd::Solver::colored;
-  ClothFixture f[4] = {ClothFixture(side, colored), ClothFixture(side, colored), ClothFixture(side, colored),
-                       ClothFixture(side, colored)};  // two per half
+void shared_nothing_scaling(benchmark::State& state, int side, pbd::Solver solver = pbd::Solver::colored,
+                            bool bending = false) {
+  ClothFixture f[4] = {ClothFixture(side, solver, bending), ClothFixture(side, solver, bending),
+                       ClothFixture(side, solver, bending), ClothFixture(side, solver, bending)};  // two per half
   const pbd::ParallelConfig inline_all{std::size_t(-1), std::size_t(-1)};
   paired_scaling(
       state,
@@ -176,6 +214,13 @@ void BM_SharedNothingScaling(benchmark::State& state) { shared_nothing_scaling(s
 // one thread alone is faster here than on one n² cloth, since each of its cloths is smaller.
 void BM_SharedNothingHalvesScaling(benchmark::State& state) {
   shared_nothing_scaling(state, int(std::lround(double(state.range(0)) / std::sqrt(2.0))));
+}
+
+// The same split for the block solver's own work (interiors interleaved, scalar projections; bending with range(1)
+// = 1): its same-run ceiling, each thread solving a whole half-size cloth with blocks and no fork.
+void BM_SharedNothingHalvesBlockScaling(benchmark::State& state) {
+  shared_nothing_scaling(state, int(std::lround(double(state.range(0)) / std::sqrt(2.0))), pbd::Solver::block,
+                         state.range(1) != 0);
 }
 
 // The machine's own 2T/1T ceiling for work that touches no memory: two independent chains of floating-point
@@ -207,11 +252,24 @@ BENCHMARK(BM_ColoredSweepAlwaysFork)->ArgNames({"n", "threads"})->ArgsProduct({{
     ->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_JacobiSweep)->ArgNames({"n", "threads"})->ArgsProduct({{30, 100, 300, 1000}, {1, 2}})
     ->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BlockSweep)->ArgNames({"n", "threads", "bending"})->ArgsProduct({{30, 100, 300, 1000}, {1, 2}, {0, 1}})
+    ->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ColoredSweepBending)->ArgNames({"n", "threads"})
+    ->ArgsProduct({{30, 100, 300, 1000}, {1, 2}})->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ColoredScaling)->ArgName("n")->Arg(300)->Iterations(40)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BlockScaling)->ArgNames({"n", "bending", "per_block"})->ArgsProduct({{30}, {0, 1}, {0}})
+    ->Iterations(400)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BlockScaling)->ArgNames({"n", "bending", "per_block"})->ArgsProduct({{300}, {0, 1}, {0}})
+    ->Iterations(40)->Unit(benchmark::kMillisecond);
+// Block sizes: what the partition's aim does to 2T/1T (the default is BlockOptions::constraints_per_block).
+BENCHMARK(BM_BlockScaling)->ArgNames({"n", "bending", "per_block"})->ArgsProduct({{30}, {0, 1}, {128, 256, 512}})
+    ->Iterations(400)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ColoredScaling)->ArgName("n")->Arg(1000)->Iterations(8)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SharedNothingScaling)->ArgName("n")->Arg(300)->Iterations(20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SharedNothingHalvesScaling)->ArgName("n")->Arg(300)->Iterations(40)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SharedNothingHalvesScaling)->ArgName("n")->Arg(1000)->Iterations(8)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SharedNothingHalvesBlockScaling)->ArgNames({"n", "bending"})->ArgsProduct({{300}, {0, 1}})
+    ->Iterations(40)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ComputeScaling)->Iterations(40)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StreamTriad)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

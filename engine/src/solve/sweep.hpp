@@ -67,16 +67,37 @@ template <bool kInPlace, bool kReverse, class C, class Real, class CoeffOf>
   }
 }
 
-/// Stored positions [b, e) of `st` in order (kReverse: backwards), each projected in place. A function of its own,
-/// like project_in_insertion_order, so that the projection is inlined into its loop.
+/// Blocks handled by one task of the block schedule: their interiors are projected interleaved, the k-th constraint
+/// of each in turn, so that the processor overlaps kInterleave independent dependency chains (a block's own
+/// constraints mostly share particles with their predecessors, so one block alone waits on every square root).
+/// Blocks share no particle, so interleaving them gives the bits of one block after the other.
+inline constexpr Index kInterleave = 4;
+
+/// Block interiors [first, last) of `st` (at most kInterleave), each in stored order (kReverse: backwards),
+/// interleaved, projected in place. A function of its own so that the projection is inlined into its loop.
 template <bool kReverse, class C, class Real>
-[[gnu::noinline]] void project_group_in_place(const Store<C>& st, Index b, Index e, Real* lam, Real* p, const Real* w,
-                                              const SolveCoefficients<Real>* coeff) {
+[[gnu::noinline]] void project_interiors_interleaved(const Store<C>& st, Index first, Index last, Real* lam, Real* p,
+                                                     const Real* w, const SolveCoefficients<Real>* coeff) {
   const C* items = st.items.data();
-  if constexpr (kReverse) {
-    for (Index i = e; i-- > b;) project_into(items[i], p, w, coeff[items[i].set], lam[i], p, Real(1));
+  const Index m = last - first;
+  Index begin[kInterleave], len[kInterleave];
+  Index common = ~Index(0);
+  for (Index j = 0; j < m; ++j) {
+    begin[j] = st.offsets[first + j];
+    len[j] = st.offsets[first + j + 1] - begin[j];
+    common = std::min(common, len[j]);
+  }
+  auto one = [&](Index i) { project_into(items[i], p, w, coeff[items[i].set], lam[i], p, Real(1)); };
+  if constexpr (kReverse) {  // each block backwards: its tail beyond the common length first, then interleaved
+    for (Index j = 0; j < m; ++j)
+      for (Index k = len[j]; k-- > common;) one(begin[j] + k);
+    for (Index k = common; k-- > 0;)
+      for (Index j = 0; j < m; ++j) one(begin[j] + k);
   } else {
-    for (Index i = b; i < e; ++i) project_into(items[i], p, w, coeff[items[i].set], lam[i], p, Real(1));
+    for (Index k = 0; k < common; ++k)
+      for (Index j = 0; j < m; ++j) one(begin[j] + k);
+    for (Index j = 0; j < m; ++j)
+      for (Index k = common; k < len[j]; ++k) one(begin[j] + k);
   }
 }
 
@@ -240,28 +261,30 @@ private:
   // movable particle, so the blocks run in any order and on any thread with the same bits.
   template <bool kReverse> void project_interiors(Real* p, const Real* w, const SolveCoefficients<Real>* coeff) {
     tbb::affinity_partitioner& ap = k_.partitioners[part_++];
-    const Index blocks = m_.num_blocks;
-    auto block = [&](Index b) {
+    const Index blocks = m_.num_blocks, tasks = (blocks + kInterleave - 1) / kInterleave;
+    auto task = [&](Index t) {  // blocks [first, last), interleaved
+      const Index first = t * kInterleave, last = std::min(blocks, first + kInterleave);
       for_each_store(m_.stores, [&](const auto& st, auto i) {
-        if (st.sequential) project_group_in_place<kReverse>(st, st.offsets[b], st.offsets[b + 1], s_.lambda[i].data(), p, w, coeff);
+        if (st.sequential) project_interiors_interleaved<kReverse>(st, first, last, s_.lambda[i].data(), p, w, coeff);
       });
-      for (std::size_t t = 0; t < m_.user.types().size(); ++t) {
-        const auto& type = *m_.user.types()[t];
+      for (std::size_t u = 0; u < m_.user.types().size(); ++u) {
+        const auto& type = *m_.user.types()[u];
         if (type.num_blocks())
-          type.project_range(type.color_begin(b), type.color_begin(b + 1), p, w, coeff, s_.user_lambda[t].data(), p,
-                             Real(1), kReverse);
+          for (Index b = first; b < last; ++b)
+            type.project_range(type.color_begin(b), type.color_begin(b + 1), p, w, coeff, s_.user_lambda[u].data(), p,
+                               Real(1), kReverse);
       }
     };
-    const bool fork = parallel_ && blocks > 1 && tbb::this_task_arena::max_concurrency() > 1 &&
+    const bool fork = parallel_ && tasks > 1 && tbb::this_task_arena::max_concurrency() > 1 &&
                       interior_items_ >= config_.inline_below;
     if (!fork) {
-      for (Index b = 0; b < blocks; ++b) block(b);
+      for (Index t = 0; t < tasks; ++t) task(t);
       return;
     }
     tbb::parallel_for(
-        tbb::blocked_range<Index>(0, blocks, 1),
+        tbb::blocked_range<Index>(0, tasks, 1),
         [&](const tbb::blocked_range<Index>& r) {
-          for (Index b = r.begin(); b < r.end(); ++b) block(b);
+          for (Index t = r.begin(); t < r.end(); ++t) task(t);
         },
         ap);
   }
