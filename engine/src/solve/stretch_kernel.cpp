@@ -10,6 +10,8 @@ namespace {
 
 using RangeFn = void (*)(const StretchConstraint<float>*, Index, Index, float*, const SolveCoefficients<float>*,
                          float*, bool, Index);
+using InterleavedFn = void (*)(const StretchConstraint<float>*, const Index*, Index, float*,
+                               const SolveCoefficients<float>*, float*, bool, bool);
 
 #if defined(__SSE2__)
 // Software prefetch of the constraint and λ streams kPrefetchAhead constraints ahead of the block being projected.
@@ -60,6 +62,42 @@ template <bool kLambda, bool kOneSet>
   }
 }
 
+// The k-th constraints of four independent ranges starting at begin[0..4), k over [0, common) (backwards when
+// reverse), four lanes at a time: gathered into a block of four (and their λ), projected, λ scattered back.
+template <bool kLambda>
+[[gnu::always_inline]] inline void interleaved_body(const StretchConstraint<float>* items, const Index* begin,
+                                                    Index common, float* q, const SolveCoefficients<float>* coeff,
+                                                    float* lambda, bool reverse) {
+  auto one = [&](Index k) {
+#if defined(__SSE2__)
+    const StretchConstraint<float> c[4] = {items[begin[0] + k], items[begin[1] + k], items[begin[2] + k],
+                                           items[begin[3] + k]};
+    float lam[4] = {0, 0, 0, 0};
+    if constexpr (kLambda)
+      for (int j = 0; j < 4; ++j) lam[j] = lambda[begin[j] + k];
+    project_stretch_block4<kLambda, false>(c, q, coeff, lam, wide::zero(), wide::zero());
+    if constexpr (kLambda)
+      for (int j = 0; j < 4; ++j) lambda[begin[j] + k] = lam[j];
+#else
+    for (int j = 0; j < 4; ++j) {
+      const Index i = begin[j] + k;
+      project_stretch_padded(items[i], q, coeff[items[i].set], lambda[i]);
+    }
+#endif
+  };
+  if (reverse) {
+    for (Index k = common; k-- > 0;) one(k);
+  } else {
+    for (Index k = 0; k < common; ++k) one(k);
+  }
+}
+
+void interleaved_default(const StretchConstraint<float>* items, const Index* begin, Index common, float* q,
+                         const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, bool reverse) {
+  if (any_xpbd) interleaved_body<true>(items, begin, common, q, coeff, lambda, reverse);
+  else interleaved_body<false>(items, begin, common, q, coeff, lambda, reverse);
+}
+
 void range_default(const StretchConstraint<float>* c, Index b, Index e, float* q,
                    const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set) {
   range_either(c, b, e, q, coeff, lambda, any_xpbd, set);
@@ -73,15 +111,25 @@ void range_default(const StretchConstraint<float>* c, Index b, Index e, float* q
                                         const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set) {
   range_either(c, b, e, q, coeff, lambda, any_xpbd, set);
 }
+[[gnu::target("avx2")]] void interleaved_avx2(const StretchConstraint<float>* items, const Index* begin, Index common,
+                                              float* q, const SolveCoefficients<float>* coeff, float* lambda,
+                                              bool any_xpbd, bool reverse) {
+  if (any_xpbd) interleaved_body<true>(items, begin, common, q, coeff, lambda, reverse);
+  else interleaved_body<false>(items, begin, common, q, coeff, lambda, reverse);
+}
+
+bool use_avx2() {
+  if (const char* env = std::getenv("PBD_SIMD"); env && std::strcmp(env, "sse2") == 0) return false;
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
 
 // PBD_SIMD=sse2 in the environment keeps the SSE2 build on an AVX2 machine (tests run both builds this way).
-RangeFn pick_range() {
-  if (const char* env = std::getenv("PBD_SIMD"); env && std::strcmp(env, "sse2") == 0) return range_default;
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2") ? range_avx2 : range_default;
-}
+RangeFn pick_range() { return use_avx2() ? range_avx2 : range_default; }
+InterleavedFn pick_interleaved() { return use_avx2() ? interleaved_avx2 : interleaved_default; }
 #else
 RangeFn pick_range() { return range_default; }
+InterleavedFn pick_interleaved() { return interleaved_default; }
 #endif
 
 }  // namespace
@@ -90,6 +138,12 @@ void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, 
                            const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set) {
   static const RangeFn range = pick_range();
   range(c, b, e, q, coeff, lambda, any_xpbd, set);
+}
+
+void project_stretch_interleaved(const StretchConstraint<float>* items, const Index* begin, Index common, float* q,
+                                 const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, bool reverse) {
+  static const InterleavedFn fn = pick_interleaved();
+  fn(items, begin, common, q, coeff, lambda, any_xpbd, reverse);
 }
 
 void pad_positions(const float* p, const float* w, Index b, Index e, float* q) {

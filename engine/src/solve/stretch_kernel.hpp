@@ -140,6 +140,13 @@ template <bool kLambda, bool kOneSet>
 void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, float* q,
                            const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set);
 
+/// The block schedule's interiors (sweep.hpp): the k-th stretch constraints of four blocks, items[begin[j] + k] for
+/// j < 4, k over [0, common) (backwards when reverse), four lanes at a time on padded positions q. The four blocks
+/// share no movable particle, so the lanes are independent and every block sees its own constraints in order: the
+/// bits of project() one block after the other. λ at lambda[begin[j] + k] (touched only when any_xpbd).
+void project_stretch_interleaved(const StretchConstraint<float>* items, const Index* begin, Index common, float* q,
+                                 const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, bool reverse);
+
 /// Particles [b, e) from positions p (3 per particle) and inverse masses w into padded positions q (4 per particle).
 void pad_positions(const float* p, const float* w, Index b, Index e, float* q);
 /// Particles [b, e) from padded positions q back into p (3 per particle).

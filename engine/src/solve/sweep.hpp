@@ -151,6 +151,9 @@ public:
     for_each_store(m_.stores, [&](const auto& st, auto i) { stretch_only_ = stretch_only_ && (i == 0 || st.empty()); });
     stretch_only_ = stretch_only_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0 && keep_padded;
     padded_ = false;
+    padded_blocks_ = std::is_same_v<Real, float> && kPaddedStretch && schedule_ == Schedule::blocks &&
+                     update_ == Update::in_place && m_.user.empty();
+    for_each_store(m_.stores, [&](const auto& st, auto i) { padded_blocks_ = padded_blocks_ && (i == 0 || st.empty()); });
     interior_items_ = 0;
     for_each_store(m_.stores, [&](const auto& st, auto) { interior_items_ += st.sequential ? st.offsets[st.sequential] : 0; });
     for (const auto& t : m_.user.types()) interior_items_ += t->num_blocks() ? t->color_begin(t->num_blocks()) : 0;
@@ -189,7 +192,10 @@ private:
     }
     part_ = 0;
     if constexpr (kInPlace)
-      if (schedule_ == Schedule::blocks) project_interiors<kReverse>(p, w, coeff);
+      if (schedule_ == Schedule::blocks) {
+        if (padded_blocks_) project_stretch_blocks_padded<kReverse>(p, coeff);
+        else project_interiors<kReverse>(p, w, coeff);
+      }
     auto store = [&](const auto& st, auto i) { project_store<kInPlace, kReverse>(st, s_.lambda[i].data(), p, w, coeff, relax, out); };
     for_each_store(m_.stores, store);
     project_user_types<kReverse>(p, w, coeff, relax, out);
@@ -243,6 +249,7 @@ private:
         if (st.num_colors() > 0) project_stretch_padded_colors<kReverse>(st, lam, p, w, coeff);
         return;
       }
+      if (schedule_ == Schedule::blocks && padded_blocks_) return;  // projected by project_stretch_blocks_padded
     }
     // The colors (under the block schedule, the boundary colors after the blocks, whose interiors ran before).
     const std::size_t base = part_;
@@ -287,6 +294,77 @@ private:
           for (Index t = r.begin(); t < r.end(); ++t) task(t);
         },
         ap);
+  }
+
+  // The block schedule when stretch is the only type (float): every stretch constraint on padded positions, the
+  // interiors four blocks to a task with the kernel's four lanes on the k-th constraint of each block
+  // (project_stretch_interleaved; each block's constraints beyond the shortest one's count go one by one after), then
+  // the boundary colors as project_stretch_padded_colors runs colors. The same bits as the scalar interiors.
+  template <bool kReverse> void project_stretch_blocks_padded(Real* p, const SolveCoefficients<Real>* coeff) {
+    if constexpr (std::is_same_v<Real, float>) {
+      const auto& st = m_.template store<StretchConstraint<float>>();
+      const Index n = m_.num_particles();
+      const std::size_t pad_slot = part_++, interior_slot = part_++;
+      unpad_slot_ = part_++;
+      if (st.empty()) return;
+      float* lam = s_.lambda[0].data();
+      const float* w = m_.inverse_mass.data();
+      if (!padded_) {
+        k_.padded.resize(4, n);
+        float* q = k_.padded.data();
+        run_range(0, n, parallel_, config_, k_.partitioners[pad_slot], [&](Index b, Index e) { pad_positions(p, w, b, e, q); });
+      }
+      float* q = k_.padded.data();
+      const bool any_xpbd = s_.lambda_dirty;
+      const StretchConstraint<float>* items = st.items.data();
+      const Index blocks = st.sequential, tasks = (blocks + kInterleave - 1) / kInterleave;
+      auto task = [&](Index t) {
+        const Index first = t * kInterleave, m = std::min(blocks, first + kInterleave) - first;
+        Index begin[kInterleave], len[kInterleave], common = ~Index(0);
+        for (Index j = 0; j < m; ++j) {
+          begin[j] = st.offsets[first + j];
+          len[j] = st.offsets[first + j + 1] - begin[j];
+          common = std::min(common, len[j]);
+        }
+        auto one = [&](Index i) { project_stretch_padded(items[i], q, coeff[items[i].set], lam[i]); };
+        if (m < kInterleave) common = 0;  // fewer than four blocks: one by one, interleaved
+        if constexpr (kReverse) {
+          for (Index j = 0; j < m; ++j)
+            for (Index k = len[j]; k-- > common;) one(begin[j] + k);
+          if (common) project_stretch_interleaved(items, begin, common, q, coeff, lam, any_xpbd, true);
+        } else {
+          if (common) project_stretch_interleaved(items, begin, common, q, coeff, lam, any_xpbd, false);
+          const Index longest = m ? *std::max_element(len, len + m) : 0;
+          for (Index k = common; k < longest; ++k)
+            for (Index j = 0; j < m; ++j)
+              if (k < len[j]) one(begin[j] + k);
+        }
+      };
+      const bool fork = parallel_ && tasks > 1 && tbb::this_task_arena::max_concurrency() > 1 &&
+                        interior_items_ >= config_.inline_below;
+      if (!fork) {
+        for (Index t = 0; t < tasks; ++t) task(t);
+      } else {
+        tbb::parallel_for(
+            tbb::blocked_range<Index>(0, tasks, 1),
+            [&](const tbb::blocked_range<Index>& r) {
+              for (Index t = r.begin(); t < r.end(); ++t) task(t);
+            },
+            k_.partitioners[interior_slot]);
+      }
+      const bool sets_known = m_.stretch_sets.size() == std::size_t(st.num_colors());
+      const std::size_t base = part_;
+      const Index colors = st.num_colors() - blocks;
+      part_ += std::size_t(colors);
+      for (Index j = 0; j < colors; ++j) {
+        const Index c = blocks + (kReverse ? colors - 1 - j : j);
+        const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
+        run_blocks(st.offsets[c], st.offsets[c + 1], kStretchBlock, parallel_, config_, k_.partitioners[base + c - blocks],
+                   [&](Index b, Index e) { project_stretch_range(items, b, e, q, coeff, lam, any_xpbd, set); });
+      }
+      padded_ = true;
+      if (!stretch_only_) unpad(p);
+    }
   }
 
   // Every stretch color on padded positions (x y z w): one aligned load and store per particle in the kernel
@@ -377,6 +455,7 @@ private:
   bool stretch_only_ = false;   // stretch is all a sweep projects: positions may stay padded between sweeps
   bool padded_ = false;         // k_.padded holds the positions and p is stale (until end())
   std::size_t interior_items_ = 0;  // constraints in the blocks' interiors (block schedule): decides the fork
+  bool padded_blocks_ = false;      // block schedule, float, stretch the only type: on padded positions (SIMD)
 };
 
 }  // namespace pbd::detail
