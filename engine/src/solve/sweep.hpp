@@ -151,8 +151,9 @@ public:
     for_each_store(m_.stores, [&](const auto& st, auto i) { stretch_only_ = stretch_only_ && (i == 0 || st.empty()); });
     stretch_only_ = stretch_only_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0 && keep_padded;
     padded_ = false;
+    // (with fewer blocks than one task takes, the kernel has no four lanes to fill: scalar, without the padding)
     padded_blocks_ = std::is_same_v<Real, float> && kPaddedStretch && schedule_ == Schedule::blocks &&
-                     update_ == Update::in_place && m_.user.empty();
+                     update_ == Update::in_place && m_.user.empty() && m_.num_blocks >= kInterleave;
     for_each_store(m_.stores, [&](const auto& st, auto i) { padded_blocks_ = padded_blocks_ && (i == 0 || st.empty()); });
     interior_items_ = 0;
     for_each_store(m_.stores, [&](const auto& st, auto) { interior_items_ += st.sequential ? st.offsets[st.sequential] : 0; });
