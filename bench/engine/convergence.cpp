@@ -65,8 +65,8 @@ W inflate() {
   return w;
 }
 
-// One step of `w` with the given solver and sweeps (one sub-step); the positions after it.
-Eigen::Matrix3Xd solved(W w, Solver solver, int sweeps, double rho = -1) {
+// `w` after one step with the given solver and sweeps (one sub-step); rho ≥ 0: Chebyshev with that ρ (0: estimated).
+W stepped(W w, Solver solver, int sweeps, double rho = -1) {
   StepParams<double> p = w.params();
   p.solver = solver;
   p.substeps = 1;
@@ -75,7 +75,12 @@ Eigen::Matrix3Xd solved(W w, Solver solver, int sweeps, double rho = -1) {
   p.chebyshev.rho = std::max(rho, 0.0);
   w.set_params(p);
   w.step();
-  return w.positions();
+  return w;
+}
+
+// The positions after that step.
+Eigen::Matrix3Xd solved(const W& w, Solver solver, int sweeps, double rho = -1) {
+  return stepped(w, solver, sweeps, rho).positions();
 }
 
 double rms_distance(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
@@ -140,27 +145,8 @@ int main(int argc, char** argv) {
   const W& w = cases.front().world;
   const int limit = quick ? 1024 : 4096;
   for (Solver solver : solvers) {
-    W estimating = w;
-    StepParams<double> p = estimating.params();
-    p.solver = solver;
-    p.substeps = 1;
-    p.iterations = 64;
-    p.chebyshev.enabled = true;
-    estimating.set_params(p);
-    estimating.step();
-    const double rho = estimating.params().chebyshev.rho;
-    auto stretch_after = [&](int k, double r) {
-      W x = w;
-      StepParams<double> q = x.params();
-      q.solver = solver;
-      q.substeps = 1;
-      q.iterations = k;
-      q.chebyshev.enabled = r >= 0;
-      q.chebyshev.rho = std::max(r, 0.0);
-      x.set_params(q);
-      x.step();
-      return stretch_violation(x).rms;
-    };
+    const double rho = stepped(w, solver, 64, 0.0).params().chebyshev.rho;  // a plain step that estimates ρ
+    auto stretch_after = [&](int k, double r) { return stretch_violation(stepped(w, solver, k, r)).rms; };
     const int plain = smallest(limit, [&](int k) { return stretch_after(k, -1) <= 1e-3; });
     const int fast = smallest(limit, [&](int k) { return k >= 2 && stretch_after(k, rho) <= 1e-3; });
     std::printf("| %s | %.4f | %s | %s | %s |\n", std::string(name(solver)).c_str(), rho,

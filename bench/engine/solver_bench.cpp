@@ -146,11 +146,11 @@ template <class Work> void paired_scaling(benchmark::State& state, Work&& work, 
   }
 }
 
-// Colored Gauss-Seidel sub-steps, 1 thread against 2, paired: two identical cloths, one per thread count. The
-// solver's bits do not depend on the thread count, so the two cloths must stay bitwise equal; checked at the end.
-void BM_ColoredScaling(benchmark::State& state) {
+// Sub-steps of `solver`, 1 thread against 2, paired: two identical cloths, one per thread count. The solver's bits
+// do not depend on the thread count, so the two cloths must stay bitwise equal; checked at the end.
+void solver_scaling(benchmark::State& state, pbd::Solver solver, bool bending = false, std::size_t per_block = 0) {
   const int n = int(state.range(0));
-  ClothFixture f[2] = {ClothFixture(n, pbd::Solver::colored), ClothFixture(n, pbd::Solver::colored)};
+  ClothFixture f[2] = {ClothFixture(n, solver, bending, per_block), ClothFixture(n, solver, bending, per_block)};
   paired_scaling(
       state,
       [&](int k) {
@@ -161,26 +161,14 @@ void BM_ColoredScaling(benchmark::State& state) {
   if (std::memcmp(f[0].p().data(), f[1].p().data(), sizeof(Real) * std::size_t(f[0].p().size())) != 0)
     state.SkipWithError("1-thread and 2-thread positions differ");
   state.counters["constraints"] = double(f[0].constraints());
+  if (solver == pbd::Solver::block) state.counters["blocks"] = double(f[0].blocks());
 }
 
-// Block Gauss-Seidel sub-steps, 1 thread against 2, paired as BM_ColoredScaling (bits checked equal at the end).
+// Colored Gauss-Seidel.
+void BM_ColoredScaling(benchmark::State& state) { solver_scaling(state, pbd::Solver::colored); }
+// Block Gauss-Seidel; range(1) = 1: with bending; range(2): constraints per block (0: the default).
 void BM_BlockScaling(benchmark::State& state) {
-  const int n = int(state.range(0));
-  const bool bending = state.range(1) != 0;
-  const std::size_t per_block = std::size_t(state.range(2));
-  ClothFixture f[2] = {ClothFixture(n, pbd::Solver::block, bending, per_block),
-                       ClothFixture(n, pbd::Solver::block, bending, per_block)};
-  paired_scaling(
-      state,
-      [&](int k) {
-        f[k].substep();
-        benchmark::ClobberMemory();
-      },
-      double(f[0].constraints()) * kSweeps);
-  if (std::memcmp(f[0].p().data(), f[1].p().data(), sizeof(Real) * std::size_t(f[0].p().size())) != 0)
-    state.SkipWithError("1-thread and 2-thread positions differ");
-  state.counters["constraints"] = double(f[0].constraints());
-  state.counters["blocks"] = double(f[0].blocks());
+  solver_scaling(state, pbd::Solver::block, state.range(1) != 0, std::size_t(state.range(2)));
 }
 
 // Two threads that share nothing: a unit of work is one sub-step of each of two independent cloths of side `side`,
