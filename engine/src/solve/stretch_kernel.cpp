@@ -62,33 +62,41 @@ template <bool kLambda, bool kOneSet>
   }
 }
 
-// The k-th constraints of four independent ranges starting at begin[0..4), k over [0, common) (backwards when
-// reverse), four lanes at a time: gathered into a block of four (and their λ), projected, λ scattered back.
+// The k-th constraints of four independent ranges starting at begin[0..4), four lanes at once, read in place; λ
+// gathered into four lanes and scattered back. interleaved_body runs kInterleavedChains / 4 of these per k, so the
+// core overlaps that many independent chains (the k-th and k+1-th constraints of one range mostly share a
+// particle, so one group of four alone waits on its square roots: 4.9 against 3.3 ns a projection at 300², one run).
+template <bool kLambda>
+[[gnu::always_inline]] inline void interleaved_one(const StretchConstraint<float>* items, const Index* begin, Index k,
+                                                   float* q, const SolveCoefficients<float>* coeff, float* lambda) {
+#if defined(__SSE2__)
+  const StretchConstraint<float>* const c[4] = {items + begin[0] + k, items + begin[1] + k, items + begin[2] + k,
+                                                items + begin[3] + k};
+  float lam[4] = {0, 0, 0, 0};
+  if constexpr (kLambda)
+    for (int j = 0; j < 4; ++j) lam[j] = lambda[begin[j] + k];
+  project_stretch_block4_of<kLambda, false>([&c](int j) -> const StretchConstraint<float>& { return *c[j]; }, q,
+                                            coeff, lam, wide::zero(), wide::zero());
+  if constexpr (kLambda)
+    for (int j = 0; j < 4; ++j) lambda[begin[j] + k] = lam[j];
+#else
+  for (int j = 0; j < 4; ++j) {
+    const Index i = begin[j] + k;
+    project_stretch_padded(items[i], q, coeff[items[i].set], lambda[i]);
+  }
+#endif
+}
+
 template <bool kLambda>
 [[gnu::always_inline]] inline void interleaved_body(const StretchConstraint<float>* items, const Index* begin,
                                                     Index common, float* q, const SolveCoefficients<float>* coeff,
                                                     float* lambda, bool reverse) {
-  auto one = [&](Index k) {
-#if defined(__SSE2__)
-    const StretchConstraint<float> c[4] = {items[begin[0] + k], items[begin[1] + k], items[begin[2] + k],
-                                           items[begin[3] + k]};
-    float lam[4] = {0, 0, 0, 0};
-    if constexpr (kLambda)
-      for (int j = 0; j < 4; ++j) lam[j] = lambda[begin[j] + k];
-    project_stretch_block4<kLambda, false>(c, q, coeff, lam, wide::zero(), wide::zero());
-    if constexpr (kLambda)
-      for (int j = 0; j < 4; ++j) lambda[begin[j] + k] = lam[j];
-#else
-    for (int j = 0; j < 4; ++j) {
-      const Index i = begin[j] + k;
-      project_stretch_padded(items[i], q, coeff[items[i].set], lambda[i]);
-    }
-#endif
-  };
   if (reverse) {
-    for (Index k = common; k-- > 0;) one(k);
+    for (Index k = common; k-- > 0;)
+      for (Index g = 0; g < kInterleavedChains; g += 4) interleaved_one<kLambda>(items, begin + g, k, q, coeff, lambda);
   } else {
-    for (Index k = 0; k < common; ++k) one(k);
+    for (Index k = 0; k < common; ++k)
+      for (Index g = 0; g < kInterleavedChains; g += 4) interleaved_one<kLambda>(items, begin + g, k, q, coeff, lambda);
   }
 }
 

@@ -57,15 +57,16 @@ template <int k> [[gnu::always_inline]] inline void move(float* a, FloatW s, Flo
 /// no set has α̃ ≠ 0: every λ is 0, so λ is neither read nor written. kOneSet: the four belong to one set, whose −k
 /// and α̃ are given in every lane of neg_k1 and alpha1 (otherwise they are read from coeff per block and the last two
 /// arguments are ignored).
-template <bool kLambda, bool kOneSet>
-[[gnu::always_inline]] inline void project_stretch_block4(const StretchConstraint<float>* c, float* q,
-                                                          const SolveCoefficients<float>* coeff, float* lambda,
-                                                          wide::FloatW neg_k1, wide::FloatW alpha1) {
+/// The constraints are c[0..4) here; project_stretch_block4_of takes any four (c(j) is the j-th).
+template <bool kLambda, bool kOneSet, class Get>
+[[gnu::always_inline]] inline void project_stretch_block4_of(const Get& c, float* q,
+                                                             const SolveCoefficients<float>* coeff, float* lambda,
+                                                             wide::FloatW neg_k1, wide::FloatW alpha1) {
   using namespace sse;
-  float* const qa[4] = {q + 4 * std::size_t(c[0].particles[0]), q + 4 * std::size_t(c[1].particles[0]),
-                        q + 4 * std::size_t(c[2].particles[0]), q + 4 * std::size_t(c[3].particles[0])};
-  float* const qb[4] = {q + 4 * std::size_t(c[0].particles[1]), q + 4 * std::size_t(c[1].particles[1]),
-                        q + 4 * std::size_t(c[2].particles[1]), q + 4 * std::size_t(c[3].particles[1])};
+  float* const qa[4] = {q + 4 * std::size_t(c(0).particles[0]), q + 4 * std::size_t(c(1).particles[0]),
+                        q + 4 * std::size_t(c(2).particles[0]), q + 4 * std::size_t(c(3).particles[0])};
+  float* const qb[4] = {q + 4 * std::size_t(c(0).particles[1]), q + 4 * std::size_t(c(1).particles[1]),
+                        q + 4 * std::size_t(c(2).particles[1]), q + 4 * std::size_t(c(3).particles[1])};
   FloatW d[4], wa, wb;
   {
     const FloatW pa[4] = {load(qa[0]), load(qa[1]), load(qa[2]), load(qa[3])};
@@ -77,14 +78,14 @@ template <bool kLambda, bool kOneSet>
   const FloatW len2 = squared_norm(transpose_xyz(d[0], d[1], d[2], d[3]));
   FloatW neg_k = neg_k1, alpha = alpha1;
   if constexpr (!kOneSet) {
-    const Index set = c[0].set;
-    if (c[1].set == set && c[2].set == set && c[3].set == set) {
+    const Index set = c(0).set;
+    if (c(1).set == set && c(2).set == set && c(3).set == set) {
       neg_k = -splat(coeff[set].k);
       alpha = splat(coeff[set].alpha_tilde);
     } else {
-      neg_k = -lanes(coeff[set].k, coeff[c[1].set].k, coeff[c[2].set].k, coeff[c[3].set].k);
-      alpha = lanes(coeff[set].alpha_tilde, coeff[c[1].set].alpha_tilde, coeff[c[2].set].alpha_tilde,
-                    coeff[c[3].set].alpha_tilde);
+      neg_k = -lanes(coeff[set].k, coeff[c(1).set].k, coeff[c(2).set].k, coeff[c(3).set].k);
+      alpha = lanes(coeff[set].alpha_tilde, coeff[c(1).set].alpha_tilde, coeff[c(2).set].alpha_tilde,
+                    coeff[c(3).set].alpha_tilde);
     }
   }
   const FloatW denom = alpha + wa + wb;
@@ -92,7 +93,7 @@ template <bool kLambda, bool kOneSet>
   const MaskW ok = (len2 > splat(tiny_squared<float>())) & (denom > zero());
   const int active = bits(ok);
   if (active == 0) return;
-  const FloatW rest = lanes(c[0].rest, c[1].rest, c[2].rest, c[3].rest);
+  const FloatW rest = lanes(c(0).rest, c(1).rest, c(2).rest, c(3).rest);
   const FloatW len = sqrt(len2);
   // Without λ (every α̃ is +0, every λ 0) the scalar's "− α̃·λ" subtracts +0, which changes no bit: left out.
   FloatW num = neg_k * (len - rest);
@@ -128,6 +129,14 @@ template <bool kLambda, bool kOneSet>
   if (move_a & 8) move<3>(qa[3], sa, d[3]);
   if (move_b & 8) move<3>(qb[3], sb, d[3]);
 }
+
+template <bool kLambda, bool kOneSet>
+[[gnu::always_inline]] inline void project_stretch_block4(const StretchConstraint<float>* c, float* q,
+                                                          const SolveCoefficients<float>* coeff, float* lambda,
+                                                          wide::FloatW neg_k1, wide::FloatW alpha1) {
+  project_stretch_block4_of<kLambda, kOneSet>([c](int j) -> const StretchConstraint<float>& { return c[j]; }, q,
+                                              coeff, lambda, neg_k1, alpha1);
+}
 #endif
 
 /// Gauss-Seidel projection of stretch constraints c[b, e) of one color on padded positions q: blocks of
@@ -140,9 +149,12 @@ template <bool kLambda, bool kOneSet>
 void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, float* q,
                            const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set);
 
-/// The block schedule's interiors (sweep.hpp): the k-th stretch constraints of four blocks, items[begin[j] + k] for
-/// j < 4, k over [0, common) (backwards when reverse), four lanes at a time on padded positions q. The four blocks
-/// share no movable particle, so the lanes are independent and every block sees its own constraints in order: the
+/// Blocks whose interiors project_stretch_interleaved takes at once (a multiple of four).
+inline constexpr Index kInterleavedChains = 8;
+
+/// The block schedule's interiors (sweep.hpp): the k-th stretch constraints of kInterleavedChains blocks,
+/// items[begin[j] + k], k over [0, common) (backwards when reverse), four lanes at a time on padded positions q. The
+/// blocks share no movable particle, so the lanes are independent and every block sees its own constraints in order: the
 /// bits of project() one block after the other. λ at lambda[begin[j] + k] (touched only when any_xpbd).
 void project_stretch_interleaved(const StretchConstraint<float>* items, const Index* begin, Index common, float* q,
                                  const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, bool reverse);

@@ -67,10 +67,11 @@ template <bool kInPlace, bool kReverse, class C, class Real, class CoeffOf>
   }
 }
 
-/// Blocks handled by one task of the block schedule: their interiors are projected interleaved, the k-th constraint
-/// of each in turn, so that the processor overlaps kInterleave independent dependency chains (a block's own
+/// Blocks handled by one task of the block schedule's scalar interiors: they are projected interleaved, the k-th
+/// constraint of each in turn, so that the processor overlaps independent dependency chains (a block's own
 /// constraints mostly share particles with their predecessors, so one block alone waits on every square root).
-/// Blocks share no particle, so interleaving them gives the bits of one block after the other.
+/// Blocks share no particle, so interleaving them gives the bits of one block after the other. (With the stretch
+/// kernel a task takes kInterleavedChains blocks, stretch_kernel.hpp.)
 inline constexpr Index kInterleave = 4;
 
 /// Block interiors [first, last) of `st` (at most kInterleave), each in stored order (kReverse: backwards),
@@ -151,9 +152,9 @@ public:
     for_each_store(m_.stores, [&](const auto& st, auto i) { stretch_only_ = stretch_only_ && (i == 0 || st.empty()); });
     stretch_only_ = stretch_only_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0 && keep_padded;
     padded_ = false;
-    // (with fewer blocks than one task takes, the kernel has no four lanes to fill: scalar, without the padding)
+    // (with fewer blocks than one task of the kernel takes, its lanes are not filled: scalar, without the padding)
     padded_blocks_ = std::is_same_v<Real, float> && kPaddedStretch && schedule_ == Schedule::blocks &&
-                     update_ == Update::in_place && m_.user.empty() && m_.num_blocks >= kInterleave;
+                     update_ == Update::in_place && m_.user.empty() && m_.num_blocks >= kInterleavedChains;
     for_each_store(m_.stores, [&](const auto& st, auto i) { padded_blocks_ = padded_blocks_ && (i == 0 || st.empty()); });
     interior_items_ = 0;
     for_each_store(m_.stores, [&](const auto& st, auto) { interior_items_ += st.sequential ? st.offsets[st.sequential] : 0; });
@@ -298,7 +299,7 @@ private:
   }
 
   // The block schedule when stretch is the only type (float): every stretch constraint on padded positions, the
-  // interiors four blocks to a task with the kernel's four lanes on the k-th constraint of each block
+  // interiors eight blocks to a task with the kernel's four lanes on the k-th constraints of four blocks at a time
   // (project_stretch_interleaved; each block's constraints beyond the shortest one's count go one by one after), then
   // the boundary colors as project_stretch_padded_colors runs colors. The same bits as the scalar interiors.
   template <bool kReverse> void project_stretch_blocks_padded(Real* p, const SolveCoefficients<Real>* coeff) {
@@ -318,17 +319,17 @@ private:
       float* q = k_.padded.data();
       const bool any_xpbd = s_.lambda_dirty;
       const StretchConstraint<float>* items = st.items.data();
-      const Index blocks = st.sequential, tasks = (blocks + kInterleave - 1) / kInterleave;
+      const Index blocks = st.sequential, tasks = (blocks + kInterleavedChains - 1) / kInterleavedChains;
       auto task = [&](Index t) {
-        const Index first = t * kInterleave, m = std::min(blocks, first + kInterleave) - first;
-        Index begin[kInterleave], len[kInterleave], common = ~Index(0);
+        const Index first = t * kInterleavedChains, m = std::min(blocks, first + kInterleavedChains) - first;
+        Index begin[kInterleavedChains], len[kInterleavedChains], common = ~Index(0);
         for (Index j = 0; j < m; ++j) {
           begin[j] = st.offsets[first + j];
           len[j] = st.offsets[first + j + 1] - begin[j];
           common = std::min(common, len[j]);
         }
         auto one = [&](Index i) { project_stretch_padded(items[i], q, coeff[items[i].set], lam[i]); };
-        if (m < kInterleave) common = 0;  // fewer than four blocks: one by one, interleaved
+        if (m < kInterleavedChains) common = 0;  // fewer blocks than the kernel takes: one by one, interleaved
         if constexpr (kReverse) {
           for (Index j = 0; j < m; ++j)
             for (Index k = len[j]; k-- > common;) one(begin[j] + k);
