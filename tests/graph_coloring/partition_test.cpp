@@ -81,6 +81,19 @@ void expect_well_formed(const inputs::Graph& g, const Partition& p) {
   EXPECT_EQ(cut_items(g.view(), p), count_cut(g, p));
 }
 
+// For every method and each part count: the partition of g, checked well formed, handed to check(method, parts, p)
+// under a trace naming both.
+template <class Check>
+void for_each_split(const inputs::Graph& g, std::initializer_list<std::uint32_t> part_counts, const Check& check) {
+  for (PartitionMethod m : kMethods)
+    for (std::uint32_t parts : part_counts) {
+      SCOPED_TRACE(method_name(m) + " parts=" + std::to_string(parts));
+      const Partition p = split(g, m, parts);
+      expect_well_formed(g, p);
+      check(m, parts, p);
+    }
+}
+
 std::string error_of(const Hypergraph& g, const PartitionOptions& options) {
   try {
     (void)partition(g, options);
@@ -101,16 +114,12 @@ TEST(Partition, FixedAndUntouchedNodesAreInNoBlock) {
   g.fixed.resize(g.num_nodes, 0);
   g.fixed[40] = 1;
   g.add({40, 41});  // an item with one fixed node
-  for (PartitionMethod m : kMethods)
-    for (std::uint32_t parts : {2u, 3u, 7u}) {
-      SCOPED_TRACE(method_name(m) + " parts=" + std::to_string(parts));
-      const Partition p = split(g, m, parts);
-      expect_well_formed(g, p);
-      EXPECT_EQ(p.parts, parts);
-      EXPECT_EQ(p.block[11 * 12], kNoBlock);  // a pinned corner
-      EXPECT_EQ(p.block[40], kNoBlock);
-      EXPECT_EQ(p.block[g.num_nodes - 1], kNoBlock);
-    }
+  for_each_split(g, {2u, 3u, 7u}, [&](PartitionMethod, std::uint32_t parts, const Partition& p) {
+    EXPECT_EQ(p.parts, parts);
+    EXPECT_EQ(p.block[11 * 12], kNoBlock);  // a pinned corner
+    EXPECT_EQ(p.block[40], kNoBlock);
+    EXPECT_EQ(p.block[g.num_nodes - 1], kNoBlock);
+  });
 }
 
 TEST(Partition, MetisBalancesBlockWeightsOnAGrid) {
@@ -150,13 +159,9 @@ TEST(Partition, BalancesItemsNotNodes) {
     if (std::max({item[0], item[1], item[2], item[3]}) < n * n / 2) lower.add({item[0], item[1], item[2], item[3]});
   }
   const inputs::Graph g = inputs::merge(inputs::cloth_edges(n), lower);
-  for (PartitionMethod m : kMethods)
-    for (std::uint32_t parts : {2u, 4u, 16u}) {
-      SCOPED_TRACE(method_name(m) + " parts=" + std::to_string(parts));
-      const Partition p = split(g, m, parts);
-      expect_well_formed(g, p);
-      EXPECT_LE(imbalance(g, p), m == PartitionMethod::metis ? 1.035 : 1.02);
-    }
+  for_each_split(g, {2u, 4u, 16u}, [&](PartitionMethod m, std::uint32_t, const Partition& p) {
+    EXPECT_LE(imbalance(g, p), m == PartitionMethod::metis ? 1.035 : 1.02);
+  });
 }
 
 TEST(Partition, MetisCutsFarFewerItemsThanIndexRanges) {
@@ -203,14 +208,10 @@ TEST(Partition, MorePartsThanNodesIsClamped) {
   g.fixed = {0, 0, 0, 0, 0, 1};
   for (std::uint32_t v = 0; v < 4; ++v) g.add({v, v + 1});
   g.add({4, 5});
-  for (PartitionMethod m : kMethods)
-    for (std::uint32_t parts : {5u, 6u, 100u}) {
-      SCOPED_TRACE(method_name(m) + " parts=" + std::to_string(parts));
-      const Partition p = split(g, m, parts);
-      expect_well_formed(g, p);
-      EXPECT_GE(p.parts, 2u);
-      EXPECT_LE(p.parts, 5u);
-    }
+  for_each_split(g, {5u, 6u, 100u}, [&](PartitionMethod, std::uint32_t, const Partition& p) {
+    EXPECT_GE(p.parts, 2u);
+    EXPECT_LE(p.parts, 5u);
+  });
   // Weights 1 2 2 2 2 along the path: the ranges give each node a block of its own.
   const Partition p = split(g, PartitionMethod::index_ranges, 100);
   EXPECT_EQ(p.block, (std::vector<std::uint32_t>{0, 1, 2, 3, 4, kNoBlock}));
@@ -241,13 +242,9 @@ TEST(Partition, SeparatesDisconnectedComponents) {
   for (std::uint32_t v : a.nodes) g.nodes.push_back(v + a.num_nodes);
   for (std::size_t i = 1; i < a.offsets.size(); ++i) g.offsets.push_back(base + a.offsets[i]);
   for (std::uint32_t v = 2 * a.num_nodes; v < g.num_nodes; ++v) g.add({v});
-  for (PartitionMethod m : kMethods)
-    for (std::uint32_t parts : {2u, 4u, 9u}) {
-      SCOPED_TRACE(method_name(m) + " parts=" + std::to_string(parts));
-      const Partition p = split(g, m, parts);
-      expect_well_formed(g, p);
-      EXPECT_EQ(p.parts, parts);
-    }
+  for_each_split(g, {2u, 4u, 9u}, [&](PartitionMethod, std::uint32_t parts, const Partition& p) {
+    EXPECT_EQ(p.parts, parts);
+  });
   // Two blocks: each cloth whole (the lone nodes go anywhere; their items are never cut).
   const Partition p = split(g, PartitionMethod::metis, 2);
   EXPECT_EQ(cut_items(g.view(), p), 0u);
@@ -258,14 +255,10 @@ TEST(Partition, SplitsAGraphWithoutEdges) {
   inputs::Graph g;  // ten lone nodes, each touched by a 1-node item: METIS gets no adjacency at all
   g.num_nodes = 10;
   for (std::uint32_t v = 0; v < 10; ++v) g.add({v});
-  for (PartitionMethod m : kMethods)
-    for (std::uint32_t parts : {2u, 5u, 10u}) {
-      SCOPED_TRACE(method_name(m) + " parts=" + std::to_string(parts));
-      const Partition p = split(g, m, parts);
-      expect_well_formed(g, p);
-      EXPECT_EQ(p.parts, parts);
-      EXPECT_EQ(cut_items(g.view(), p), 0u);
-    }
+  for_each_split(g, {2u, 5u, 10u}, [&](PartitionMethod, std::uint32_t parts, const Partition& p) {
+    EXPECT_EQ(p.parts, parts);
+    EXPECT_EQ(cut_items(g.view(), p), 0u);
+  });
 }
 
 TEST(Partition, WideItemsAddNoCliqueButKeepTheirWeight) {

@@ -82,7 +82,6 @@ public:
   }
 
   bool fell_back() const { return fell_back_; }  ///< the guard stopped the acceleration in this sub-step
-  Real rho() const { return rho_; }              ///< ρ used (0: this sub-step estimated it)
   /// ρ measured by an estimating sub-step (0: none, e.g. nothing moved).
   Real estimate() const { return estimate_; }
 

@@ -37,7 +37,6 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
   }
   sweeper.end(p);
   report.chebyshev_fell_back = chebyshev.fell_back();
-  report.chebyshev_rho = double(chebyshev.rho());
   report.chebyshev_estimate = double(chebyshev.estimate());
   return report;
 }

@@ -42,7 +42,6 @@ namespace pbd::detail {
 /// What a sub-step's solve reports.
 struct SolveReport {
   bool chebyshev_fell_back = false;  ///< the Chebyshev guard stopped the acceleration
-  double chebyshev_rho = 0.0;        ///< ρ the acceleration used (0: none, or this sub-step estimated it)
   double chebyshev_estimate = 0.0;   ///< ρ this sub-step measured (0: none)
 };
 

@@ -194,10 +194,7 @@ private:
     }
     part_ = 0;
     if constexpr (kInPlace)
-      if (schedule_ == Schedule::blocks) {
-        if (padded_blocks_) project_stretch_blocks_padded<kReverse>(p, coeff);
-        else project_interiors<kReverse>(p, w, coeff);
-      }
+      if (schedule_ == Schedule::blocks && !padded_blocks_) project_interiors<kReverse>(p, w, coeff);
     auto store = [&](const auto& st, auto i) { project_store<kInPlace, kReverse>(st, s_.lambda[i].data(), p, w, coeff, relax, out); };
     for_each_store(m_.stores, store);
     project_user_types<kReverse>(p, w, coeff, relax, out);
@@ -247,11 +244,10 @@ private:
       return;
     }
     if constexpr (kInPlace && std::is_same_v<C, StretchConstraint<float>> && kPaddedStretch) {
-      if (schedule_ == Schedule::colors) {
+      if (schedule_ == Schedule::colors || padded_blocks_) {  // padded_blocks_: the interiors too, stretch alone
         if (st.num_colors() > 0) project_stretch_padded_colors<kReverse>(st, lam, p, w, coeff);
         return;
       }
-      if (schedule_ == Schedule::blocks && padded_blocks_) return;  // projected by project_stretch_blocks_padded
     }
     // The colors (under the block schedule, the boundary colors after the blocks, whose interiors ran before).
     const std::size_t base = part_;
@@ -284,6 +280,12 @@ private:
                                Real(1), kReverse);
       }
     };
+    run_interior_tasks(tasks, ap, task);
+  }
+
+  // The interiors' tasks [0, tasks): one parallel loop, one task per chunk (each task's blocks share no particle
+  // with another's, so any cut gives the same bits), or inline when the interiors are small or one thread runs.
+  template <class Task> void run_interior_tasks(Index tasks, tbb::affinity_partitioner& ap, const Task& task) {
     const bool fork = parallel_ && tasks > 1 && tbb::this_task_arena::max_concurrency() > 1 &&
                       interior_items_ >= config_.inline_below;
     if (!fork) {
@@ -298,80 +300,45 @@ private:
         ap);
   }
 
-  // The block schedule when stretch is the only type (float): every stretch constraint on padded positions, the
-  // interiors eight blocks to a task with the kernel's four lanes on the k-th constraints of four blocks at a time
-  // (project_stretch_interleaved; each block's constraints beyond the shortest one's count go one by one after), then
-  // the boundary colors as project_stretch_padded_colors runs colors. The same bits as the scalar interiors.
-  template <bool kReverse> void project_stretch_blocks_padded(Real* p, const SolveCoefficients<Real>* coeff) {
-    if constexpr (std::is_same_v<Real, float>) {
-      const auto& st = m_.template store<StretchConstraint<float>>();
-      const Index n = m_.num_particles();
-      const std::size_t pad_slot = part_++, interior_slot = part_++;
-      unpad_slot_ = part_++;
-      if (st.empty()) return;
-      float* lam = s_.lambda[0].data();
-      const float* w = m_.inverse_mass.data();
-      if (!padded_) {
-        k_.padded.resize(4, n);
-        float* q = k_.padded.data();
-        run_range(0, n, parallel_, config_, k_.partitioners[pad_slot], [&](Index b, Index e) { pad_positions(p, w, b, e, q); });
+  // The blocks' stretch interiors on padded positions q (block schedule, stretch the only type, float): eight
+  // blocks to a task, the kernel's four lanes on the k-th constraints of four blocks at a time
+  // (project_stretch_interleaved; each block's constraints beyond the shortest one's count go one by one after).
+  // The same bits as the scalar interiors.
+  template <bool kReverse>
+  void project_stretch_interiors_padded(const Store<StretchConstraint<float>>& st, float* q, float* lam,
+                                        const SolveCoefficients<float>* coeff, bool any_xpbd) {
+    const std::size_t interior_slot = part_++;
+    const StretchConstraint<float>* items = st.items.data();
+    const Index blocks = st.sequential, tasks = (blocks + kInterleavedChains - 1) / kInterleavedChains;
+    auto task = [&](Index t) {
+      const Index first = t * kInterleavedChains, m = std::min(blocks, first + kInterleavedChains) - first;
+      Index begin[kInterleavedChains], len[kInterleavedChains], common = ~Index(0);
+      for (Index j = 0; j < m; ++j) {
+        begin[j] = st.offsets[first + j];
+        len[j] = st.offsets[first + j + 1] - begin[j];
+        common = std::min(common, len[j]);
       }
-      float* q = k_.padded.data();
-      const bool any_xpbd = s_.lambda_dirty;
-      const StretchConstraint<float>* items = st.items.data();
-      const Index blocks = st.sequential, tasks = (blocks + kInterleavedChains - 1) / kInterleavedChains;
-      auto task = [&](Index t) {
-        const Index first = t * kInterleavedChains, m = std::min(blocks, first + kInterleavedChains) - first;
-        Index begin[kInterleavedChains], len[kInterleavedChains], common = ~Index(0);
-        for (Index j = 0; j < m; ++j) {
-          begin[j] = st.offsets[first + j];
-          len[j] = st.offsets[first + j + 1] - begin[j];
-          common = std::min(common, len[j]);
-        }
-        auto one = [&](Index i) { project_stretch_padded(items[i], q, coeff[items[i].set], lam[i]); };
-        if (m < kInterleavedChains) common = 0;  // fewer blocks than the kernel takes: one by one, interleaved
-        if constexpr (kReverse) {
-          for (Index j = 0; j < m; ++j)
-            for (Index k = len[j]; k-- > common;) one(begin[j] + k);
-          if (common) project_stretch_interleaved(items, begin, common, q, coeff, lam, any_xpbd, true);
-        } else {
-          if (common) project_stretch_interleaved(items, begin, common, q, coeff, lam, any_xpbd, false);
-          const Index longest = m ? *std::max_element(len, len + m) : 0;
-          for (Index k = common; k < longest; ++k)
-            for (Index j = 0; j < m; ++j)
-              if (k < len[j]) one(begin[j] + k);
-        }
-      };
-      const bool fork = parallel_ && tasks > 1 && tbb::this_task_arena::max_concurrency() > 1 &&
-                        interior_items_ >= config_.inline_below;
-      if (!fork) {
-        for (Index t = 0; t < tasks; ++t) task(t);
+      auto one = [&](Index i) { project_stretch_padded(items[i], q, coeff[items[i].set], lam[i]); };
+      if (m < kInterleavedChains) common = 0;  // fewer blocks than the kernel takes: one by one, interleaved
+      if constexpr (kReverse) {
+        for (Index j = 0; j < m; ++j)
+          for (Index k = len[j]; k-- > common;) one(begin[j] + k);
+        if (common) project_stretch_interleaved(items, begin, common, q, coeff, lam, any_xpbd, true);
       } else {
-        tbb::parallel_for(
-            tbb::blocked_range<Index>(0, tasks, 1),
-            [&](const tbb::blocked_range<Index>& r) {
-              for (Index t = r.begin(); t < r.end(); ++t) task(t);
-            },
-            k_.partitioners[interior_slot]);
+        if (common) project_stretch_interleaved(items, begin, common, q, coeff, lam, any_xpbd, false);
+        const Index longest = m ? *std::max_element(len, len + m) : 0;
+        for (Index k = common; k < longest; ++k)
+          for (Index j = 0; j < m; ++j)
+            if (k < len[j]) one(begin[j] + k);
       }
-      const bool sets_known = m_.stretch_sets.size() == std::size_t(st.num_colors());
-      const std::size_t base = part_;
-      const Index colors = st.num_colors() - blocks;
-      part_ += std::size_t(colors);
-      for (Index j = 0; j < colors; ++j) {
-        const Index c = blocks + (kReverse ? colors - 1 - j : j);
-        const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
-        run_blocks(st.offsets[c], st.offsets[c + 1], kStretchBlock, parallel_, config_, k_.partitioners[base + c - blocks],
-                   [&](Index b, Index e) { project_stretch_range(items, b, e, q, coeff, lam, any_xpbd, set); });
-      }
-      padded_ = true;
-      if (!stretch_only_) unpad(p);
-    }
+    };
+    run_interior_tasks(tasks, k_.partitioners[interior_slot], task);
   }
 
   // Every stretch color on padded positions (x y z w): one aligned load and store per particle in the kernel
   // instead of three of each plus w. Copied in unless the last sweep left them there, copied back unless stretch is
-  // all the sweep projects (then end() copies them back). Partitioner slots are the same whichever copies run.
+  // all the sweep projects (then end() copies them back). Partitioner slots are the same whichever copies run. In
+  // the block layout (padded_blocks_) the blocks' interiors come first, then the boundary colors.
   template <bool kReverse, class C>
   void project_stretch_padded_colors(const Store<C>& st, Real* lam, Real* p, const Real* w,
                                      const SolveCoefficients<Real>* coeff) {
@@ -387,14 +354,15 @@ private:
       }
       float* q = k_.padded.data();
       const bool any_xpbd = s_.lambda_dirty;
+      if (st.sequential) project_stretch_interiors_padded<kReverse>(st, q, lam, coeff, any_xpbd);
       const bool sets_known = m_.stretch_sets.size() == std::size_t(st.num_colors());
       const std::size_t base = part_;
-      const Index colors = st.num_colors();
+      const Index first = st.sequential, colors = st.num_colors() - first;
       part_ += std::size_t(colors);
       for (Index j = 0; j < colors; ++j) {
-        const Index c = kReverse ? colors - 1 - j : j;
+        const Index c = first + (kReverse ? colors - 1 - j : j);
         const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
-        run_blocks(st.offsets[c], st.offsets[c + 1], kStretchBlock, parallel_, config_, k_.partitioners[base + c],
+        run_blocks(st.offsets[c], st.offsets[c + 1], kStretchBlock, parallel_, config_, k_.partitioners[base + c - first],
                    [&](Index b, Index e) { project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd, set); });
       }
       padded_ = true;
