@@ -1,4 +1,5 @@
 #pragma once
+#include <chrono>
 // Per-step scratch of a world (private): what a step computes and throws away. Kept between steps only so that
 // nothing is reallocated; a copied world starts with an empty one.
 #include "pbd/constraints/collision.hpp"
@@ -34,6 +35,7 @@ template <class Real> struct Scratch {
   std::vector<Real> collision_lambda;               // their λ, stored order
   std::vector<SolveCoefficients<Real>> coeff;       // per constraint set, for this step's sub-step length
   VolumeScratch<Real> volume;                       // volume targets, gradients, block sums
+  std::chrono::microseconds team_wait{20};          // how long the next solve waits for its team (team.hpp)
   std::vector<Real> count_inv;                      // Jacobi: 1 / (persistent constraints touching the particle)
   std::vector<Real> split_w;                        // Jacobi: split inverse masses, w · that count
   std::vector<Real> delta;                          // Jacobi: accumulated corrections, 3 per particle

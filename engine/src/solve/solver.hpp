@@ -31,8 +31,9 @@
 // the serial color-order result bit for bit, whatever the thread count (pinned particles are never written, so they
 // never conflict). A volume constraint spans a mesh: its sums are reduced over fixed blocks in block order, so it
 // too gives the same bits on any thread count. Colors smaller than ParallelConfig::inline_below run inline: a
-// fork/join costs about as much as projecting a thousand constraints. Everything runs in the caller's
-// tbb::task_arena, so a host decides the thread count.
+// fork/join costs about as much as projecting a thousand constraints. The Gauss-Seidel sweeps of the colored and
+// block solvers hold one team of threads for the whole solve instead (team.hpp: a barrier per loop, a fork/join per
+// sub-step). Everything runs in the caller's tbb::task_arena, so a host decides the thread count.
 #include "pbd/step_params.hpp"
 #include "pbd/detail/model.hpp"
 #include "scratch.hpp"

@@ -1,5 +1,6 @@
 #include "stretch_kernel.hpp"
 
+#include <cassert>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -10,7 +11,7 @@ namespace {
 
 using RangeFn = void (*)(const StretchConstraint<float>*, Index, Index, float*, const SolveCoefficients<float>*,
                          float*, bool, Index);
-using InterleavedFn = void (*)(const StretchConstraint<float>*, const Index*, Index, float*,
+using InterleavedFn = void (*)(const StretchConstraint<float>*, const Index*, Index, Index, float*,
                                const SolveCoefficients<float>*, float*, bool, bool);
 
 #if defined(__SSE2__)
@@ -63,7 +64,7 @@ template <bool kLambda, bool kOneSet>
 }
 
 // The k-th constraints of four independent ranges starting at begin[0..4), four lanes at once, read in place; λ
-// gathered into four lanes and scattered back. interleaved_body runs kInterleavedChains / 4 of these per k, so the
+// gathered into four lanes and scattered back. interleaved_body runs kChains / 4 of these per k, so the
 // core overlaps that many independent chains (the k-th and k+1-th constraints of one range mostly share a
 // particle, so one group of four alone waits on its square roots: 4.9 against 3.3 ns a projection at 300², one run).
 template <bool kLambda>
@@ -87,23 +88,31 @@ template <bool kLambda>
 #endif
 }
 
-template <bool kLambda>
-[[gnu::always_inline]] inline void interleaved_body(const StretchConstraint<float>* items, const Index* begin,
-                                                    Index common, float* q, const SolveCoefficients<float>* coeff,
-                                                    float* lambda, bool reverse) {
+template <bool kLambda, Index kChains>
+[[gnu::always_inline]] inline void interleaved_chains(const StretchConstraint<float>* items, const Index* begin,
+                                                      Index common, float* q, const SolveCoefficients<float>* coeff,
+                                                      float* lambda, bool reverse) {
   if (reverse) {
     for (Index k = common; k-- > 0;)
-      for (Index g = 0; g < kInterleavedChains; g += 4) interleaved_one<kLambda>(items, begin + g, k, q, coeff, lambda);
+      for (Index g = 0; g < kChains; g += 4) interleaved_one<kLambda>(items, begin + g, k, q, coeff, lambda);
   } else {
     for (Index k = 0; k < common; ++k)
-      for (Index g = 0; g < kInterleavedChains; g += 4) interleaved_one<kLambda>(items, begin + g, k, q, coeff, lambda);
+      for (Index g = 0; g < kChains; g += 4) interleaved_one<kLambda>(items, begin + g, k, q, coeff, lambda);
   }
 }
 
-void interleaved_default(const StretchConstraint<float>* items, const Index* begin, Index common, float* q,
-                         const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, bool reverse) {
-  if (any_xpbd) interleaved_body<true>(items, begin, common, q, coeff, lambda, reverse);
-  else interleaved_body<false>(items, begin, common, q, coeff, lambda, reverse);
+template <bool kLambda>
+[[gnu::always_inline]] inline void interleaved_body(const StretchConstraint<float>* items, const Index* begin,
+                                                    Index chains, Index common, float* q,
+                                                    const SolveCoefficients<float>* coeff, float* lambda, bool reverse) {
+  if (chains == 8) interleaved_chains<kLambda, 8>(items, begin, common, q, coeff, lambda, reverse);
+  else interleaved_chains<kLambda, 4>(items, begin, common, q, coeff, lambda, reverse);
+}
+
+void interleaved_default(const StretchConstraint<float>* items, const Index* begin, Index chains, Index common,
+                         float* q, const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, bool reverse) {
+  if (any_xpbd) interleaved_body<true>(items, begin, chains, common, q, coeff, lambda, reverse);
+  else interleaved_body<false>(items, begin, chains, common, q, coeff, lambda, reverse);
 }
 
 void range_default(const StretchConstraint<float>* c, Index b, Index e, float* q,
@@ -119,11 +128,11 @@ void range_default(const StretchConstraint<float>* c, Index b, Index e, float* q
                                         const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set) {
   range_either(c, b, e, q, coeff, lambda, any_xpbd, set);
 }
-[[gnu::target("avx2")]] void interleaved_avx2(const StretchConstraint<float>* items, const Index* begin, Index common,
-                                              float* q, const SolveCoefficients<float>* coeff, float* lambda,
-                                              bool any_xpbd, bool reverse) {
-  if (any_xpbd) interleaved_body<true>(items, begin, common, q, coeff, lambda, reverse);
-  else interleaved_body<false>(items, begin, common, q, coeff, lambda, reverse);
+[[gnu::target("avx2")]] void interleaved_avx2(const StretchConstraint<float>* items, const Index* begin, Index chains,
+                                              Index common, float* q, const SolveCoefficients<float>* coeff,
+                                              float* lambda, bool any_xpbd, bool reverse) {
+  if (any_xpbd) interleaved_body<true>(items, begin, chains, common, q, coeff, lambda, reverse);
+  else interleaved_body<false>(items, begin, chains, common, q, coeff, lambda, reverse);
 }
 
 bool use_avx2() {
@@ -148,10 +157,12 @@ void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, 
   range(c, b, e, q, coeff, lambda, any_xpbd, set);
 }
 
-void project_stretch_interleaved(const StretchConstraint<float>* items, const Index* begin, Index common, float* q,
-                                 const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, bool reverse) {
+void project_stretch_interleaved(const StretchConstraint<float>* items, const Index* begin, Index chains, Index common,
+                                 float* q, const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd,
+                                 bool reverse) {
+  assert(chains == 4 || chains == 8);
   static const InterleavedFn fn = pick_interleaved();
-  fn(items, begin, common, q, coeff, lambda, any_xpbd, reverse);
+  fn(items, begin, chains, common, q, coeff, lambda, any_xpbd, reverse);
 }
 
 void pad_positions(const float* p, const float* w, Index b, Index e, float* q) {

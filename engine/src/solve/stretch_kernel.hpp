@@ -149,15 +149,16 @@ template <bool kLambda, bool kOneSet>
 void project_stretch_range(const StretchConstraint<float>* c, Index b, Index e, float* q,
                            const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, Index set);
 
-/// Blocks whose interiors project_stretch_interleaved takes at once (a multiple of four).
+/// Most blocks project_stretch_interleaved takes at once (two groups of the kernel's four lanes).
 inline constexpr Index kInterleavedChains = 8;
 
-/// The block schedule's interiors (sweep.hpp): the k-th stretch constraints of kInterleavedChains blocks,
+/// The block schedule's interiors (sweep.hpp): the k-th stretch constraints of `chains` blocks (4 or 8),
 /// items[begin[j] + k], k over [0, common) (backwards when reverse), four lanes at a time on padded positions q. The
 /// blocks share no movable particle, so the lanes are independent and every block sees its own constraints in order: the
 /// bits of project() one block after the other. λ at lambda[begin[j] + k] (touched only when any_xpbd).
-void project_stretch_interleaved(const StretchConstraint<float>* items, const Index* begin, Index common, float* q,
-                                 const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd, bool reverse);
+void project_stretch_interleaved(const StretchConstraint<float>* items, const Index* begin, Index chains, Index common,
+                                 float* q, const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd,
+                                 bool reverse);
 
 /// Particles [b, e) from positions p (3 per particle) and inverse masses w into padded positions q (4 per particle).
 void pad_positions(const float* p, const float* w, Index b, Index e, float* q);

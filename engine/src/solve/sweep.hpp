@@ -24,10 +24,16 @@
 // itself, a contact touches one particle; so every sweep ends with the volumes and then the contacts holding. The
 // float stretch kernel (SIMD on padded positions, stretch_kernel.hpp) is how the colors schedule projects stretch
 // colors in place; it gives the scalar projection's bits.
+// Threads: Gauss-Seidel sweeps of the built-in types (no volume, no user type) run all of a sub-step's sweeps on one
+// team of threads (team.hpp: one fork/join per sub-step, a barrier per shared loop; every loop gives the same bits
+// however it is cut). Under the block schedule each member takes the same blocks every sweep and, in each boundary
+// color, the constraints filed under its blocks (block_layout.hpp sorts them so), so most cache lines stay with one
+// thread. Otherwise each loop forks and joins (run_range).
 #include "parallel_range.hpp"
 #include "pbd/constraints/projection.hpp"
 #include "scratch.hpp"
 #include "stretch_kernel.hpp"
+#include "team.hpp"
 #include "volume_projection.hpp"
 
 #include <algorithm>
@@ -71,7 +77,7 @@ template <bool kInPlace, bool kReverse, class C, class Real, class CoeffOf>
 /// constraint of each in turn, so that the processor overlaps independent dependency chains (a block's own
 /// constraints mostly share particles with their predecessors, so one block alone waits on every square root).
 /// Blocks share no particle, so interleaving them gives the bits of one block after the other. (With the stretch
-/// kernel a task takes kInterleavedChains blocks, stretch_kernel.hpp.)
+/// kernel a task takes up to kInterleavedChains blocks, stretch_kernel.hpp.)
 inline constexpr Index kInterleave = 4;
 
 /// Block interiors [first, last) of `st` (at most kInterleave), each in stored order (kReverse: backwards),
@@ -152,14 +158,38 @@ public:
     for_each_store(m_.stores, [&](const auto& st, auto i) { stretch_only_ = stretch_only_ && (i == 0 || st.empty()); });
     stretch_only_ = stretch_only_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0 && keep_padded;
     padded_ = false;
-    // (with fewer blocks than one task of the kernel takes, its lanes are not filled: scalar, without the padding)
+    // (with fewer blocks than the kernel's four lanes, they are not filled: scalar, without the padding)
     padded_blocks_ = std::is_same_v<Real, float> && kPaddedStretch && schedule_ == Schedule::blocks &&
-                     update_ == Update::in_place && m_.user.empty() && m_.num_blocks >= kInterleavedChains;
+                     update_ == Update::in_place && m_.user.empty() && m_.num_blocks >= 4;
     for_each_store(m_.stores, [&](const auto& st, auto i) { padded_blocks_ = padded_blocks_ && (i == 0 || st.empty()); });
     interior_items_ = 0;
     for_each_store(m_.stores, [&](const auto& st, auto) { interior_items_ += st.sequential ? st.offsets[st.sequential] : 0; });
     for (const auto& t : m_.user.types()) interior_items_ += t->num_blocks() ? t->color_begin(t->num_blocks()) : 0;
+    if constexpr (std::is_same_v<Real, float> && kPaddedStretch)  // sized here, never by a team's members
+      if (schedule_ != Schedule::insertion && update_ == Update::in_place && !m_.template store<StretchConstraint<float>>().empty())
+        k_.padded.resize(4, m_.num_particles());
+    // A team (team.hpp) for the sweeps: Gauss-Seidel in place with the built-in types and contacts only (user types
+    // may fork inside, volumes reduce with loops of their own), and only when some loop is large enough to share.
+    // The interiors are shared only with at least two blocks per thread (fewer, and the threads mostly trade cache
+    // lines: 3 blocks of a 30² cloth ran 0.75× on 2 threads against 1).
+    const Index threads = Index(std::max(1, tbb::this_task_arena::max_concurrency()));
+    share_interiors_ = parallel_ && m_.num_blocks >= 2 * threads;
+    std::size_t largest = share_interiors_ ? interior_items_ : 0;
+    for_each_store(m_.stores, [&](const auto& st, auto) {
+      for (Index c = st.sequential; c < st.num_colors(); ++c) largest = std::max<std::size_t>(largest, st.offsets[c + 1] - st.offsets[c]);
+    });
+    team_ready_ = parallel_ && schedule_ != Schedule::insertion && update_ == Update::in_place && m_.user.empty() &&
+                  m_.volume.table.empty() && tbb::this_task_arena::max_concurrency() > 1 &&
+                  largest >= team_share_below(config_);
   }
+
+  /// The sweeps may run on a team (Team::run, then join() on each member's own copy of this sweeper).
+  bool team_ready() const { return team_ready_; }
+  /// Runs this sweeper's loops as `member` of a team (nullptr: on its own again).
+  void join(Team::Member* member) { team_ = member; }
+  /// A loop of fewer items than this runs on member 0 alone (the team's inline threshold): a barrier costs a small
+  /// part of a fork/join, so a team shares loops eight times smaller than ParallelConfig::inline_below.
+  static std::size_t team_share_below(const ParallelConfig& cfg) { return std::max<std::size_t>(1, cfg.inline_below / 8); }
 
   /// One sweep over every constraint, updating p (3 per particle).
   void sweep(Real* p) {
@@ -219,8 +249,7 @@ private:
         part_ += std::size_t(colors);
         for (Index j = 0; j < colors; ++j) {  // one virtual call per color range, never per constraint
           const Index c = kReverse ? colors - 1 - j : j;
-          run_range(type.color_begin(first + c), type.color_begin(first + c + 1), parallel_, config_,
-                    k_.partitioners[base + c],
+          range(type.color_begin(first + c), type.color_begin(first + c + 1), config_, k_.partitioners[base + c],
                     [&](Index b, Index e) { type.project_range(b, e, p, w, coeff, lam, out, relax, false); });
         }
       }
@@ -255,7 +284,7 @@ private:
     part_ += std::size_t(colors);
     for (Index j = 0; j < colors; ++j) {
       const Index c = first + (kReverse ? colors - 1 - j : j);
-      run_range(st.offsets[c], st.offsets[c + 1], parallel_, config_, k_.partitioners[base + c - first], [&](Index b, Index e) {
+      boundary_range(st, c, config_, k_.partitioners[base + c - first], [&](Index b, Index e) {
         for (Index i = b; i < e; ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
       });
     }
@@ -266,9 +295,9 @@ private:
   // movable particle, so the blocks run in any order and on any thread with the same bits.
   template <bool kReverse> void project_interiors(Real* p, const Real* w, const SolveCoefficients<Real>* coeff) {
     tbb::affinity_partitioner& ap = k_.partitioners[part_++];
-    const Index blocks = m_.num_blocks, tasks = (blocks + kInterleave - 1) / kInterleave;
+    const Index blocks = m_.num_blocks, tasks = interior_tasks(blocks, kInterleave);
     auto task = [&](Index t) {  // blocks [first, last), interleaved
-      const Index first = t * kInterleave, last = std::min(blocks, first + kInterleave);
+      const Index first = task_begin(t, tasks, blocks), last = task_begin(t + 1, tasks, blocks);
       for_each_store(m_.stores, [&](const auto& st, auto i) {
         if (st.sequential) project_interiors_interleaved<kReverse>(st, first, last, s_.lambda[i].data(), p, w, coeff);
       });
@@ -283,10 +312,32 @@ private:
     run_interior_tasks(tasks, ap, task);
   }
 
+  // How many tasks the interiors of `blocks` blocks run as, at most `cap` blocks each: a multiple of the threads
+  // when there are blocks enough, so that every thread gets the same number of blocks (task_begin cuts them evenly).
+  // The bits never depend on it: blocks share no movable particle, so how they are grouped and interleaved and on
+  // which thread they run changes only the time.
+  Index interior_tasks(Index blocks, Index cap) const {
+    const Index threads = team_ ? Index(team_->size())
+                          : parallel_ ? Index(std::max(1, tbb::this_task_arena::max_concurrency())) : 1;
+    const Index tasks = threads * ((blocks + threads * cap - 1) / (threads * cap));
+    return std::max<Index>(1, std::min(tasks, blocks));
+  }
+  // First block of task t of `tasks` over `blocks` blocks (contiguous runs whose sizes differ by at most one).
+  static Index task_begin(Index t, Index tasks, Index blocks) {
+    return Index(std::uint64_t(t) * blocks / tasks);
+  }
+
   // The interiors' tasks [0, tasks): one parallel loop, one task per chunk (each task's blocks share no particle
   // with another's, so any cut gives the same bits), or inline when the interiors are small or one thread runs.
   template <class Task> void run_interior_tasks(Index tasks, tbb::affinity_partitioner& ap, const Task& task) {
-    const bool fork = parallel_ && tasks > 1 && tbb::this_task_arena::max_concurrency() > 1 &&
+    if (team_) {
+      team_->loop(0, tasks, share_interiors_ && tasks > 1 && interior_items_ >= team_share_below(config_),
+                  [&](std::size_t b, std::size_t e) {
+                    for (std::size_t t = b; t < e; ++t) task(Index(t));
+                  });
+      return;
+    }
+    const bool fork = share_interiors_ && tasks > 1 && tbb::this_task_arena::max_concurrency() > 1 &&
                       interior_items_ >= config_.inline_below;
     if (!fork) {
       for (Index t = 0; t < tasks; ++t) task(t);
@@ -300,36 +351,42 @@ private:
         ap);
   }
 
-  // The blocks' stretch interiors on padded positions q (block schedule, stretch the only type, float): eight
-  // blocks to a task, the kernel's four lanes on the k-th constraints of four blocks at a time
-  // (project_stretch_interleaved; each block's constraints beyond the shortest one's count go one by one after).
-  // The same bits as the scalar interiors.
+  // The blocks' stretch interiors on padded positions q (block schedule, stretch the only type, float): up to
+  // kInterleavedChains blocks to a task, the kernel's four lanes on the k-th constraints of four blocks at a time
+  // (project_stretch_interleaved, in groups of eight or four blocks; each block's constraints beyond the group's
+  // shortest count, and blocks left over from the groups, go one by one, interleaved). The same bits as the scalar
+  // interiors.
   template <bool kReverse>
   void project_stretch_interiors_padded(const Store<StretchConstraint<float>>& st, float* q, float* lam,
                                         const SolveCoefficients<float>* coeff, bool any_xpbd) {
     const std::size_t interior_slot = part_++;
     const StretchConstraint<float>* items = st.items.data();
-    const Index blocks = st.sequential, tasks = (blocks + kInterleavedChains - 1) / kInterleavedChains;
+    const Index blocks = st.sequential, tasks = interior_tasks(blocks, kInterleavedChains);
     auto task = [&](Index t) {
-      const Index first = t * kInterleavedChains, m = std::min(blocks, first + kInterleavedChains) - first;
-      Index begin[kInterleavedChains], len[kInterleavedChains], common = ~Index(0);
-      for (Index j = 0; j < m; ++j) {
-        begin[j] = st.offsets[first + j];
-        len[j] = st.offsets[first + j + 1] - begin[j];
-        common = std::min(common, len[j]);
-      }
+      const Index first = task_begin(t, tasks, blocks), last = task_begin(t + 1, tasks, blocks);
+      Index begin[kInterleavedChains], len[kInterleavedChains];
       auto one = [&](Index i) { project_stretch_padded(items[i], q, coeff[items[i].set], lam[i]); };
-      if (m < kInterleavedChains) common = 0;  // fewer blocks than the kernel takes: one by one, interleaved
-      if constexpr (kReverse) {
-        for (Index j = 0; j < m; ++j)
-          for (Index k = len[j]; k-- > common;) one(begin[j] + k);
-        if (common) project_stretch_interleaved(items, begin, common, q, coeff, lam, any_xpbd, true);
-      } else {
-        if (common) project_stretch_interleaved(items, begin, common, q, coeff, lam, any_xpbd, false);
-        const Index longest = m ? *std::max_element(len, len + m) : 0;
-        for (Index k = common; k < longest; ++k)
+      for (Index g = first; g < last;) {  // a group of 8 or 4 blocks (SIMD), or fewer (one by one)
+        const Index left = last - g, m = left >= 8 ? 8 : left >= 4 ? 4 : left;
+        Index common = ~Index(0), longest = 0;
+        for (Index j = 0; j < m; ++j) {
+          begin[j] = st.offsets[g + j];
+          len[j] = st.offsets[g + j + 1] - begin[j];
+          common = std::min(common, len[j]);
+          longest = std::max(longest, len[j]);
+        }
+        if (m < 4) common = 0;
+        if constexpr (kReverse) {
           for (Index j = 0; j < m; ++j)
-            if (k < len[j]) one(begin[j] + k);
+            for (Index k = len[j]; k-- > common;) one(begin[j] + k);
+          if (common) project_stretch_interleaved(items, begin, m, common, q, coeff, lam, any_xpbd, true);
+        } else {
+          if (common) project_stretch_interleaved(items, begin, m, common, q, coeff, lam, any_xpbd, false);
+          for (Index k = common; k < longest; ++k)
+            for (Index j = 0; j < m; ++j)
+              if (k < len[j]) one(begin[j] + k);
+        }
+        g += m;
       }
     };
     run_interior_tasks(tasks, k_.partitioners[interior_slot], task);
@@ -347,9 +404,9 @@ private:
       const std::size_t pad_slot = part_++;
       unpad_slot_ = part_++;
       if (!padded_) {
-        k_.padded.resize(4, n);
+        assert(k_.padded.cols() == n);  // sized by begin()
         float* q = k_.padded.data();
-        run_range(0, n, parallel_, config_, k_.partitioners[pad_slot],
+        range(0, n, config_, k_.partitioners[pad_slot],
                   [&](Index b, Index e) { pad_positions(p, w, b, e, q); });
       }
       float* q = k_.padded.data();
@@ -362,8 +419,9 @@ private:
       for (Index j = 0; j < colors; ++j) {
         const Index c = first + (kReverse ? colors - 1 - j : j);
         const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
-        run_blocks(st.offsets[c], st.offsets[c + 1], kStretchBlock, parallel_, config_, k_.partitioners[base + c - first],
-                   [&](Index b, Index e) { project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd, set); });
+        auto project = [&](Index b, Index e) { project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd, set); };
+        if (st.sequential) boundary_range(st, c, config_, k_.partitioners[base + c - first], project);
+        else blocks_range(st.offsets[c], st.offsets[c + 1], kStretchBlock, config_, k_.partitioners[base + c - first], project);
       }
       padded_ = true;
       if (!stretch_only_) unpad(p);
@@ -373,7 +431,7 @@ private:
   void unpad(Real* p) {
     if constexpr (std::is_same_v<Real, float>) {
       const float* q = k_.padded.data();
-      run_range(0, m_.num_particles(), parallel_, config_, k_.partitioners[unpad_slot_],
+      range(0, m_.num_particles(), config_, k_.partitioners[unpad_slot_],
                 [&](Index b, Index e) { unpad_positions(q, b, e, p); });
     }
     padded_ = false;
@@ -404,7 +462,7 @@ private:
   void apply_deltas(Real* p) {
     const Real* delta = k_.delta.data();
     const Real* count_inv = k_.count_inv.data();
-    run_range(0, m_.num_particles(), parallel_, config_, k_.partitioners[part_++], [&](Index b, Index e) {
+    range(0, m_.num_particles(), config_, k_.partitioners[part_++], [&](Index b, Index e) {
       for (Index i = b; i < e; ++i) {
         const Real s = omega * count_inv[i];
         for (int d = 0; d < 3; ++d) p[3 * std::size_t(i) + d] += s * delta[3 * std::size_t(i) + d];
@@ -426,6 +484,50 @@ private:
   bool padded_ = false;         // k_.padded holds the positions and p is stale (until end())
   std::size_t interior_items_ = 0;  // constraints in the blocks' interiors (block schedule): decides the fork
   bool padded_blocks_ = false;      // block schedule, float, stretch the only type: on padded positions (SIMD)
+  bool team_ready_ = false;         // the sweeps may run on a team
+  bool share_interiors_ = false;    // the blocks' interiors run on more than one thread (at least two blocks each)
+  Team::Member* team_ = nullptr;    // the team this copy of the sweeper runs in (nullptr: forks per loop)
+
+  // Every parallel loop of the sweeps: on the team when there is one (its inline threshold), else run_range.
+  template <class Body>
+  void range(Index begin, Index end, const ParallelConfig& cfg, tbb::affinity_partitioner& ap, const Body& body) {
+    if (team_) {
+      team_->loop(begin, end, parallel_ && std::size_t(end - begin) >= team_share_below(cfg),
+                  [&](std::size_t b, std::size_t e) { body(Index(b), Index(e)); });
+      return;
+    }
+    run_range(begin, end, parallel_, cfg, ap, body);
+  }
+  // Group c of `st`: under the block schedule on a team, each member takes the constraints filed under its own
+  // blocks (those of its interior tasks; block_layout.hpp sorts each boundary color by block), so a particle's
+  // cache line mostly stays with the thread that projected its block's interior; otherwise range().
+  template <class C, class Body>
+  void boundary_range(const Store<C>& st, Index c, const ParallelConfig& cfg, tbb::affinity_partitioner& ap,
+                      const Body& body) {
+    const Index begin = st.offsets[c], end = st.offsets[c + 1];
+    if (!team_ || schedule_ != Schedule::blocks || !share_interiors_ || st.sequential == 0)
+      return range(begin, end, cfg, ap, body);
+    const Index members = Index(team_->size()), blocks = m_.num_blocks;
+    const Index tasks = interior_tasks(blocks, padded_blocks_ ? kInterleavedChains : kInterleave);
+    const std::span<const std::uint32_t> block(m_.block);
+    auto start = [&](int r) -> std::size_t {  // first constraint filed under member r's first block
+      const std::uint32_t first = std::uint32_t(task_begin(Index(std::uint64_t(tasks) * Index(r) / members), tasks, blocks));
+      const C* it = std::partition_point(st.items.data() + begin, st.items.data() + end, [&](const C& x) {
+        return first_block(x, m_.fixed, block) < first;
+      });
+      return std::size_t(it - st.items.data());
+    };
+    team_->loop_parts(begin, end, interior_items_ >= team_share_below(config_), start,
+                      [&](std::size_t b, std::size_t e) { body(Index(b), Index(e)); });
+  }
+  // range() over [begin, end) cut only at multiples of `block` from begin (as run_blocks).
+  template <class Body>
+  void blocks_range(Index begin, Index end, Index block, const ParallelConfig& cfg, tbb::affinity_partitioner& ap,
+                    const Body& body) {
+    const Index n = (end - begin + block - 1) / block;
+    range(0, n, per_block(cfg, block), ap,
+          [&](Index b, Index e) { body(begin + b * block, std::min(end, begin + e * block)); });
+  }
 };
 
 }  // namespace pbd::detail

@@ -7,7 +7,9 @@
 /// movable particle, so the blocks run in parallel, each in order on one thread, with the bits of any other cut.
 #include "pbd/detail/constraint_store.hpp"
 
+#include <algorithm>
 #include <span>
+#include <utility>
 
 namespace pbd::detail {
 
@@ -26,6 +28,41 @@ std::uint32_t interior_block(const C& c, const std::vector<std::uint8_t>& fixed,
     b = pb;
   }
   return b;
+}
+
+/// The block a boundary constraint is filed under: the smallest block among its movable particles (kNoBlock when
+/// none lies in a block).
+template <class C>
+std::uint32_t first_block(const C& c, const std::vector<std::uint8_t>& fixed, std::span<const std::uint32_t> block) {
+  std::uint32_t b = kNoBlock;
+  for (Index p : c.particles)
+    if (!(p < fixed.size() && fixed[p]) && p < block.size()) b = std::min(b, block[p]);
+  return b;
+}
+
+/// Puts each boundary color of `s` (groups from s.sequential on) in order of first_block, ties in insertion order.
+/// A color's constraints share no movable particle, so their order changes no bit; it lets a thread that runs
+/// blocks [b0, b1) take the constraints filed under them as one range (sweep.hpp), so the boundary's particles stay
+/// in the cache of the thread that projected their interiors.
+template <class C>
+void sort_boundary_by_block(Store<C>& s, const std::vector<std::uint8_t>& fixed, std::span<const std::uint32_t> block) {
+  const Index n = Index(s.items.size());
+  std::vector<Index> user_at(n);
+  for (Index u = 0; u < n; ++u) user_at[s.slot[u]] = u;
+  std::vector<std::pair<std::uint32_t, Index>> keyed;
+  std::vector<C> items;
+  for (Index c = s.sequential; c < s.num_colors(); ++c) {
+    const Index b = s.offsets[c], e = s.offsets[c + 1];
+    keyed.clear();
+    for (Index i = b; i < e; ++i) keyed.emplace_back(first_block(s.items[i], fixed, block), user_at[i]);
+    std::stable_sort(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    items.assign(s.items.begin() + b, s.items.begin() + e);
+    for (Index k = 0; k < e - b; ++k) {
+      const Index u = keyed[k].second;
+      s.items[b + k] = items[s.slot[u] - b];
+      s.slot[u] = b + k;
+    }
+  }
 }
 
 /// Lays out every constraint of `s` for the block schedule: group b < blocks is block b's interior (insertion
@@ -62,6 +99,7 @@ void lay_out_blocks(Store<C>& s, const std::vector<std::uint8_t>& fixed, std::sp
   s.color = std::move(group);
   s.sequential = blocks;
   layout_by_color(s, by_user);
+  sort_boundary_by_block(s, fixed, block);
 #ifndef NDEBUG
   s.validate(fixed, C::kName);  // debug builds: interiors disjoint, every boundary color independent
 #endif
