@@ -169,7 +169,9 @@ public:
       if (schedule_ != Schedule::insertion && update_ == Update::in_place && !m_.template store<StretchConstraint<float>>().empty())
         k_.padded.resize(4, m_.num_particles());
     // A team (team.hpp) for the sweeps: Gauss-Seidel in place with the built-in types and contacts only (user types
-    // may fork inside, volumes reduce with loops of their own), and only when some loop is large enough to share.
+    // may fork inside, volumes reduce with loops of their own), only when some loop is large enough to share, and
+    // under the block schedule only when the interiors are shared (else sharing the boundary alone moves its cache
+    // lines between the threads every sweep: 0.78× on the 30² cloth's 3 blocks).
     // The interiors are shared only with at least two blocks per thread (fewer, and the threads mostly trade cache
     // lines: 3 blocks of a 30² cloth ran 0.75× on 2 threads against 1).
     const Index threads = Index(std::max(1, tbb::this_task_arena::max_concurrency()));
@@ -180,7 +182,7 @@ public:
     });
     team_ready_ = parallel_ && schedule_ != Schedule::insertion && update_ == Update::in_place && m_.user.empty() &&
                   m_.volume.table.empty() && tbb::this_task_arena::max_concurrency() > 1 &&
-                  largest >= team_share_below(config_);
+                  (schedule_ != Schedule::blocks || share_interiors_) && largest >= team_share_below(config_);
   }
 
   /// The sweeps may run on a team (Team::run, then join() on each member's own copy of this sweeper).
@@ -249,7 +251,7 @@ private:
         part_ += std::size_t(colors);
         for (Index j = 0; j < colors; ++j) {  // one virtual call per color range, never per constraint
           const Index c = kReverse ? colors - 1 - j : j;
-          range(type.color_begin(first + c), type.color_begin(first + c + 1), config_, k_.partitioners[base + c],
+          range(type.color_begin(first + c), type.color_begin(first + c + 1), config_, partitioner(base + c),
                     [&](Index b, Index e) { type.project_range(b, e, p, w, coeff, lam, out, relax, false); });
         }
       }
@@ -284,7 +286,7 @@ private:
     part_ += std::size_t(colors);
     for (Index j = 0; j < colors; ++j) {
       const Index c = first + (kReverse ? colors - 1 - j : j);
-      boundary_range(st, c, config_, k_.partitioners[base + c - first], [&](Index b, Index e) {
+      boundary_range(st, c, config_, partitioner(base + c - first), [&](Index b, Index e) {
         for (Index i = b; i < e; ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
       });
     }
@@ -294,7 +296,7 @@ private:
   // every built-in store, then of every user type, each in stored (insertion) order or backwards. Blocks share no
   // movable particle, so the blocks run in any order and on any thread with the same bits.
   template <bool kReverse> void project_interiors(Real* p, const Real* w, const SolveCoefficients<Real>* coeff) {
-    tbb::affinity_partitioner& ap = k_.partitioners[part_++];
+    tbb::affinity_partitioner& ap = partitioner(part_++);
     const Index blocks = m_.num_blocks, tasks = interior_tasks(blocks, kInterleave);
     auto task = [&](Index t) {  // blocks [first, last), interleaved
       const Index first = task_begin(t, tasks, blocks), last = task_begin(t + 1, tasks, blocks);
@@ -389,7 +391,7 @@ private:
         g += m;
       }
     };
-    run_interior_tasks(tasks, k_.partitioners[interior_slot], task);
+    run_interior_tasks(tasks, partitioner(interior_slot), task);
   }
 
   // Every stretch color on padded positions (x y z w): one aligned load and store per particle in the kernel
@@ -406,7 +408,7 @@ private:
       if (!padded_) {
         assert(k_.padded.cols() == n);  // sized by begin()
         float* q = k_.padded.data();
-        range(0, n, config_, k_.partitioners[pad_slot],
+        range(0, n, config_, partitioner(pad_slot),
                   [&](Index b, Index e) { pad_positions(p, w, b, e, q); });
       }
       float* q = k_.padded.data();
@@ -420,8 +422,8 @@ private:
         const Index c = first + (kReverse ? colors - 1 - j : j);
         const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
         auto project = [&](Index b, Index e) { project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd, set); };
-        if (st.sequential) boundary_range(st, c, config_, k_.partitioners[base + c - first], project);
-        else blocks_range(st.offsets[c], st.offsets[c + 1], kStretchBlock, config_, k_.partitioners[base + c - first], project);
+        if (st.sequential) boundary_range(st, c, config_, partitioner(base + c - first), project);
+        else blocks_range(st.offsets[c], st.offsets[c + 1], kStretchBlock, config_, partitioner(base + c - first), project);
       }
       padded_ = true;
       if (!stretch_only_) unpad(p);
@@ -431,7 +433,7 @@ private:
   void unpad(Real* p) {
     if constexpr (std::is_same_v<Real, float>) {
       const float* q = k_.padded.data();
-      range(0, m_.num_particles(), config_, k_.partitioners[unpad_slot_],
+      range(0, m_.num_particles(), config_, partitioner(unpad_slot_),
                 [&](Index b, Index e) { unpad_positions(q, b, e, p); });
     }
     padded_ = false;
@@ -447,7 +449,7 @@ private:
     part_ += std::size_t(n);
     auto one = [&](Index j) {
       const Index i = schedule_ == Schedule::insertion ? j : v.order[j];
-      tbb::affinity_partitioner& ap = k_.partitioners[base + j];
+      tbb::affinity_partitioner& ap = partitioner(base + j);
       auto run = [&](Index b, Index e, const auto& body) { run_range(b, e, parallel_, blocks, ap, body); };
       project_volume(v.table, i, p, out, w, k_.coeff[v.table.items[i].set], k_.volume.target[i], s_.volume_lambda[i],
                      k_.volume, run);
@@ -462,7 +464,7 @@ private:
   void apply_deltas(Real* p) {
     const Real* delta = k_.delta.data();
     const Real* count_inv = k_.count_inv.data();
-    range(0, m_.num_particles(), config_, k_.partitioners[part_++], [&](Index b, Index e) {
+    range(0, m_.num_particles(), config_, partitioner(part_++), [&](Index b, Index e) {
       for (Index i = b; i < e; ++i) {
         const Real s = omega * count_inv[i];
         for (int d = 0; d < 3; ++d) p[3 * std::size_t(i) + d] += s * delta[3 * std::size_t(i) + d];
@@ -488,6 +490,12 @@ private:
   bool share_interiors_ = false;    // the blocks' interiors run on more than one thread (at least two blocks each)
   Team::Member* team_ = nullptr;    // the team this copy of the sweeper runs in (nullptr: forks per loop)
 
+  // The affinity partitioner of slot i (a cache hint for loops that fork). A team's members never fork: they get a
+  // stand-in of their thread's own rather than growing the shared pool at the same time.
+  tbb::affinity_partitioner& partitioner(std::size_t i) {
+    static thread_local tbb::affinity_partitioner unused;
+    return team_ ? unused : k_.partitioners[i];
+  }
   // Every parallel loop of the sweeps: on the team when there is one (its inline threshold), else run_range.
   template <class Body>
   void range(Index begin, Index end, const ParallelConfig& cfg, tbb::affinity_partitioner& ap, const Body& body) {
