@@ -36,6 +36,8 @@ template <class Real> struct Scratch {
   std::vector<SolveCoefficients<Real>> coeff;       // per constraint set, for this step's sub-step length
   VolumeScratch<Real> volume;                       // volume targets, gradients, block sums
   std::chrono::microseconds team_wait{20};          // how long the next solve waits for its team (team.hpp)
+  int team_misses = 0;                              // solves in a row whose team lacked a thread it waited for
+  int team_skip = 0;                                // solves still to run without a team after such a miss
   std::vector<Real> count_inv;                      // Jacobi: 1 / (persistent constraints touching the particle)
   std::vector<Real> split_w;                        // Jacobi: split inverse masses, w · that count
   std::vector<Real> delta;                          // Jacobi: accumulated corrections, 3 per particle

@@ -27,10 +27,16 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
   Real* p = scratch.p.data();
   SolveReport report;
   if (!accelerate) {
-    if (sweeper.team_ready()) {  // one team for all the sweeps (team.hpp): each member its own copy of the sweeper
+    // One team for all the sweeps (team.hpp), each member with its own copy of the sweeper. When no worker joined
+    // (the arena's workers were asleep or busy), the next 2^m − 1 solves (m such misses in a row, m ≤ 6) fork per
+    // loop instead, so a worker that never comes costs a wait only now and then.
+    const bool team = sweeper.team_ready() && scratch.team_skip == 0;
+    if (sweeper.team_ready() && !team) --scratch.team_skip;
+    if (team) {
       const Sweeper<Real> proto = sweeper;
       const auto start = std::chrono::steady_clock::now();
-      Team::run(tbb::this_task_arena::max_concurrency(), scratch.team_wait, [&](Team::Member& member) {
+      const int threads = tbb::this_task_arena::max_concurrency();
+      const int members = Team::run(threads, scratch.team_wait, [&](Team::Member& member) {
         if (member.rank == 0) {
           sweeper.join(&member);
           for (int it = 0; it < params.iterations; ++it) sweeper.sweep(p);
@@ -45,6 +51,8 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
       // worker that wakes late is worth waiting for, on a small one the wait would cost more than it brings.
       const auto took = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - start);
       scratch.team_wait = std::clamp(took / 10, std::chrono::microseconds(20), std::chrono::microseconds(1000));
+      scratch.team_misses = members == 1 ? std::min(scratch.team_misses + 1, 6) : 0;
+      scratch.team_skip = (1 << scratch.team_misses) - 1;
     } else {
       for (int it = 0; it < params.iterations; ++it) sweeper.sweep(p);
     }

@@ -78,13 +78,14 @@ public:
     }
   };
 
-  /// Runs f(member) on the calling thread and on the workers that join within `wait` (at most `threads` in all).
-  template <class F> static void run(int threads, std::chrono::microseconds wait, const F& f) {
+  /// Runs f(member) on the calling thread and on the workers that join within `wait` (at most `threads` in all);
+  /// returns how many members the team had.
+  template <class F> static int run(int threads, std::chrono::microseconds wait, const F& f) {
     Team team;
     if (threads <= 1) {
       Member m{&team, 0};
       f(m);
-      return;
+      return 1;
     }
     tbb::task_group workers;
     for (int i = 1; i < threads; ++i)
@@ -99,6 +100,7 @@ public:
     Member m{&team, 0};
     f(m);
     workers.wait();
+    return team.size_;
   }
 
 private:
