@@ -59,7 +59,7 @@ struct BlockOptions {
 
 /// How the parallel solvers split work. Results never depend on these (only speed does).
 struct ParallelConfig {
-  std::size_t inline_below = 1024;  ///< a color (or particle range) smaller than this runs inline, no fork/join
+  std::size_t inline_below = 1024;  ///< a color (or particle range) smaller than this runs on one thread (no fork, no team)
   std::size_t min_grain = 256;      ///< smallest chunk handed to a task; grain = max(min_grain, n / (4·threads))
 };
 
