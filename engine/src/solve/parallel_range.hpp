@@ -33,15 +33,4 @@ inline ParallelConfig per_block(const ParallelConfig& cfg, std::size_t block) {
   return {std::max<std::size_t>(1, cfg.inline_below / block), std::max<std::size_t>(1, cfg.min_grain / block)};
 }
 
-/// run_range over [begin, end) cut only at multiples of `block` from begin (so each item lands in the same block
-/// whatever the thread count); the inline threshold and grain count items, as in run_range.
-template <class Body>
-void run_blocks(Index begin, Index end, Index block, bool parallel, const ParallelConfig& cfg,
-                tbb::affinity_partitioner& ap, const Body& body) {
-  const Index n = (end - begin + block - 1) / block;
-  run_range(0, n, parallel, per_block(cfg, block), ap, [&](Index b, Index e) {
-    body(begin + b * block, std::min(end, begin + e * block));
-  });
-}
-
 }  // namespace pbd::detail

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 namespace pbd::detail {
 
@@ -37,15 +38,11 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
       const auto start = std::chrono::steady_clock::now();
       const int threads = tbb::this_task_arena::max_concurrency();
       const int members = Team::run(threads, scratch.team_wait, [&](Team::Member& member) {
-        if (member.rank == 0) {
-          sweeper.join(&member);
-          for (int it = 0; it < params.iterations; ++it) sweeper.sweep(p);
-          sweeper.join(nullptr);
-        } else {
-          Sweeper<Real> own(proto);
-          own.join(&member);
-          for (int it = 0; it < params.iterations; ++it) own.sweep(p);
-        }
+        std::optional<Sweeper<Real>> own;  // member 0 sweeps with `sweeper` itself, so end() sees its state
+        Sweeper<Real>& s = member.rank == 0 ? sweeper : own.emplace(proto);
+        s.join(&member);
+        for (int it = 0; it < params.iterations; ++it) s.sweep(p);
+        s.join(nullptr);
       });
       // The next solve waits for its workers at most a tenth of this one's time (20 µs to 1 ms): on a large model a
       // worker that wakes late is worth waiting for, on a small one the wait would cost more than it brings.

@@ -529,7 +529,8 @@ private:
     team_->loop_parts(begin, end, interior_items_ >= team_share_below(config_), start,
                       [&](std::size_t b, std::size_t e) { body(Index(b), Index(e)); });
   }
-  // range() over [begin, end) cut only at multiples of `block` from begin (as run_blocks).
+  // range() over [begin, end) cut only at multiples of `block` from begin (the inline threshold and grain still
+  // count items).
   template <class Body>
   void blocks_range(Index begin, Index end, Index block, const ParallelConfig& cfg, tbb::affinity_partitioner& ap,
                     const Body& body) {
