@@ -12,10 +12,10 @@
 //
 // Joining: the calling thread is member 0; up to threads − 1 tasks are spawned in the caller's arena, and a worker
 // that picks one up within the wait becomes a member (the solver waits at most a tenth of its last solve's time:
-// a worker asleep in the arena takes tens of microseconds to wake on this project's VM). Then the team closes: a task that starts later returns at
-// once. Nothing ever waits on a thread that has not joined, so a busy arena (a host's, or one whose workers are
-// asleep) costs at most the wait, never a deadlock. Barriers spin (with a pause, then yielding): the team exists only
-// while the sweeps run.
+// a worker asleep in the arena takes tens of microseconds to wake on this project's VM). Then the team closes: a
+// task that starts later returns at once. Nothing ever waits on a thread that has not joined, so a busy arena (a
+// host's, or one whose workers are asleep) costs at most the wait, never a deadlock. Barriers spin (with a pause,
+// then yielding): the team exists only while the sweeps run.
 #include <oneapi/tbb/task_group.h>
 
 #include <algorithm>
@@ -30,7 +30,6 @@ namespace pbd::detail {
 
 class Team {
 public:
-
   /// The member's view: its rank and whether member 0 ran work alone since the last barrier.
   struct Member {
     Team* team = nullptr;
