@@ -8,6 +8,7 @@
 #include "pbd/world.hpp"
 
 #include <gtest/gtest.h>
+#include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include <atomic>
@@ -367,6 +368,35 @@ TEST(HostArena, RunsInsideTheCallersArenaAndGivesTheSameBitsOnOneAndTwoThreads) 
   });
   EXPECT_EQ(host::widest_arena.load(), 2);
   EXPECT_EQ(state(one), state(two));
+}
+
+// A host that steps several worlds at once from its own parallel loop, in one arena: each world's solve holds a team
+// of the arena's threads (team.hpp) while other worlds' solves want the same threads. Every world must finish and
+// give the bits it gives stepped alone on one thread.
+TEST(HostArena, WorldsSteppedAtOnceFromTheHostsParallelLoopGiveTheirOneThreadBits) {
+  std::vector<World<double>> worlds;
+  for (int k = 0; k < 6; ++k) {
+    World<double> w = cloth(20 + k, k % 2 ? Solver::block : Solver::colored);
+    w.set_blocking({64, true});
+    worlds.push_back(w);
+  }
+  std::vector<std::vector<double>> alone;
+  tbb::task_arena(1).execute([&] {
+    for (World<double> w : worlds) {
+      for (int s = 0; s < 15; ++s) w.step();
+      alone.push_back(state(w));
+    }
+  });
+  for (int threads : {2, 4}) {
+    std::vector<World<double>> at_once = worlds;
+    tbb::task_arena(threads).execute([&] {
+      tbb::parallel_for(std::size_t(0), at_once.size(), [&](std::size_t k) {
+        for (int s = 0; s < 15; ++s) at_once[k].step();
+      });
+    });
+    for (std::size_t k = 0; k < worlds.size(); ++k)
+      EXPECT_EQ(state(at_once[k]), alone[k]) << "world " << k << ", " << threads << " threads";
+  }
 }
 
 TEST(StepStatistics, PhasesSweepsColorsAndViolation) {
