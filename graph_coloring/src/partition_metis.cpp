@@ -10,6 +10,7 @@
 #include <metis.h>
 
 #include <limits>
+#include <mutex>
 #include <string>
 
 #include "pbd/graph_coloring/error.hpp"
@@ -125,9 +126,18 @@ std::vector<std::uint32_t> metis_blocks(const Hypergraph& g, const MovableNodes&
   // cuts fewer only at 8 parts on 100² (by 4 %) and at 32 and 64 parts on 20². On 300² k-way is 3-4 % better at
   // 32 and 64 parts and takes 145-170 ms against recursive's 190-275 ms. Recursive balances tighter (tolerance
   // 0.1 % against k-way's 3 %), which the block solver does not need.
-  const int status = METIS_PartGraphKway(&nvtxs, &ncon, mg.xadj.data(), mg.adjncy.data(), mg.vwgt.data(),
-                                         /*vsize=*/nullptr, mg.adjwgt.data(), &nparts, /*tpwgts=*/nullptr,
-                                         /*ubvec=*/nullptr, options, &objval, part.data());
+  // One METIS call at a time in the process: METIS seeds and draws from one random state shared by the process
+  // (GKlib's), so two calls at once (a host stepping several worlds in parallel, each partitioning) drew from each
+  // other's sequence and gave blocks that changed from run to run; found by
+  // HostArena.WorldsSteppedAtOnceFromTheHostsParallelLoopGiveTheirOneThreadBits on a loaded machine.
+  static std::mutex metis_mutex;
+  int status = METIS_OK;
+  {
+    const std::lock_guard<std::mutex> lock(metis_mutex);
+    status = METIS_PartGraphKway(&nvtxs, &ncon, mg.xadj.data(), mg.adjncy.data(), mg.vwgt.data(),
+                                 /*vsize=*/nullptr, mg.adjwgt.data(), &nparts, /*tpwgts=*/nullptr,
+                                 /*ubvec=*/nullptr, options, &objval, part.data());
+  }
   if (status != METIS_OK)
     fail(std::string("METIS_PartGraphKway failed (") + metis_status(status) + ") on " + std::to_string(nvtxs) +
          " nodes, " + std::to_string(parts) + " parts");

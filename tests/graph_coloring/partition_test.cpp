@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "inputs.hpp"
@@ -187,6 +188,23 @@ TEST(Partition, IsDeterministicOnAnyThreadCount) {
     Partition d;
     tbb::task_arena(2).execute([&] { d = split(g, m, 16); });
     EXPECT_EQ(a.block, d.block);
+  }
+}
+
+// Partitions computed at once from several threads (a host stepping several worlds in parallel) are each the one
+// computed alone: METIS's random state is the process's, so the calls must not interleave.
+TEST(Partition, CallsAtOnceFromSeveralThreadsGiveTheBlocksOfACallAlone) {
+  const inputs::Graph g = cloth(40, true);
+  for (PartitionMethod m : kMethods) {
+    SCOPED_TRACE(method_name(m));
+    const Partition alone = split(g, m, 12);
+    for (int round = 0; round < 5; ++round) {
+      std::vector<Partition> at_once(4);
+      std::vector<std::thread> threads;
+      for (Partition& p : at_once) threads.emplace_back([&] { p = split(g, m, 12); });
+      for (std::thread& t : threads) t.join();
+      for (const Partition& p : at_once) EXPECT_EQ(p.block, alone.block);
+    }
   }
 }
 
