@@ -252,7 +252,7 @@ private:
         part_ += std::size_t(colors);
         for (Index j = 0; j < colors; ++j) {  // one virtual call per color range, never per constraint
           const Index c = kReverse ? colors - 1 - j : j;
-          range(type.color_begin(first + c), type.color_begin(first + c + 1), config_, partitioner(base + c),
+          range(type.color_begin(first + c), type.color_begin(first + c + 1), config_, base + c,
                     [&](Index b, Index e) { type.project_range(b, e, p, w, coeff, lam, out, relax, false); });
         }
       }
@@ -287,7 +287,7 @@ private:
     part_ += std::size_t(colors);
     for (Index j = 0; j < colors; ++j) {
       const Index c = first + (kReverse ? colors - 1 - j : j);
-      boundary_range(st, c, config_, partitioner(base + c - first), [&](Index b, Index e) {
+      boundary_range(st, c, config_, base + c - first, [&](Index b, Index e) {
         for (Index i = b; i < e; ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
       });
     }
@@ -297,7 +297,7 @@ private:
   // every built-in store, then of every user type, each in stored (insertion) order or backwards. Blocks share no
   // movable particle, so the blocks run in any order and on any thread with the same bits.
   template <bool kReverse> void project_interiors(Real* p, const Real* w, const SolveCoefficients<Real>* coeff) {
-    tbb::affinity_partitioner& ap = partitioner(part_++);
+    const std::size_t slot = part_++;
     const Index blocks = m_.num_blocks, tasks = interior_tasks(blocks, kInterleave);
     auto task = [&](Index t) {  // blocks [first, last), interleaved
       const Index first = task_begin(t, tasks, blocks), last = task_begin(t + 1, tasks, blocks);
@@ -312,7 +312,7 @@ private:
                                Real(1), kReverse);
       }
     };
-    run_interior_tasks(tasks, ap, task);
+    run_interior_tasks(tasks, slot, task);
   }
 
   // How many tasks the interiors of `blocks` blocks run as, at most `cap` blocks each: a multiple of the threads
@@ -332,7 +332,7 @@ private:
 
   // The interiors' tasks [0, tasks): one parallel loop, one task per chunk (each task's blocks share no particle
   // with another's, so any cut gives the same bits), or inline when the interiors are small or one thread runs.
-  template <class Task> void run_interior_tasks(Index tasks, tbb::affinity_partitioner& ap, const Task& task) {
+  template <class Task> void run_interior_tasks(Index tasks, std::size_t slot, const Task& task) {
     if (team_) {
       team_->loop(0, tasks, share_interiors_ && tasks > 1 && interior_items_ >= team_share_below(config_),
                   [&](std::size_t b, std::size_t e) {
@@ -351,7 +351,7 @@ private:
         [&](const tbb::blocked_range<Index>& r) {
           for (Index t = r.begin(); t < r.end(); ++t) task(t);
         },
-        ap);
+        k_.partitioners[slot]);
   }
 
   // The blocks' stretch interiors on padded positions q (block schedule, stretch the only type, float): up to
@@ -392,7 +392,7 @@ private:
         g += m;
       }
     };
-    run_interior_tasks(tasks, partitioner(interior_slot), task);
+    run_interior_tasks(tasks, interior_slot, task);
   }
 
   // Every stretch color on padded positions (x y z w): one aligned load and store per particle in the kernel
@@ -409,7 +409,7 @@ private:
       if (!padded_) {
         assert(k_.padded.cols() == n);  // sized by begin()
         float* q = k_.padded.data();
-        range(0, n, config_, partitioner(pad_slot),
+        range(0, n, config_, pad_slot,
                   [&](Index b, Index e) { pad_positions(p, w, b, e, q); });
       }
       float* q = k_.padded.data();
@@ -423,8 +423,8 @@ private:
         const Index c = first + (kReverse ? colors - 1 - j : j);
         const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
         auto project = [&](Index b, Index e) { project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd, set); };
-        if (st.sequential) boundary_range(st, c, config_, partitioner(base + c - first), project);
-        else blocks_range(st.offsets[c], st.offsets[c + 1], kStretchBlock, config_, partitioner(base + c - first), project);
+        if (st.sequential) boundary_range(st, c, config_, base + c - first, project);
+        else blocks_range(st.offsets[c], st.offsets[c + 1], kStretchBlock, config_, base + c - first, project);
       }
       padded_ = true;
       if (!stretch_only_) unpad(p);
@@ -434,7 +434,7 @@ private:
   void unpad(Real* p) {
     if constexpr (std::is_same_v<Real, float>) {
       const float* q = k_.padded.data();
-      range(0, m_.num_particles(), config_, partitioner(unpad_slot_),
+      range(0, m_.num_particles(), config_, unpad_slot_,
                 [&](Index b, Index e) { unpad_positions(q, b, e, p); });
     }
     padded_ = false;
@@ -450,7 +450,7 @@ private:
     part_ += std::size_t(n);
     auto one = [&](Index j) {
       const Index i = schedule_ == Schedule::insertion ? j : v.order[j];
-      tbb::affinity_partitioner& ap = partitioner(base + j);
+      tbb::affinity_partitioner& ap = k_.partitioners[base + j];  // never on a team (begin())
       auto run = [&](Index b, Index e, const auto& body) { run_range(b, e, parallel_, blocks, ap, body); };
       project_volume(v.table, i, p, out, w, k_.coeff[v.table.items[i].set], k_.volume.target[i], s_.volume_lambda[i],
                      k_.volume, run);
@@ -465,7 +465,7 @@ private:
   void apply_deltas(Real* p) {
     const Real* delta = k_.delta.data();
     const Real* count_inv = k_.count_inv.data();
-    range(0, m_.num_particles(), config_, partitioner(part_++), [&](Index b, Index e) {
+    range(0, m_.num_particles(), config_, part_++, [&](Index b, Index e) {
       for (Index i = b; i < e; ++i) {
         const Real s = omega * count_inv[i];
         for (int d = 0; d < 3; ++d) p[3 * std::size_t(i) + d] += s * delta[3 * std::size_t(i) + d];
@@ -491,31 +491,26 @@ private:
   bool share_interiors_ = false;    // the blocks' interiors run on more than one thread (at least two blocks each)
   Team::Member* team_ = nullptr;    // the team this copy of the sweeper runs in (nullptr: forks per loop)
 
-  // The affinity partitioner of slot i (a cache hint for loops that fork). A team's members never fork: they get a
-  // stand-in of their thread's own rather than growing the shared pool at the same time.
-  tbb::affinity_partitioner& partitioner(std::size_t i) {
-    static thread_local tbb::affinity_partitioner unused;
-    return team_ ? unused : k_.partitioners[i];
-  }
-  // Every parallel loop of the sweeps: on the team when there is one (its inline threshold), else run_range.
+  // Every parallel loop of the sweeps: on the team when there is one (its inline threshold), else run_range with
+  // the affinity partitioner of `slot` (a cache hint for loops that fork; a team's members never touch the pool,
+  // which grows on first use).
   template <class Body>
-  void range(Index begin, Index end, const ParallelConfig& cfg, tbb::affinity_partitioner& ap, const Body& body) {
+  void range(Index begin, Index end, const ParallelConfig& cfg, std::size_t slot, const Body& body) {
     if (team_) {
       team_->loop(begin, end, parallel_ && std::size_t(end - begin) >= team_share_below(cfg),
                   [&](std::size_t b, std::size_t e) { body(Index(b), Index(e)); });
       return;
     }
-    run_range(begin, end, parallel_, cfg, ap, body);
+    run_range(begin, end, parallel_, cfg, k_.partitioners[slot], body);
   }
   // Group c of `st`: under the block schedule on a team, each member takes the constraints filed under its own
   // blocks (those of its interior tasks; block_layout.hpp sorts each boundary color by block), so a particle's
   // cache line mostly stays with the thread that projected its block's interior; otherwise range().
   template <class C, class Body>
-  void boundary_range(const Store<C>& st, Index c, const ParallelConfig& cfg, tbb::affinity_partitioner& ap,
-                      const Body& body) {
+  void boundary_range(const Store<C>& st, Index c, const ParallelConfig& cfg, std::size_t slot, const Body& body) {
     const Index begin = st.offsets[c], end = st.offsets[c + 1];
     if (!team_ || schedule_ != Schedule::blocks || !share_interiors_ || st.sequential == 0)
-      return range(begin, end, cfg, ap, body);
+      return range(begin, end, cfg, slot, body);
     const Index members = Index(team_->size()), blocks = m_.num_blocks;
     const Index tasks = interior_tasks(blocks, padded_blocks_ ? kInterleavedChains : kInterleave);
     const std::span<const std::uint32_t> block(m_.block);
@@ -532,10 +527,10 @@ private:
   // range() over [begin, end) cut only at multiples of `block` from begin (the inline threshold and grain still
   // count items).
   template <class Body>
-  void blocks_range(Index begin, Index end, Index block, const ParallelConfig& cfg, tbb::affinity_partitioner& ap,
+  void blocks_range(Index begin, Index end, Index block, const ParallelConfig& cfg, std::size_t slot,
                     const Body& body) {
     const Index n = (end - begin + block - 1) / block;
-    range(0, n, per_block(cfg, block), ap,
+    range(0, n, per_block(cfg, block), slot,
           [&](Index b, Index e) { body(begin + b * block, std::min(end, begin + e * block)); });
   }
 };
