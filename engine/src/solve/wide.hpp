@@ -27,8 +27,14 @@ PBD_WIDE FloatW operator/(FloatW a, FloatW b) { return {_mm_div_ps(a.v, b.v)}; }
 /// −a: flips the sign bit (exact, as the scalar unary minus).
 PBD_WIDE FloatW operator-(FloatW a) { return {_mm_xor_ps(a.v, _mm_set1_ps(-0.0f))}; }
 PBD_WIDE FloatW sqrt(FloatW a) { return {_mm_sqrt_ps(a.v)}; }
+/// Lane by lane: the smaller (larger) of a and b; for numbers, as std::min (std::max).
+PBD_WIDE FloatW min(FloatW a, FloatW b) { return {_mm_min_ps(a.v, b.v)}; }
+PBD_WIDE FloatW max(FloatW a, FloatW b) { return {_mm_max_ps(a.v, b.v)}; }
+/// |a|: clears the sign bit (exact, as std::abs).
+PBD_WIDE FloatW abs(FloatW a) { return {_mm_andnot_ps(_mm_set1_ps(-0.0f), a.v)}; }
 
 PBD_WIDE MaskW operator>(FloatW a, FloatW b) { return {_mm_cmpgt_ps(a.v, b.v)}; }   ///< false for NaN
+PBD_WIDE MaskW operator<(FloatW a, FloatW b) { return {_mm_cmplt_ps(a.v, b.v)}; }   ///< false for NaN
 PBD_WIDE MaskW operator==(FloatW a, FloatW b) { return {_mm_cmpeq_ps(a.v, b.v)}; }
 PBD_WIDE MaskW operator!=(FloatW a, FloatW b) { return {_mm_cmpneq_ps(a.v, b.v)}; }
 PBD_WIDE MaskW operator&(MaskW a, MaskW b) { return {_mm_and_ps(a.v, b.v)}; }
@@ -63,6 +69,16 @@ PBD_WIDE Vec3W transpose_xyz(FloatW a, FloatW b, FloatW c, FloatW d) {
 /// The w lanes of four points held as x y z w.
 PBD_WIDE FloatW transpose_w(FloatW a, FloatW b, FloatW c, FloatW d) {
   return {_mm_movehl_ps(_mm_unpackhi_ps(c.v, d.v), _mm_unpackhi_ps(a.v, b.v))};
+}
+/// The inverse of transpose_xyz: four vectors given by their x, y and z across lanes → one per lane as x y z 0.
+PBD_WIDE void transpose_points(const Vec3W& v, FloatW (&out)[4]) {
+  const __m128 xy01 = _mm_unpacklo_ps(v.x.v, v.y.v), xy23 = _mm_unpackhi_ps(v.x.v, v.y.v);  // x0 y0 x1 y1 | x2 y2 x3 y3
+  const __m128 z = v.z.v, o = _mm_setzero_ps();
+  const __m128 z01 = _mm_unpacklo_ps(z, o), z23 = _mm_unpackhi_ps(z, o);  // z0 0 z1 0 | z2 0 z3 0
+  out[0] = {_mm_movelh_ps(xy01, z01)};
+  out[1] = {_mm_movehl_ps(z01, xy01)};
+  out[2] = {_mm_movelh_ps(xy23, z23)};
+  out[3] = {_mm_movehl_ps(z23, xy23)};
 }
 /// |v|² as Eigen computes it for a 3-vector: x² + (y² + z²).
 PBD_WIDE FloatW squared_norm(const Vec3W& v) { return v.x * v.x + (v.y * v.y + v.z * v.z); }

@@ -10,6 +10,8 @@
 ///           \  /          Two flat triangles on either side of the edge have n2 = −n1: φ = π.
 ///            p4           φ is unsigned: folding either way from flat lowers it.
 #include "pbd/constraints/degenerate.hpp"
+#include "pbd/detail/bending_math.hpp"
+#include "pbd/stiffness.hpp"
 
 #include <algorithm>
 #include <array>
@@ -46,23 +48,32 @@ template <class Real> Real dihedral_angle(const Vec3<Real>& p1, const Vec3<Real>
 ///    1 − d² ≤ 64 ε the pair is flat (φ = π) or folded shut (φ = 0): the unsigned angle has a kink there and no
 ///    gradient. A flat pair at rest angle π is satisfied anyway; a pair held exactly flat with another rest angle
 ///    waits for any other motion to move it off the kink.
+/// The arithmetic is detail/bending_math.hpp's, shared with the float SIMD kernel (so both give the same bits); in
+/// float acos is a polynomial there (within 2.4e-7 rad of the true angle), in double std::acos.
 template <class Real>
 inline bool evaluate(const BendingConstraint<Real>& c, const Vec3<Real> (&p)[4], Real& C, Vec3<Real> (&grad)[4]) {
-  const Vec3<Real> e = p[1] - p[0], p3 = p[2] - p[0], p4 = p[3] - p[0];
-  const Vec3<Real> a = e.cross(p3), b = e.cross(p4);
-  if (degenerate_cross(a, e, p3) || degenerate_cross(b, e, p4)) return false;
-  const Real la = std::sqrt(a.squaredNorm()), lb = std::sqrt(b.squaredNorm());
-  const Vec3<Real> n1 = a / la, n2 = b / lb;
-  const Real d = std::clamp(n1.dot(n2), Real(-1), Real(1));
-  const Real s2 = Real(1) - d * d;
-  if (!(s2 > Real(64) * std::numeric_limits<Real>::epsilon())) return false;
-  const Real scale = Real(-1) / std::sqrt(s2);  // ∇C = −∇d / √(1 − d²)
-  const Vec3<Real> t1 = (n2 - d * n1) / la, t2 = (n1 - d * n2) / lb;
-  grad[2] = scale * t1.cross(e);
-  grad[3] = scale * t2.cross(e);
-  grad[1] = scale * (p3.cross(t1) + p4.cross(t2));
-  grad[0] = -grad[1] - grad[2] - grad[3];
-  C = std::acos(d) - c.rest;
+  using V = detail::bend::V3<Real>;
+  const V q[4] = {{p[0].x(), p[0].y(), p[0].z()}, {p[1].x(), p[1].y(), p[1].z()}, {p[2].x(), p[2].y(), p[2].z()},
+                  {p[3].x(), p[3].y(), p[3].z()}};
+  const auto r = detail::bend::bending_gradient<Real>(q, c.rest);
+  if (!r.ok) return false;
+  C = r.C;
+  for (int i = 0; i < 4; ++i) grad[i] = Vec3<Real>(r.g[i].x, r.g[i].y, r.g[i].z);
+  return true;
+}
+
+/// Bending's own correction (projection.hpp's generic one, in the arithmetic the float kernel shares): Δλ =
+/// (−k·C − α̃·λ) / (Σ_i w_i|∇_i C|² + α̃), Δp_i = w_i ∇_i C Δλ; false where the generic one gives false.
+template <class Real>
+inline bool correction(const BendingConstraint<Real>& c, const Vec3<Real> (&p)[4], const Real (&w)[4],
+                       SolveCoefficients<Real> coeff, Real lambda, Vec3<Real> (&dp)[4], Real& dlambda) {
+  using V = detail::bend::V3<Real>;
+  const V q[4] = {{p[0].x(), p[0].y(), p[0].z()}, {p[1].x(), p[1].y(), p[1].z()}, {p[2].x(), p[2].y(), p[2].z()},
+                  {p[3].x(), p[3].y(), p[3].z()}};
+  const auto r = detail::bend::bending_step<Real>(q, w, c.rest, -coeff.k, coeff.alpha_tilde, lambda);
+  if (!r.ok) return false;
+  dlambda = r.dlambda;
+  for (int i = 0; i < 4; ++i) dp[i] = Vec3<Real>(r.dp[i].x, r.dp[i].y, r.dp[i].z);
   return true;
 }
 

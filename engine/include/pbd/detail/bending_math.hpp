@@ -1,0 +1,132 @@
+#pragma once
+/// \file bending_math.hpp
+/// The dihedral bending projection's arithmetic (constraints/bending.hpp), written once over a number type T: a
+/// scalar (float, double) for the scalar projection, or the float kernel's SIMD lanes (engine/src/solve/
+/// bending_kernel.cpp). Both run the same operations in the same order, so the kernel gives the scalar bits. Guards
+/// are masks (bool for a scalar) rather than early returns, so the lanes run straight through.
+/// What a T needs: + − × ÷, sqrt, min, max, abs, select(mask, a, b), comparisons > and < giving a mask, masks
+/// combined with &, and Lit<T>::of(constant). Scalars get these here; the kernel gives its lanes theirs.
+#include "pbd/types.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace pbd::detail::bend {
+
+/// A constant in a T (specialized by the SIMD kernel for its lanes).
+template <class T> struct Lit {
+  static T of(double v) { return T(v); }
+};
+
+// The scalar overloads (the lanes' own are found by argument-dependent lookup).
+template <class S> [[gnu::always_inline]] inline S select(bool m, S a, S b) { return m ? a : b; }
+[[gnu::always_inline]] inline float sqrt(float a) { return std::sqrt(a); }
+[[gnu::always_inline]] inline double sqrt(double a) { return std::sqrt(a); }
+[[gnu::always_inline]] inline float abs(float a) { return std::abs(a); }
+[[gnu::always_inline]] inline double abs(double a) { return std::abs(a); }
+/// std::min and std::max (the lanes': minps and maxps, the same for numbers).
+template <class S> [[gnu::always_inline]] inline S min(S a, S b) { return b < a ? b : a; }
+template <class S> [[gnu::always_inline]] inline S max(S a, S b) { return a < b ? b : a; }
+
+/// Three coordinates, each a T.
+template <class T> struct V3 {
+  T x, y, z;
+};
+template <class T> [[gnu::always_inline]] inline V3<T> operator+(const V3<T>& a, const V3<T>& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+template <class T> [[gnu::always_inline]] inline V3<T> operator-(const V3<T>& a, const V3<T>& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+template <class T> [[gnu::always_inline]] inline V3<T> operator*(const V3<T>& a, T s) {
+  return {a.x * s, a.y * s, a.z * s};
+}
+template <class T> [[gnu::always_inline]] inline V3<T> cross(const V3<T>& a, const V3<T>& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+template <class T> [[gnu::always_inline]] inline T dot(const V3<T>& a, const V3<T>& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+template <class T> [[gnu::always_inline]] inline T norm2(const V3<T>& a) { return dot(a, a); }
+
+/// acos(x) for x in [−1, 1] from Cephes' single-precision arcsine polynomial (Moshier): with a = |x|,
+/// asin(a) = s + s·z·P(z), z = a², s = a for a ≤ 1/2, and z = (1 − a)/2, s = √z (then acos(a) = 2·asin(s)) above.
+/// At most 3.0e-7 rad from the true value over [−1, 1] (tests/engine/bending_test.cpp), 1.25 ulp of π in float
+/// (std::acos: 0.5 ulp). Plain arithmetic (no table, no branch), so the lanes and the scalar code agree.
+template <class T> [[gnu::always_inline]] inline T acos_poly(T x) {
+  using L = Lit<T>;
+  const T one = L::of(1.0), half = L::of(0.5);
+  const T a = abs(x);
+  const auto big = a > half;
+  const T z = select(big, half * (one - a), a * a);
+  const T s = select(big, sqrt(z), a);
+  const T p = ((((L::of(4.2163199048e-2) * z + L::of(2.4181311049e-2)) * z + L::of(4.5470025998e-2)) * z +
+                L::of(7.4953002686e-2)) * z + L::of(1.6666752422e-1)) * z;
+  const T r = s + s * p;  // asin(s)
+  const T two_r = r + r, pi = L::of(3.14159265358979323846), half_pi = L::of(1.57079632679489661923);
+  const auto neg = x < L::of(0.0);
+  return select(big, select(neg, pi - two_r, two_r), select(neg, half_pi + r, half_pi - r));
+}
+/// acos of the bending angle: the polynomial in float (scalar or lanes), std::acos in double.
+template <class T> [[gnu::always_inline]] inline T bending_acos(T x) { return acos_poly(x); }
+template <> [[gnu::always_inline]] inline double bending_acos(double x) { return std::acos(x); }
+
+/// The constraint's value and gradient where ok (both triangles give a normal and the pair is off the kink).
+template <class T, class M> struct BendingGradient {
+  M ok;
+  T C;
+  V3<T> g[4];
+};
+/// One projection's result where ok (the gradient exists and the denominator is positive): dλ and Δp_i.
+template <class T, class M> struct BendingStep {
+  M ok;
+  T dlambda;
+  V3<T> dp[4];
+};
+
+/// C = acos(n1·n2) − φ0 and its gradient (constraints/bending.hpp gives the formulas) at corners p (p1, p2 the
+/// shared edge). Real: the precision whose guards apply (float for the lanes).
+template <class Real, class T>
+[[gnu::always_inline]] inline auto bending_gradient(const V3<T> (&p)[4], T rest) {
+  using L = Lit<T>;
+  constexpr Real sine = Real(64) * std::numeric_limits<Real>::epsilon();  // degenerate.hpp's parallel_sine
+  const V3<T> e = p[1] - p[0], u = p[2] - p[0], v = p[3] - p[0];
+  const V3<T> a = cross(e, u), b = cross(e, v);
+  const T la2 = norm2(a), lb2 = norm2(b), e2 = norm2(e);
+  const T tiny = L::of(tiny_squared<Real>()), sine2 = L::of(sine * sine);
+  // degenerate_cross: either triangle's corners are collinear at this precision, or a cross product underflows
+  auto ok = (la2 > tiny) & (la2 > sine2 * e2 * norm2(u)) & (lb2 > tiny) & (lb2 > sine2 * e2 * norm2(v));
+  const T one = L::of(1.0);
+  const T ra = one / sqrt(la2), rb = one / sqrt(lb2);
+  const V3<T> n1 = a * ra, n2 = b * rb;
+  const T d = max(L::of(-1.0), min(dot(n1, n2), one));
+  const T s2 = one - d * d;
+  ok = ok & (s2 > L::of(sine));  // off the kink at φ = 0 and φ = π (1 − d² ≤ 64 ε)
+  const T scale = L::of(-1.0) / sqrt(s2);  // ∇C = −∇d / √(1 − d²)
+  const V3<T> t1 = (n2 - n1 * d) * ra, t2 = (n1 - n2 * d) * rb;
+  BendingGradient<T, decltype(ok)> r;
+  r.ok = ok;
+  r.g[2] = cross(t1, e) * scale;
+  r.g[3] = cross(t2, e) * scale;
+  r.g[1] = (cross(u, t1) + cross(v, t2)) * scale;
+  r.g[0] = V3<T>{L::of(0.0), L::of(0.0), L::of(0.0)} - r.g[1] - r.g[2] - r.g[3];
+  r.C = bending_acos(d) - rest;
+  return r;
+}
+
+/// One projection: w the inverse masses, neg_k −k, alpha α̃, lambda λ (projection.hpp's correction()).
+template <class Real, class T>
+[[gnu::always_inline]] inline auto bending_step(const V3<T> (&p)[4], const T (&w)[4], T rest, T neg_k, T alpha,
+                                                T lambda) {
+  using L = Lit<T>;
+  const auto grad = bending_gradient<Real>(p, rest);
+  const V3<T>(&g)[4] = grad.g;
+  const T denom = alpha + w[0] * norm2(g[0]) + w[1] * norm2(g[1]) + w[2] * norm2(g[2]) + w[3] * norm2(g[3]);
+  BendingStep<T, decltype(grad.ok & (denom > denom))> r;
+  r.ok = grad.ok & (denom > L::of(0.0));
+  r.dlambda = (neg_k * grad.C - alpha * lambda) / denom;
+  for (int i = 0; i < 4; ++i) r.dp[i] = g[i] * (w[i] * r.dlambda);
+  return r;
+}
+
+}  // namespace pbd::detail::bend
