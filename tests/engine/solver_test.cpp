@@ -175,6 +175,58 @@ TYPED_TEST(SolverTest, StretchKernelMatchesTheScalarProjectionBitForBit) {
   }
 }
 
+// Bending constraints that share no movable particle, likewise: the serial reference projects them with the scalar
+// code, the colored solver (float) four at a time with SIMD on padded positions; both run bending_math.hpp, so they
+// must agree bit for bit. The quadruples cover what the kernel masks within one block of four: a collinear triangle,
+// coincident edge ends, a pair held exactly flat (the kink: skipped), pinned corners shared between constraints,
+// all four corners pinned (PBD skips, XPBD moves λ only), PBD, iteration-independent and XPBD sets mixed in one block
+// or all in one set, and counts that leave 1 to 3 constraints to the scalar remainder. Gravity moves the particles
+// between steps, so every lane's guards are crossed in both directions over the run.
+TYPED_TEST(SolverTest, BendingKernelMatchesTheScalarProjectionBitForBit) {
+  using Real = TypeParam;
+  for (bool with_xpbd : {true, false})
+  for (bool one_set : {false, true}) {
+    for (int count : {1, 2, 3, 4, 5, 7, 8, 9, 13, 16, 61, 250}) {
+      std::mt19937 rng{unsigned(count) + 7u};
+      std::uniform_real_distribution<double> u(-1, 1);
+      World<Real> w;
+      Index pin[4];
+      for (int i = 0; i < 4; ++i) pin[i] = w.add_particle(Vec3<Real>(Real(0.3 * i), Real(0.1 * i * i), 1), World<Real>::kPinned);
+      const Index sets[3] = {w.add_constraint_set(Stiffness::pbd_k(0.7)),
+                             w.add_constraint_set(with_xpbd ? Stiffness::xpbd_compliance(1e-3) : Stiffness::pbd_k(0.3)),
+                             w.add_constraint_set(Stiffness::iteration_independent(0.4))};
+      auto random_point = [&] { return Vec3<Real>(Real(u(rng)), Real(u(rng)), Real(u(rng))); };
+      auto at = [&](const Vec3<Real>& x) { return w.add_particle(x, Real(0.2 + 2 * std::abs(u(rng)))); };
+      auto movable = [&] { return at(random_point()); };
+      for (int k = 0; k < count; ++k) {
+        const Index set = sets[one_set ? 1 : std::uniform_int_distribution<int>(0, 2)(rng)];
+        const Real rest = Real(0.3 + 2.8 * std::abs(u(rng)));
+        const Vec3<Real> a = random_point(), b = random_point();
+        switch (k % 8) {
+          case 0: w.add_bending(at(a), at(b), at(a + Real(0.4) * (b - a)), movable(), set, rest); break;  // collinear
+          case 1: w.add_bending(at(a), at(a), movable(), movable(), set, rest); break;  // coincident edge ends
+          case 2: {  // exactly flat: p4 = p1 + p2 − p3, in the plane of the first triangle
+            const Vec3<Real> c(a.x() + Real(0.5), a.y(), a.z());
+            w.add_bending(at(a), at(c), at(Vec3<Real>(a.x(), a.y() + Real(0.5), a.z())),
+                          at(Vec3<Real>(c.x(), a.y() - Real(0.5), a.z())), set, rest);
+            break;
+          }
+          case 3: w.add_bending(pin[0], pin[1], movable(), movable(), set, rest); break;  // shared pinned edge
+          case 4: w.add_bending(movable(), movable(), pin[2], movable(), set, rest); break;  // shared pinned corner
+          case 5: w.add_bending(pin[0], pin[1], pin[2], pin[3], set, rest); break;  // all pinned
+          default: w.add_bending(movable(), movable(), movable(), movable(), set, rest); break;
+        }
+      }
+      const auto serial = run(w, Solver::serial, 1, 12);
+      for (Real v : serial) ASSERT_TRUE(std::isfinite(v));
+      for (int threads : {1, 2})
+        EXPECT_TRUE(bitwise_equal(serial, run(w, Solver::colored, threads, 12)))
+            << count << " constraints, " << threads << " threads, " << (with_xpbd ? "with" : "without") << " XPBD, "
+            << (one_set ? "one set" : "three sets");
+    }
+  }
+}
+
 // The colored solver reads k and α̃ once for a stretch color whose constraints all share one set. What it knows of
 // each color's set must follow every change of the colored array: constraints appended into a tail color (first of
 // one set, then of another, which makes it mixed) and constraints removed (an emptied color is dropped and the

@@ -32,6 +32,7 @@
 #include "parallel_range.hpp"
 #include "pbd/constraints/projection.hpp"
 #include "scratch.hpp"
+#include "bending_kernel.hpp"
 #include "stretch_kernel.hpp"
 #include "team.hpp"
 #include "volume_projection.hpp"
@@ -153,20 +154,26 @@ public:
       }
       k_.delta.resize(3 * std::size_t(n));
     }
-    // Stretch alone (float): the kernel may keep the positions padded from one sweep to the next.
-    stretch_only_ = true;
-    for_each_store(m_.stores, [&](const auto& st, auto i) { stretch_only_ = stretch_only_ && (i == 0 || st.empty()); });
-    stretch_only_ = stretch_only_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0 && keep_padded;
     padded_ = false;
     // (with fewer blocks than the kernel's four lanes, they are not filled: scalar, without the padding)
     padded_blocks_ = std::is_same_v<Real, float> && kPaddedStretch && schedule_ == Schedule::blocks &&
                      update_ == Update::in_place && m_.user.empty() && m_.num_blocks >= 4;
     for_each_store(m_.stores, [&](const auto& st, auto i) { padded_blocks_ = padded_blocks_ && (i == 0 || st.empty()); });
+    // Only types the float kernels project on padded positions (stretch; bending under the colors schedule): the
+    // positions may stay padded from one sweep to the next.
+    stay_padded_ = std::is_same_v<Real, float> && kPaddedStretch && update_ == Update::in_place &&
+                   schedule_ != Schedule::insertion;
+    for_each_store(m_.stores, [&](const auto& st, auto) {
+      using C = typename std::remove_cvref_t<decltype(st)>::value_type;
+      stay_padded_ = stay_padded_ && (st.empty() || padded_kernel<C>());
+    });
+    stay_padded_ = stay_padded_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0 && keep_padded;
     interior_items_ = 0;
     for_each_store(m_.stores, [&](const auto& st, auto) { interior_items_ += st.sequential ? st.offsets[st.sequential] : 0; });
     for (const auto& t : m_.user.types()) interior_items_ += t->num_blocks() ? t->color_begin(t->num_blocks()) : 0;
     if constexpr (std::is_same_v<Real, float> && kPaddedStretch)  // sized here, never by a team's members
-      if (schedule_ != Schedule::insertion && update_ == Update::in_place && !m_.template store<StretchConstraint<float>>().empty())
+      if (schedule_ != Schedule::insertion && update_ == Update::in_place &&
+          (!m_.template store<StretchConstraint<float>>().empty() || !m_.template store<BendingConstraint<float>>().empty()))
         k_.padded.resize(4, m_.num_particles());
     // A team (team.hpp) for the sweeps: Gauss-Seidel in place with the built-in types and contacts only (user types
     // may fork inside, volumes reduce with loops of their own), only when some loop is large enough to share, and
@@ -206,6 +213,17 @@ public:
     if (padded_) unpad(p);
   }
 
+  /// Whether constraints of type C are projected by a float kernel on padded positions in this sub-step's sweeps
+  /// (stretch under the colors schedule or with padded blocks; bending under the colors schedule).
+  template <class C> bool padded_kernel() const {
+    if constexpr (std::is_same_v<Real, float> && kPaddedStretch) {
+      if (update_ != Update::in_place) return false;
+      if constexpr (std::is_same_v<C, StretchConstraint<float>>) return schedule_ == Schedule::colors || padded_blocks_;
+      if constexpr (std::is_same_v<C, BendingConstraint<float>>) return schedule_ == Schedule::colors;
+    }
+    return false;
+  }
+
   /// Jacobi's over-relaxation factor ω.
   Real omega = 1;
   /// The float stretch kernel may leave the positions padded between sweeps when stretch is all there is (false:
@@ -226,6 +244,8 @@ private:
       out = k_.delta.data();
     }
     part_ = 0;
+    pad_slot_ = part_++;
+    unpad_slot_ = part_++;
     if constexpr (kInPlace)
       if (schedule_ == Schedule::blocks && !padded_blocks_) project_interiors<kReverse>(p, w, coeff);
     auto store = [&](const auto& st, auto i) { project_store<kInPlace, kReverse>(st, s_.lambda[i].data(), p, w, coeff, relax, out); };
@@ -236,11 +256,13 @@ private:
     // parallel within itself; each contact touches one particle), so they have the last word in every sweep.
     project_volumes<kReverse>(p, m_.inverse_mass.data(), p);
     project_store<true, false>(k_.collisions, k_.collision_lambda.data(), p, m_.inverse_mass.data(), coeff, Real(1), p);
+    if (padded_ && !stay_padded_) unpad(p);
   }
 
   template <bool kReverse>
   void project_user_types(Real* p, const Real* w, const SolveCoefficients<Real>* coeff, Real relax, Real* out) {
     const std::size_t n = m_.user.types().size();
+    if (n && padded_) unpad(p);
     for (std::size_t t = 0; t < n; ++t) {
       const auto& type = *m_.user.types()[t];
       Real* lam = s_.user_lambda[t].data();
@@ -281,6 +303,13 @@ private:
         return;
       }
     }
+    if constexpr (kInPlace && std::is_same_v<C, BendingConstraint<float>> && kPaddedStretch) {
+      if (schedule_ == Schedule::colors) {
+        if (st.num_colors() > 0) project_bending_padded_colors<kReverse>(st, lam, p, w, coeff);
+        return;
+      }
+    }
+    if (padded_ && !st.empty()) unpad(p);  // the positions are needed in p
     // The colors (under the block schedule, the boundary colors after the blocks, whose interiors ran before).
     const std::size_t base = part_;
     const Index first = st.sequential, colors = st.num_colors() - first;
@@ -403,15 +432,7 @@ private:
   void project_stretch_padded_colors(const Store<C>& st, Real* lam, Real* p, const Real* w,
                                      const SolveCoefficients<Real>* coeff) {
     if constexpr (std::is_same_v<Real, float>) {
-      const Index n = m_.num_particles();
-      const std::size_t pad_slot = part_++;
-      unpad_slot_ = part_++;
-      if (!padded_) {
-        assert(k_.padded.cols() == n);  // sized by begin()
-        float* q = k_.padded.data();
-        range(0, n, config_, pad_slot,
-                  [&](Index b, Index e) { pad_positions(p, w, b, e, q); });
-      }
+      ensure_padded(p, w);
       float* q = k_.padded.data();
       const bool any_xpbd = s_.lambda_dirty;
       if (st.sequential) project_stretch_interiors_padded<kReverse>(st, q, lam, coeff, any_xpbd);
@@ -426,8 +447,37 @@ private:
         if (st.sequential) boundary_range(st, c, config_, base + c - first, project);
         else blocks_range(st.offsets[c], st.offsets[c + 1], kStretchBlock, config_, base + c - first, project);
       }
+    }
+  }
+
+  // Every bending color on padded positions (colors schedule), four constraints at a time (bending_kernel.hpp);
+  // ranges cut at multiples of kBendingBlock from each color's start.
+  template <bool kReverse, class C>
+  void project_bending_padded_colors(const Store<C>& st, Real* lam, Real* p, const Real* w,
+                                     const SolveCoefficients<Real>* coeff) {
+    if constexpr (std::is_same_v<Real, float>) {
+      ensure_padded(p, w);
+      float* q = k_.padded.data();
+      const bool any_xpbd = s_.lambda_dirty;
+      const std::size_t base = part_;
+      const Index colors = st.num_colors();
+      part_ += std::size_t(colors);
+      for (Index j = 0; j < colors; ++j) {
+        const Index c = kReverse ? colors - 1 - j : j;
+        blocks_range(st.offsets[c], st.offsets[c + 1], kBendingBlock, config_, base + c,
+                     [&](Index b, Index e) { project_bending_range(st.items.data(), b, e, q, coeff, lam, any_xpbd); });
+      }
+    }
+  }
+
+  // The padded copy (x y z w, k_.padded) of the positions p and inverse masses w, unless it is current.
+  void ensure_padded(const Real* p, const Real* w) {
+    if constexpr (std::is_same_v<Real, float>) {
+      if (padded_) return;
+      assert(k_.padded.cols() == m_.num_particles());  // sized by begin()
+      float* q = k_.padded.data();
+      range(0, m_.num_particles(), config_, pad_slot_, [&](Index b, Index e) { pad_positions(p, w, b, e, q); });
       padded_ = true;
-      if (!stretch_only_) unpad(p);
     }
   }
 
@@ -446,6 +496,7 @@ private:
     const auto& v = m_.volume;
     const ParallelConfig blocks = per_block(config_, kVolumeBlock);
     const Index n = Index(v.table.size());
+    if (n && padded_) unpad(p);
     const std::size_t base = part_;
     part_ += std::size_t(n);
     auto one = [&](Index j) {
@@ -482,8 +533,9 @@ private:
   bool parallel_;
   const ParallelConfig& config_;
   std::size_t part_ = 0;        // next partitioner slot of this sweep
-  std::size_t unpad_slot_ = 0;  // partitioner slot of the copy back (the stretch colors reserve it)
-  bool stretch_only_ = false;   // stretch is all a sweep projects: positions may stay padded between sweeps
+  std::size_t pad_slot_ = 0;    // partitioner slot of the copy into k_.padded (every sweep reserves it)
+  std::size_t unpad_slot_ = 0;  // partitioner slot of the copy back (every sweep reserves it)
+  bool stay_padded_ = false;    // every type a sweep projects runs on padded positions: they stay between sweeps
   bool padded_ = false;         // k_.padded holds the positions and p is stale (until end())
   std::size_t interior_items_ = 0;  // constraints in the blocks' interiors (block schedule): decides the fork
   bool padded_blocks_ = false;      // block schedule, float, stretch the only type: on padded positions (SIMD)

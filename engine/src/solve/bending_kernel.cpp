@@ -1,0 +1,133 @@
+#include "bending_kernel.hpp"
+
+#include "wide.hpp"
+
+#include <cstdlib>
+#include <cstring>
+
+#if defined(__SSE2__)
+namespace pbd::detail::bend {
+/// A constant in every lane (bending_math.hpp's Lit): float(v), as the scalar float code converts it.
+template <> struct Lit<wide::FloatW> {
+  static wide::FloatW of(double v) { return wide::splat(float(v)); }
+};
+}  // namespace pbd::detail::bend
+#endif
+
+namespace pbd::detail {
+
+namespace {
+
+// One constraint on padded positions: project()'s correction and writes.
+[[gnu::always_inline]] inline void project_one(const BendingConstraint<float>& c, float* q,
+                                               SolveCoefficients<float> coeff, float& lambda) {
+  Vec3<float> pos[4];
+  float w[4];
+  for (int i = 0; i < 4; ++i) {
+    const float* at = q + 4 * std::size_t(c.particles[i]);
+    pos[i] = Vec3<float>(at[0], at[1], at[2]);
+    w[i] = at[3];
+  }
+  Vec3<float> dp[4];
+  float dlambda;
+  if (!correction(c, pos, w, coeff, lambda, dp, dlambda)) return;
+  if (coeff.alpha_tilde != 0.0f) lambda += dlambda;  // λ is kept only where it enters (projection.hpp)
+  for (int i = 0; i < 4; ++i)
+    if (w[i] != 0.0f) Eigen::Map<Vec3<float>>(q + 4 * std::size_t(c.particles[i])) += dp[i];
+}
+
+#if defined(__SSE2__)
+// Four constraints c[0, 4) in four lanes: gather each corner of the four (one aligned load per particle, then a
+// transpose), the shared arithmetic, then only the writes the scalar projection makes (movable corners of lanes
+// that project; λ of lanes with α̃ ≠ 0). kLambda = false: every α̃ is +0 and every λ 0, so λ is neither read nor
+// written (the scalar "− α̃·λ" then subtracts +0, which changes no bit).
+template <bool kLambda>
+[[gnu::always_inline]] inline void block4(const BendingConstraint<float>* c, float* q,
+                                          const SolveCoefficients<float>* coeff, float* lambda) {
+  using namespace wide;
+  float* at[4][4];  // [corner][lane]
+  bend::V3<FloatW> p[4];
+  FloatW w[4];
+  for (int i = 0; i < 4; ++i) {
+    FloatW v[4];
+    for (int j = 0; j < 4; ++j) {
+      at[i][j] = q + 4 * std::size_t(c[j].particles[i]);
+      v[j] = load(at[i][j]);
+    }
+    const Vec3W t = transpose_xyz(v[0], v[1], v[2], v[3]);
+    p[i] = {t.x, t.y, t.z};
+    w[i] = transpose_w(v[0], v[1], v[2], v[3]);
+  }
+  FloatW k, alpha = zero();
+  const Index set = c[0].set;
+  if (c[1].set == set && c[2].set == set && c[3].set == set) {
+    k = splat(coeff[set].k);
+    if constexpr (kLambda) alpha = splat(coeff[set].alpha_tilde);
+  } else {
+    k = lanes(coeff[set].k, coeff[c[1].set].k, coeff[c[2].set].k, coeff[c[3].set].k);
+    if constexpr (kLambda)
+      alpha = lanes(coeff[set].alpha_tilde, coeff[c[1].set].alpha_tilde, coeff[c[2].set].alpha_tilde,
+                    coeff[c[3].set].alpha_tilde);
+  }
+  const FloatW lam = kLambda ? loadu(lambda) : zero();
+  const FloatW rest = lanes(c[0].rest, c[1].rest, c[2].rest, c[3].rest);
+  const auto r = bend::bending_step<float>(p, w, rest, -k, alpha, lam);
+  const int active = bits(r.ok);
+  if (active == 0) return;
+  if constexpr (kLambda) storeu(lambda, select(r.ok & (alpha != zero()), lam + r.dlambda, lam));
+  for (int i = 0; i < 4; ++i) {
+    FloatW d[4];
+    transpose_points({r.dp[i].x, r.dp[i].y, r.dp[i].z}, d);
+    const int moves = active & ~bits(w[i] == zero());
+    if (moves == 0xF) {
+      for (int j = 0; j < 4; ++j) store(at[i][j], load(at[i][j]) + d[j]);
+    } else {
+      for (int j = 0; j < 4; ++j)
+        if (moves >> j & 1) store(at[i][j], load(at[i][j]) + d[j]);
+    }
+  }
+}
+#endif
+
+template <bool kLambda>
+[[gnu::always_inline]] inline void range_body(const BendingConstraint<float>* c, Index b, Index e, float* q,
+                                              const SolveCoefficients<float>* coeff, float* lambda) {
+#if defined(__SSE2__)
+  for (; b + kBendingBlock <= e; b += kBendingBlock) block4<kLambda>(c + b, q, coeff, lambda + b);
+#endif
+  for (; b < e; ++b) project_one(c[b], q, coeff[c[b].set], lambda[b]);
+}
+
+void range_default(const BendingConstraint<float>* c, Index b, Index e, float* q,
+                   const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+  if (any_xpbd) range_body<true>(c, b, e, q, coeff, lambda);
+  else range_body<false>(c, b, e, q, coeff, lambda);
+}
+
+using RangeFn = decltype(&range_default);
+
+// The same code for AVX2 machines (three-operand encoding, no FMA: the same bits), chosen once by a CPU check.
+#if defined(__x86_64__) && defined(__GNUC__)
+[[gnu::target("avx2")]] void range_avx2(const BendingConstraint<float>* c, Index b, Index e, float* q,
+                                        const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+  if (any_xpbd) range_body<true>(c, b, e, q, coeff, lambda);
+  else range_body<false>(c, b, e, q, coeff, lambda);
+}
+RangeFn pick_range() {
+  if (const char* env = std::getenv("PBD_SIMD"); env && std::strcmp(env, "sse2") == 0) return range_default;
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") ? range_avx2 : range_default;
+}
+#else
+RangeFn pick_range() { return range_default; }
+#endif
+
+}  // namespace
+
+void project_bending_range(const BendingConstraint<float>* c, Index b, Index e, float* q,
+                           const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+  static const RangeFn range = pick_range();
+  range(c, b, e, q, coeff, lambda, any_xpbd);
+}
+
+}  // namespace pbd::detail

@@ -1,0 +1,23 @@
+#pragma once
+// Gauss-Seidel projection of one color's dihedral bending constraints on padded positions (x y z w per particle,
+// stretch_kernel.hpp), four at a time with SSE (private). The lanes run detail/bending_math.hpp, the arithmetic
+// the scalar projection runs, so positions and λ match project() bit for bit; ranges are cut at multiples of
+// kBendingBlock from the color's start all the same, as for stretch.
+// Requires: no two constraints of a range share a movable particle (true within a color; pinned corners may be
+// shared, they are never written).
+#include "pbd/constraints/bending.hpp"
+#include "pbd/stiffness.hpp"
+
+namespace pbd::detail {
+
+/// Constraints per SIMD block: parallel ranges of the bending colors are cut at multiples of this.
+inline constexpr Index kBendingBlock = 4;
+
+/// Gauss-Seidel projection of bending constraints c[b, e) of one color on padded positions q: blocks of
+/// kBendingBlock counted from b with SIMD, the remainder scalar. Same result, bit for bit, as project() one by one.
+/// any_xpbd = false promises that every set of the range has α̃ = +0: λ is then neither read nor written.
+/// Compiled for AVX2 machines and for any x86-64 (stretch_kernel.hpp's dispatch; PBD_SIMD=sse2 keeps SSE2).
+void project_bending_range(const BendingConstraint<float>* c, Index b, Index e, float* q,
+                           const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd);
+
+}  // namespace pbd::detail
