@@ -20,7 +20,7 @@ template <class Real> void hinge(double fold, Vec3<Real> (&p)[4]) {
 // of π over all of [−1, 1], every float near ±1/2 (where it switches form) and near ±1, and the ends exact.
 TEST(Bending, FloatArccosineIsWithinOneAndAHalfUlpOfPi) {
   double worst = 0;
-  auto check = [&](float x) { worst = std::max(worst, std::abs(double(detail::bend::acos_poly(x)) - std::acos(double(x)))); };
+  auto check = [&](float x) { worst = std::max(worst, std::abs(double(detail::bend::acos_poly<float>(x)) - std::acos(double(x)))); };
   for (int i = 0; i <= 2'000'000; ++i) check(float(-1.0 + 2.0 * i / 2'000'000.0));
   for (float x : {0.5f, -0.5f})
     for (int i = 0; i < 1000; ++i) {
@@ -29,9 +29,27 @@ TEST(Bending, FloatArccosineIsWithinOneAndAHalfUlpOfPi) {
     }
   for (float x = 1.0f, i = 0; i < 100000; ++i, x = std::nextafter(x, 0.0f)) check(x), check(-x);
   EXPECT_LT(worst, 3.6e-7);  // 1.5 ulp of π in float (std::acos in float: 0.5 ulp)
-  EXPECT_EQ(detail::bend::acos_poly(-1.0f), float(kPi));
-  EXPECT_EQ(detail::bend::acos_poly(1.0f), 0.0f);
-  EXPECT_EQ(detail::bend::acos_poly(0.0f), float(kPi / 2));
+  EXPECT_EQ(detail::bend::acos_poly<float>(-1.0f), float(kPi));
+  EXPECT_EQ(detail::bend::acos_poly<float>(1.0f), 0.0f);
+  EXPECT_EQ(detail::bend::acos_poly<float>(0.0f), float(kPi / 2));
+}
+
+// The same in double, against long double's acos: within 2 ulp of π.
+TEST(Bending, DoubleArccosineIsWithinTwoUlpOfPi) {
+  long double worst = 0;
+  auto check = [&](double x) {
+    worst = std::max(worst, std::abs((long double)detail::bend::acos_poly<double>(x) - std::acos((long double)x)));
+  };
+  for (int i = 0; i <= 2'000'000; ++i) check(-1.0 + 2.0 * i / 2'000'000.0);
+  for (double x : {0.5, -0.5})
+    for (int i = 0; i < 1000; ++i) {
+      check(x);
+      x = std::nextafter(x, 0.0);
+    }
+  for (double x = 1.0, i = 0; i < 100000; ++i, x = std::nextafter(x, 0.0)) check(x), check(-x);
+  EXPECT_LT(worst, 8.9e-16L);  // 2 ulp of π in double
+  EXPECT_EQ(detail::bend::acos_poly<double>(-1.0), kPi);
+  EXPECT_EQ(detail::bend::acos_poly<double>(1.0), 0.0);
 }
 
 TEST(Bending, AngleIsPiWhenFlatAndFollowsTheFold) {

@@ -1,5 +1,6 @@
 #include "bending_kernel.hpp"
 
+#include "kernels_avx2.hpp"
 #include "wide.hpp"
 
 #include <cstdlib>
@@ -16,24 +17,40 @@ template <> struct Lit<wide::FloatW> {
 
 namespace pbd::detail {
 
+bool avx2_enabled() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool on = [] {
+    if (const char* env = std::getenv("PBD_SIMD"); env && std::strcmp(env, "sse2") == 0) return false;
+    __builtin_cpu_init();
+    return bool(__builtin_cpu_supports("avx2"));
+  }();
+  return on;
+#else
+  return false;
+#endif
+}
+
+bool double_kernels() { return avx2_enabled(); }
+
 namespace {
 
 // One constraint on padded positions: project()'s correction and writes.
-[[gnu::always_inline]] inline void project_one(const BendingConstraint<float>& c, float* q,
-                                               SolveCoefficients<float> coeff, float& lambda) {
-  Vec3<float> pos[4];
-  float w[4];
-  for (int i = 0; i < 4; ++i) {
-    const float* at = q + 4 * std::size_t(c.particles[i]);
-    pos[i] = Vec3<float>(at[0], at[1], at[2]);
+template <class C, class Real>
+[[gnu::always_inline]] inline void project_one(const C& c, Real* q, SolveCoefficients<Real> coeff, Real& lambda) {
+  constexpr int n = C::kArity;
+  Vec3<Real> pos[n];
+  Real w[n];
+  for (int i = 0; i < n; ++i) {
+    const Real* at = q + 4 * std::size_t(c.particles[i]);
+    pos[i] = Vec3<Real>(at[0], at[1], at[2]);
     w[i] = at[3];
   }
-  Vec3<float> dp[4];
-  float dlambda;
+  Vec3<Real> dp[n];
+  Real dlambda;
   if (!correction(c, pos, w, coeff, lambda, dp, dlambda)) return;
-  if (coeff.alpha_tilde != 0.0f) lambda += dlambda;  // λ is kept only where it enters (projection.hpp)
-  for (int i = 0; i < 4; ++i)
-    if (w[i] != 0.0f) Eigen::Map<Vec3<float>>(q + 4 * std::size_t(c.particles[i])) += dp[i];
+  if (coeff.alpha_tilde != Real(0)) lambda += dlambda;  // λ is kept only where it enters (projection.hpp)
+  for (int i = 0; i < n; ++i)
+    if (w[i] != Real(0)) Eigen::Map<Vec3<Real>>(q + 4 * std::size_t(c.particles[i])) += dp[i];
 }
 
 #if defined(__SSE2__)
@@ -93,7 +110,7 @@ template <bool kLambda>
 [[gnu::always_inline]] inline void range_body(const BendingConstraint<float>* c, Index b, Index e, float* q,
                                               const SolveCoefficients<float>* coeff, float* lambda) {
 #if defined(__SSE2__)
-  for (; b + kBendingBlock <= e; b += kBendingBlock) block4<kLambda>(c + b, q, coeff, lambda + b);
+  for (; b + 4 <= e; b += 4) block4<kLambda>(c + b, q, coeff, lambda + b);
 #endif
   for (; b < e; ++b) project_one(c[b], q, coeff[c[b].set], lambda[b]);
 }
@@ -104,30 +121,43 @@ void range_default(const BendingConstraint<float>* c, Index b, Index e, float* q
   else range_body<false>(c, b, e, q, coeff, lambda);
 }
 
-using RangeFn = decltype(&range_default);
-
-// The same code for AVX2 machines (three-operand encoding, no FMA: the same bits), chosen once by a CPU check.
-#if defined(__x86_64__) && defined(__GNUC__)
-[[gnu::target("avx2")]] void range_avx2(const BendingConstraint<float>* c, Index b, Index e, float* q,
-                                        const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
-  if (any_xpbd) range_body<true>(c, b, e, q, coeff, lambda);
-  else range_body<false>(c, b, e, q, coeff, lambda);
-}
-RangeFn pick_range() {
-  if (const char* env = std::getenv("PBD_SIMD"); env && std::strcmp(env, "sse2") == 0) return range_default;
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2") ? range_avx2 : range_default;
-}
-#else
-RangeFn pick_range() { return range_default; }
-#endif
-
 }  // namespace
+
+void project_padded_one(const BendingConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda) {
+  project_one(c, q, coeff, lambda);
+}
+void project_padded_one(const BendingConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
+                        double& lambda) {
+  project_one(c, q, coeff, lambda);
+}
+void project_padded_one(const StretchConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
+                        double& lambda) {
+  project_one(c, q, coeff, lambda);
+}
 
 void project_bending_range(const BendingConstraint<float>* c, Index b, Index e, float* q,
                            const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
-  static const RangeFn range = pick_range();
-  range(c, b, e, q, coeff, lambda, any_xpbd);
+  if (avx2_enabled()) project_bending_range_avx2(c, b, e, q, coeff, lambda, any_xpbd);
+  else range_default(c, b, e, q, coeff, lambda, any_xpbd);
+}
+void project_bending_range(const BendingConstraint<double>* c, Index b, Index e, double* q,
+                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
+  project_bending_range_avx2(c, b, e, q, coeff, lambda, any_xpbd);
+}
+void project_stretch_range(const StretchConstraint<double>* c, Index b, Index e, double* q,
+                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
+  project_stretch_range_avx2(c, b, e, q, coeff, lambda, any_xpbd);
+}
+
+void pad_positions(const double* p, const double* w, Index b, Index e, double* q) {
+  for (Index i = b; i < e; ++i) {
+    for (int d = 0; d < 3; ++d) q[4 * std::size_t(i) + d] = p[3 * std::size_t(i) + d];
+    q[4 * std::size_t(i) + 3] = w[i];
+  }
+}
+void unpad_positions(const double* q, Index b, Index e, double* p) {
+  for (Index i = b; i < e; ++i)
+    for (int d = 0; d < 3; ++d) p[3 * std::size_t(i) + d] = q[4 * std::size_t(i) + d];
 }
 
 }  // namespace pbd::detail

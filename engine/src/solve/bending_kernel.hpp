@@ -6,18 +6,34 @@
 // Requires: no two constraints of a range share a movable particle (true within a color; pinned corners may be
 // shared, they are never written).
 #include "pbd/constraints/bending.hpp"
+#include "pbd/constraints/stretch.hpp"
 #include "pbd/stiffness.hpp"
 
 namespace pbd::detail {
 
-/// Constraints per SIMD block: parallel ranges of the bending colors are cut at multiples of this.
-inline constexpr Index kBendingBlock = 4;
+/// Constraints per SIMD block (the widest: eight float lanes under AVX2): parallel ranges of the bending colors,
+/// and of the double stretch colors, are cut at multiples of this.
+inline constexpr Index kBendingBlock = 8;
 
 /// Gauss-Seidel projection of bending constraints c[b, e) of one color on padded positions q: blocks of
 /// kBendingBlock counted from b with SIMD, the remainder scalar. Same result, bit for bit, as project() one by one.
 /// any_xpbd = false promises that every set of the range has α̃ = +0: λ is then neither read nor written.
-/// Compiled for AVX2 machines and for any x86-64 (stretch_kernel.hpp's dispatch; PBD_SIMD=sse2 keeps SSE2).
+/// On AVX2 machines eight at a time (kernels_avx2.hpp), else four (SSE2; PBD_SIMD=sse2 keeps these).
 void project_bending_range(const BendingConstraint<float>* c, Index b, Index e, float* q,
                            const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd);
+/// The same in double, four at a time: only on AVX2 machines (double_kernels()).
+void project_bending_range(const BendingConstraint<double>* c, Index b, Index e, double* q,
+                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
+/// Stretch constraints c[b, e) of one color on padded positions q in double, four at a time (double_kernels()).
+void project_stretch_range(const StretchConstraint<double>* c, Index b, Index e, double* q,
+                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
+/// Whether double precision has SIMD kernels in this process (AVX2, not PBD_SIMD=sse2): stretch and bending colors
+/// on padded positions. Otherwise double projects every type with the scalar code on p.
+bool double_kernels();
+
+/// Particles [b, e) between positions p (3 per particle) with inverse masses w and padded positions q, in double
+/// (float: stretch_kernel.hpp).
+void pad_positions(const double* p, const double* w, Index b, Index e, double* q);
+void unpad_positions(const double* q, Index b, Index e, double* p);
 
 }  // namespace pbd::detail

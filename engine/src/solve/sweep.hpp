@@ -161,8 +161,8 @@ public:
     for_each_store(m_.stores, [&](const auto& st, auto i) { padded_blocks_ = padded_blocks_ && (i == 0 || st.empty()); });
     // Only types the float kernels project on padded positions (stretch; bending under the colors schedule): the
     // positions may stay padded from one sweep to the next.
-    stay_padded_ = std::is_same_v<Real, float> && kPaddedStretch && update_ == Update::in_place &&
-                   schedule_ != Schedule::insertion;
+    double_kernels_ = std::is_same_v<Real, double> && double_kernels();
+    stay_padded_ = update_ == Update::in_place && schedule_ != Schedule::insertion;
     for_each_store(m_.stores, [&](const auto& st, auto) {
       using C = typename std::remove_cvref_t<decltype(st)>::value_type;
       stay_padded_ = stay_padded_ && (st.empty() || padded_kernel<C>());
@@ -171,10 +171,12 @@ public:
     interior_items_ = 0;
     for_each_store(m_.stores, [&](const auto& st, auto) { interior_items_ += st.sequential ? st.offsets[st.sequential] : 0; });
     for (const auto& t : m_.user.types()) interior_items_ += t->num_blocks() ? t->color_begin(t->num_blocks()) : 0;
-    if constexpr (std::is_same_v<Real, float> && kPaddedStretch)  // sized here, never by a team's members
-      if (schedule_ != Schedule::insertion && update_ == Update::in_place &&
-          (!m_.template store<StretchConstraint<float>>().empty() || !m_.template store<BendingConstraint<float>>().empty()))
-        k_.padded.resize(4, m_.num_particles());
+    bool any_padded = false;  // sized here, never by a team's members
+    for_each_store(m_.stores, [&](const auto& st, auto) {
+      using C = typename std::remove_cvref_t<decltype(st)>::value_type;
+      any_padded = any_padded || (!st.empty() && padded_kernel<C>());
+    });
+    if (any_padded) k_.padded.resize(m_.num_particles());
     // A team (team.hpp) for the sweeps: Gauss-Seidel in place with the built-in types and contacts only (user types
     // may fork inside, volumes reduce with loops of their own), only when some loop is large enough to share, and
     // under the block schedule only when the interiors are shared (else sharing the boundary alone moves its cache
@@ -216,11 +218,13 @@ public:
   /// Whether constraints of type C are projected by a float kernel on padded positions in this sub-step's sweeps
   /// (stretch under the colors schedule or with padded blocks; bending under the colors schedule).
   template <class C> bool padded_kernel() const {
+    if (update_ != Update::in_place) return false;
     if constexpr (std::is_same_v<Real, float> && kPaddedStretch) {
-      if (update_ != Update::in_place) return false;
       if constexpr (std::is_same_v<C, StretchConstraint<float>>) return schedule_ == Schedule::colors || padded_blocks_;
       if constexpr (std::is_same_v<C, BendingConstraint<float>>) return schedule_ == Schedule::colors;
     }
+    if constexpr (std::is_same_v<C, StretchConstraint<double>> || std::is_same_v<C, BendingConstraint<double>>)
+      return schedule_ == Schedule::colors && double_kernels_;
     return false;
   }
 
@@ -297,14 +301,14 @@ private:
       project_in_insertion_order<kInPlace, kReverse>(st, lam, p, w, coeff_of, relax, out);
       return;
     }
-    if constexpr (kInPlace && std::is_same_v<C, StretchConstraint<float>> && kPaddedStretch) {
-      if (schedule_ == Schedule::colors || padded_blocks_) {  // padded_blocks_: the interiors too, stretch alone
+    if constexpr (kInPlace && std::is_same_v<C, StretchConstraint<Real>>) {
+      if (padded_kernel<C>()) {  // padded_blocks_: the interiors too, stretch alone
         if (st.num_colors() > 0) project_stretch_padded_colors<kReverse>(st, lam, p, w, coeff);
         return;
       }
     }
-    if constexpr (kInPlace && std::is_same_v<C, BendingConstraint<float>> && kPaddedStretch) {
-      if (schedule_ == Schedule::colors) {
+    if constexpr (kInPlace && std::is_same_v<C, BendingConstraint<Real>>) {
+      if (padded_kernel<C>()) {
         if (st.num_colors() > 0) project_bending_padded_colors<kReverse>(st, lam, p, w, coeff);
         return;
       }
@@ -447,6 +451,18 @@ private:
         if (st.sequential) boundary_range(st, c, config_, base + c - first, project);
         else blocks_range(st.offsets[c], st.offsets[c + 1], kStretchBlock, config_, base + c - first, project);
       }
+    } else {  // double (AVX2): the colors, four at a time
+      ensure_padded(p, w);
+      double* q = k_.padded.data();
+      const bool any_xpbd = s_.lambda_dirty;
+      const std::size_t base = part_;
+      const Index colors = st.num_colors();
+      part_ += std::size_t(colors);
+      for (Index j = 0; j < colors; ++j) {
+        const Index c = kReverse ? colors - 1 - j : j;
+        blocks_range(st.offsets[c], st.offsets[c + 1], kBendingBlock, config_, base + c,
+                     [&](Index b, Index e) { project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd); });
+      }
     }
   }
 
@@ -455,9 +471,9 @@ private:
   template <bool kReverse, class C>
   void project_bending_padded_colors(const Store<C>& st, Real* lam, Real* p, const Real* w,
                                      const SolveCoefficients<Real>* coeff) {
-    if constexpr (std::is_same_v<Real, float>) {
+    {
       ensure_padded(p, w);
-      float* q = k_.padded.data();
+      Real* q = k_.padded.data();
       const bool any_xpbd = s_.lambda_dirty;
       const std::size_t base = part_;
       const Index colors = st.num_colors();
@@ -472,21 +488,16 @@ private:
 
   // The padded copy (x y z w, k_.padded) of the positions p and inverse masses w, unless it is current.
   void ensure_padded(const Real* p, const Real* w) {
-    if constexpr (std::is_same_v<Real, float>) {
-      if (padded_) return;
-      assert(k_.padded.cols() == m_.num_particles());  // sized by begin()
-      float* q = k_.padded.data();
-      range(0, m_.num_particles(), config_, pad_slot_, [&](Index b, Index e) { pad_positions(p, w, b, e, q); });
-      padded_ = true;
-    }
+    if (padded_) return;
+    assert(k_.padded.size() == m_.num_particles());  // sized by begin()
+    Real* q = k_.padded.data();
+    range(0, m_.num_particles(), config_, pad_slot_, [&](Index b, Index e) { pad_positions(p, w, b, e, q); });
+    padded_ = true;
   }
 
   void unpad(Real* p) {
-    if constexpr (std::is_same_v<Real, float>) {
-      const float* q = k_.padded.data();
-      range(0, m_.num_particles(), config_, unpad_slot_,
-                [&](Index b, Index e) { unpad_positions(q, b, e, p); });
-    }
+    const Real* q = k_.padded.data();
+    range(0, m_.num_particles(), config_, unpad_slot_, [&](Index b, Index e) { unpad_positions(q, b, e, p); });
     padded_ = false;
   }
 
@@ -536,6 +547,7 @@ private:
   std::size_t pad_slot_ = 0;    // partitioner slot of the copy into k_.padded (every sweep reserves it)
   std::size_t unpad_slot_ = 0;  // partitioner slot of the copy back (every sweep reserves it)
   bool stay_padded_ = false;    // every type a sweep projects runs on padded positions: they stay between sweeps
+  bool double_kernels_ = false; // double, and the AVX2 kernels run: stretch and bending colors on padded positions
   bool padded_ = false;         // k_.padded holds the positions and p is stale (until end())
   std::size_t interior_items_ = 0;  // constraints in the blocks' interiors (block schedule): decides the fork
   bool padded_blocks_ = false;      // block schedule, float, stretch the only type: on padded positions (SIMD)

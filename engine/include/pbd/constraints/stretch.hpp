@@ -19,12 +19,17 @@ template <class Real> struct StretchConstraint {
   Real rest;                                   ///< rest distance d ≥ 0
 };
 
+/// |d|² summed as x² + (y² + z²), the order the SIMD kernels' lanes use (stretch_kernel.hpp), in both precisions.
+template <class Real> inline Real squared_length(const Vec3<Real>& d) {
+  return d.x() * d.x() + (d.y() * d.y() + d.z() * d.z());
+}
+
 /// C = |p0 − p1| − d, ∇0 C = n, ∇1 C = −n with n = (p0 − p1)/|p0 − p1|.
 /// Guard: coincident particles (|p0 − p1|² below tiny_squared) have no direction: returns false, nothing moves.
 template <class Real>
 inline bool evaluate(const StretchConstraint<Real>& c, const Vec3<Real> (&p)[2], Real& C, Vec3<Real> (&grad)[2]) {
   const Vec3<Real> d = p[0] - p[1];
-  const Real len2 = d.squaredNorm();
+  const Real len2 = squared_length(d);
   if (!(len2 > tiny_squared<Real>())) return false;
   const Real len = std::sqrt(len2);
   C = len - c.rest;
@@ -39,7 +44,7 @@ template <class Real>
 inline bool correction(const StretchConstraint<Real>& c, const Vec3<Real> (&p)[2], const Real (&w)[2],
                        SolveCoefficients<Real> coeff, Real lambda, Vec3<Real> (&dp)[2], Real& dlambda) {
   const Vec3<Real> d = p[0] - p[1];
-  const Real len2 = d.squaredNorm();
+  const Real len2 = squared_length(d);
   if (!(len2 > tiny_squared<Real>())) return false;
   const Real denom = coeff.alpha_tilde + w[0] + w[1];
   if (!(denom > Real(0))) return false;

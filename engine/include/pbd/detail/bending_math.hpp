@@ -9,6 +9,8 @@
 #include "pbd/types.hpp"
 
 #include <cmath>
+#include <cstddef>
+#include <iterator>
 #include <limits>
 
 namespace pbd::detail::bend {
@@ -49,27 +51,41 @@ template <class T> [[gnu::always_inline]] inline T dot(const V3<T>& a, const V3<
 }
 template <class T> [[gnu::always_inline]] inline T norm2(const V3<T>& a) { return dot(a, a); }
 
-/// acos(x) for x in [−1, 1] from Cephes' single-precision arcsine polynomial (Moshier): with a = |x|,
-/// asin(a) = s + s·z·P(z), z = a², s = a for a ≤ 1/2, and z = (1 − a)/2, s = √z (then acos(a) = 2·asin(s)) above.
-/// At most 3.0e-7 rad from the true value over [−1, 1] (tests/engine/bending_test.cpp), 1.25 ulp of π in float
-/// (std::acos: 0.5 ulp). Plain arithmetic (no table, no branch), so the lanes and the scalar code agree.
-template <class T> [[gnu::always_inline]] inline T acos_poly(T x) {
+/// Coefficients of P, highest degree first, in asin(s) = s + s·(P(z)·z) with z = s², s in [0, 1/2].
+/// float: Cephes' single-precision arcsine (Moshier). double: a degree-12 Chebyshev fit of (asin √z − √z)/z^{3/2}
+/// on [0, 1/4] (mpmath, 50 digits; fit error 1.5e-17, so asin is within rounding, about 1 ulp).
+template <class Real> struct AsinPoly;
+template <> struct AsinPoly<float> {
+  static constexpr double c[] = {4.2163199048e-2, 2.4181311049e-2, 4.5470025998e-2, 7.4953002686e-2, 1.6666752422e-1};
+};
+template <> struct AsinPoly<double> {
+  static constexpr double c[] = {0.028757851367421566, -0.014851887071247204, 0.01740087944269402,
+                                 0.005457506718640358, 0.01032281435018578,   0.011479177415184906,
+                                 0.013971212973552933, 0.017352392720869973,  0.02237217294214989,
+                                 0.030381944138531247, 0.04464285714635543,   0.07499999999998433,
+                                 0.16666666666666669};
+};
+
+/// acos(x) for x in [−1, 1] in precision Real from the arcsine polynomial: with a = |x|, asin(a) = s + s·P(z)·z
+/// with z = a², s = a for a ≤ 1/2, and z = (1 − a)/2, s = √z above (acos(a) = 2·asin(s) there). Within 1.25 ulp of
+/// π of the true angle in float (std::acos: 0.5 ulp) and 2 ulp of π in double (tests/engine/bending_test.cpp).
+/// Plain arithmetic (no table, no branch), so SIMD lanes and the scalar code agree.
+template <class Real, class T> [[gnu::always_inline]] inline T acos_poly(T x) {
   using L = Lit<T>;
   const T one = L::of(1.0), half = L::of(0.5);
   const T a = abs(x);
   const auto big = a > half;
   const T z = select(big, half * (one - a), a * a);
   const T s = select(big, sqrt(z), a);
-  const T p = ((((L::of(4.2163199048e-2) * z + L::of(2.4181311049e-2)) * z + L::of(4.5470025998e-2)) * z +
-                L::of(7.4953002686e-2)) * z + L::of(1.6666752422e-1)) * z;
+  constexpr auto& c = AsinPoly<Real>::c;
+  T p = L::of(c[0]);
+  for (std::size_t i = 1; i < std::size(c); ++i) p = p * z + L::of(c[i]);
+  p = p * z;
   const T r = s + s * p;  // asin(s)
   const T two_r = r + r, pi = L::of(3.14159265358979323846), half_pi = L::of(1.57079632679489661923);
   const auto neg = x < L::of(0.0);
   return select(big, select(neg, pi - two_r, two_r), select(neg, half_pi + r, half_pi - r));
 }
-/// acos of the bending angle: the polynomial in float (scalar or lanes), std::acos in double.
-template <class T> [[gnu::always_inline]] inline T bending_acos(T x) { return acos_poly(x); }
-template <> [[gnu::always_inline]] inline double bending_acos(double x) { return std::acos(x); }
 
 /// The constraint's value and gradient where ok (both triangles give a normal and the pair is off the kink).
 template <class T, class M> struct BendingGradient {
@@ -93,7 +109,8 @@ template <class Real, class T>
   const V3<T> e = p[1] - p[0], u = p[2] - p[0], v = p[3] - p[0];
   const V3<T> a = cross(e, u), b = cross(e, v);
   const T la2 = norm2(a), lb2 = norm2(b), e2 = norm2(e);
-  const T tiny = L::of(tiny_squared<Real>()), sine2 = L::of(sine * sine);
+  constexpr Real tiny_c = tiny_squared<Real>(), sine2_c = sine * sine;  // folded here, never called at run time
+  const T tiny = L::of(tiny_c), sine2 = L::of(sine2_c);
   // degenerate_cross: either triangle's corners are collinear at this precision, or a cross product underflows
   auto ok = (la2 > tiny) & (la2 > sine2 * e2 * norm2(u)) & (lb2 > tiny) & (lb2 > sine2 * e2 * norm2(v));
   const T one = L::of(1.0);
@@ -110,7 +127,7 @@ template <class Real, class T>
   r.g[3] = cross(t2, e) * scale;
   r.g[1] = (cross(u, t1) + cross(v, t2)) * scale;
   r.g[0] = V3<T>{L::of(0.0), L::of(0.0), L::of(0.0)} - r.g[1] - r.g[2] - r.g[3];
-  r.C = bending_acos(d) - rest;
+  r.C = acos_poly<Real>(d) - rest;
   return r;
 }
 

@@ -1,0 +1,162 @@
+// AVX2 builds of the bending kernel (float and double) and of the double stretch kernel (kernels_avx2.hpp).
+// This file alone is compiled with -mavx2 -mno-fma (engine/CMakeLists.txt). It instantiates no inline function the
+// rest of the engine also instantiates (the scalar remainders are called out of line), so the linker never keeps an
+// AVX2 copy of a function other files call on machines without AVX2.
+#include "kernels_avx2.hpp"
+
+#include "wide_avx.hpp"
+
+#include <cstdlib>
+
+#if defined(__AVX2__)
+namespace pbd::detail::bend {
+/// A constant in every lane: Real(v), as the scalar code converts it.
+template <> struct Lit<wide8::FloatW8> {
+  [[gnu::always_inline]] static wide8::FloatW8 of(double v) { return wide8::Lanes<wide8::FloatW8>::splat(float(v)); }
+};
+template <> struct Lit<wide8::DoubleW4> {
+  [[gnu::always_inline]] static wide8::DoubleW4 of(double v) { return wide8::Lanes<wide8::DoubleW4>::splat(v); }
+};
+}  // namespace pbd::detail::bend
+#endif
+
+namespace pbd::detail {
+
+#if defined(__AVX2__)
+namespace {
+
+using wide8::Lanes;
+constexpr double kTiny = tiny_squared<double>();  // folded here, never called at run time
+
+// k and α̃ of the lanes' constraints: read once when they share one set (the usual case), else lane by lane.
+template <class W, bool kLambda, class C, class Real>
+[[gnu::always_inline]] inline void lane_coefficients(const C* c, const SolveCoefficients<Real>* coeff, W& k, W& alpha) {
+  using L = Lanes<W>;
+  bool one_set = true;
+  for (int j = 1; j < L::kCount; ++j) one_set = one_set && c[j].set == c[0].set;
+  alpha = L::zero();
+  if (one_set) {
+    k = L::splat(coeff[c[0].set].k);
+    if constexpr (kLambda) alpha = L::splat(coeff[c[0].set].alpha_tilde);
+  } else {
+    k = L::of([&](int j) { return coeff[c[j].set].k; });
+    if constexpr (kLambda) alpha = L::of([&](int j) { return coeff[c[j].set].alpha_tilde; });
+  }
+}
+
+// L::kCount bending constraints of one color in the lanes: bending_step as the scalar correction() runs it, and only
+// the writes project() makes (movable corners of lanes that project; λ of lanes with α̃ ≠ 0). kLambda = false: every
+// α̃ is +0 and every λ 0 (the scalar "− α̃·λ" then subtracts +0, which changes no bit).
+template <class W, bool kLambda, class Real>
+[[gnu::always_inline]] inline void bending_block(const BendingConstraint<Real>* c, Real* q,
+                                                 const SolveCoefficients<Real>* coeff, Real* lambda) {
+  using L = Lanes<W>;
+  constexpr int n = L::kCount;
+  Real* at[4][n];  // [corner][lane]
+  bend::V3<W> p[4];
+  W w[4];
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < n; ++j) at[i][j] = q + 4 * std::size_t(c[j].particles[i]);
+    W xyzw[4];
+    L::gather(at[i], xyzw);
+    p[i] = {xyzw[0], xyzw[1], xyzw[2]};
+    w[i] = xyzw[3];
+  }
+  W k, alpha;
+  lane_coefficients<W, kLambda>(c, coeff, k, alpha);
+  const W lam = kLambda ? L::loadu(lambda) : L::zero();
+  const W rest = L::of([&](int j) { return c[j].rest; });
+  const auto r = bend::bending_step<Real>(p, w, rest, -k, alpha, lam);
+  const int active = bits(r.ok);
+  if (active == 0) return;
+  if constexpr (kLambda) L::storeu(lambda, select(r.ok & (alpha != L::zero()), lam + r.dlambda, lam));
+  for (int i = 0; i < 4; ++i)
+    if (const int moves = active & ~bits(w[i] == L::zero())) L::add(at[i], r.dp[i].x, r.dp[i].y, r.dp[i].z, moves);
+}
+
+// Four double stretch constraints in the lanes: stretch.hpp's correction() and project()'s writes.
+template <bool kLambda>
+[[gnu::always_inline]] inline void stretch_block(const StretchConstraint<double>* c, double* q,
+                                                 const SolveCoefficients<double>* coeff, double* lambda) {
+  using W = wide8::DoubleW4;
+  using L = Lanes<W>;
+  double* a[4];
+  double* b[4];
+  for (int j = 0; j < 4; ++j) {
+    a[j] = q + 4 * std::size_t(c[j].particles[0]);
+    b[j] = q + 4 * std::size_t(c[j].particles[1]);
+  }
+  W pa[4], pb[4];
+  L::gather(a, pa);
+  L::gather(b, pb);
+  const W dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2];
+  const W len2 = dx * dx + (dy * dy + dz * dz);
+  W k, alpha;
+  lane_coefficients<W, kLambda>(c, coeff, k, alpha);
+  const W denom = alpha + pa[3] + pb[3];
+  const int active = bits((len2 > L::splat(kTiny)) & (denom > L::zero()));
+  if (active == 0) return;
+  const W len = sqrt(len2);
+  const W rest = L::of([&](int j) { return c[j].rest; });
+  W num = -k * (len - rest);
+  const W lam = kLambda ? L::loadu(lambda) : L::zero();
+  if constexpr (kLambda) num = num - alpha * lam;
+  const W s = num / (denom * len);
+  if constexpr (kLambda) {
+    const auto ok = (len2 > L::splat(kTiny)) & (denom > L::zero()) & (alpha != L::zero());
+    L::storeu(lambda, select(ok, lam + s * len, lam));
+  }
+  const W sa = pa[3] * s, sb = -pb[3] * s;
+  if (const int moves = active & ~bits(pa[3] == L::zero())) L::add(a, dx * sa, dy * sa, dz * sa, moves);
+  if (const int moves = active & ~bits(pb[3] == L::zero())) L::add(b, dx * sb, dy * sb, dz * sb, moves);
+}
+
+template <class W, bool kLambda, class Real>
+void bending_range(const BendingConstraint<Real>* c, Index b, Index e, Real* q, const SolveCoefficients<Real>* coeff,
+                   Real* lambda) {
+  constexpr Index n = Lanes<W>::kCount;
+  for (; b + n <= e; b += n) bending_block<W, kLambda>(c + b, q, coeff, lambda + b);
+  for (; b < e; ++b) project_padded_one(c[b], q, coeff[c[b].set], lambda[b]);
+}
+
+template <bool kLambda>
+void stretch_range(const StretchConstraint<double>* c, Index b, Index e, double* q,
+                   const SolveCoefficients<double>* coeff, double* lambda) {
+  for (; b + 4 <= e; b += 4) stretch_block<kLambda>(c + b, q, coeff, lambda + b);
+  for (; b < e; ++b) project_padded_one(c[b], q, coeff[c[b].set], lambda[b]);
+}
+
+}  // namespace
+
+void project_bending_range_avx2(const BendingConstraint<float>* c, Index b, Index e, float* q,
+                                const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+  if (any_xpbd) bending_range<wide8::FloatW8, true>(c, b, e, q, coeff, lambda);
+  else bending_range<wide8::FloatW8, false>(c, b, e, q, coeff, lambda);
+}
+void project_bending_range_avx2(const BendingConstraint<double>* c, Index b, Index e, double* q,
+                                const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
+  if (any_xpbd) bending_range<wide8::DoubleW4, true>(c, b, e, q, coeff, lambda);
+  else bending_range<wide8::DoubleW4, false>(c, b, e, q, coeff, lambda);
+}
+void project_stretch_range_avx2(const StretchConstraint<double>* c, Index b, Index e, double* q,
+                                const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
+  if (any_xpbd) stretch_range<true>(c, b, e, q, coeff, lambda);
+  else stretch_range<false>(c, b, e, q, coeff, lambda);
+}
+
+#else  // not built for AVX2 (another architecture or compiler): avx2_enabled() is false, these are never called
+void project_bending_range_avx2(const BendingConstraint<float>*, Index, Index, float*, const SolveCoefficients<float>*,
+                                float*, bool) {
+  std::abort();
+}
+void project_bending_range_avx2(const BendingConstraint<double>*, Index, Index, double*,
+                                const SolveCoefficients<double>*, double*, bool) {
+  std::abort();
+}
+void project_stretch_range_avx2(const StretchConstraint<double>*, Index, Index, double*,
+                                const SolveCoefficients<double>*, double*, bool) {
+  std::abort();
+}
+#endif
+
+}  // namespace pbd::detail

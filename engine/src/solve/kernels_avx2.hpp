@@ -1,0 +1,32 @@
+#pragma once
+// The SIMD kernels' AVX2 builds (private): eight float lanes or four double lanes of the arithmetic the scalar
+// projections run (bending_math.hpp; stretch.hpp's correction), on padded positions (x y z w per particle), so
+// they give project()'s bits. Compiled with -mavx2 and without FMA in a file of their own (kernels_avx2.cpp); call
+// them only when avx2_enabled(). Ranges: constraints c[b, e) of one color, the remainder past the last full block
+// projected one at a time.
+#include "pbd/constraints/bending.hpp"
+#include "pbd/constraints/stretch.hpp"
+#include "pbd/stiffness.hpp"
+
+namespace pbd::detail {
+
+/// True when the CPU has AVX2 and the environment does not ask for SSE2 alone (PBD_SIMD=sse2); checked once.
+bool avx2_enabled();
+
+/// Bending on padded positions q: eight constraints at a time in float, four in double.
+void project_bending_range_avx2(const BendingConstraint<float>* c, Index b, Index e, float* q,
+                                const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd);
+void project_bending_range_avx2(const BendingConstraint<double>* c, Index b, Index e, double* q,
+                                const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
+/// Stretch on padded positions q in double, four at a time (float has stretch_kernel.hpp's).
+void project_stretch_range_avx2(const StretchConstraint<double>* c, Index b, Index e, double* q,
+                                const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
+
+/// One constraint on padded positions, scalar (the kernels' remainders; compiled for any x86-64).
+void project_padded_one(const BendingConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda);
+void project_padded_one(const BendingConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
+                        double& lambda);
+void project_padded_one(const StretchConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
+                        double& lambda);
+
+}  // namespace pbd::detail

@@ -1,0 +1,140 @@
+#pragma once
+// 256-bit lanes for the kernels' AVX2 builds (private; include only in a file compiled with -mavx2 -mno-fma, see
+// engine/CMakeLists.txt, and call it only after avx2_enabled()): eight floats or four doubles, with the operations
+// wide.hpp gives its four floats (bending_math.hpp's list), plus the gathers and scatters of padded points
+// (x y z w per particle). Each operation is one correctly rounded instruction per lane and there is no fused
+// multiply-add, so a lane gives the bits of the scalar expression.
+// Keep every function here inline and specific to these types: the file is compiled for AVX2 only, and an inline
+// function it shared with the rest of the engine could be the copy the linker keeps.
+#if defined(__AVX2__)
+#include <immintrin.h>
+
+namespace pbd::detail::wide8 {
+
+#define PBD_W8 [[gnu::always_inline]] inline
+
+/// Eight floats; four doubles.
+struct FloatW8 {
+  __m256 v;
+};
+struct DoubleW4 {
+  __m256d v;
+};
+/// Lane masks (all bits set = true).
+struct MaskF8 {
+  __m256 v;
+};
+struct MaskD4 {
+  __m256d v;
+};
+
+// Floats.
+PBD_W8 FloatW8 operator+(FloatW8 a, FloatW8 b) { return {_mm256_add_ps(a.v, b.v)}; }
+PBD_W8 FloatW8 operator-(FloatW8 a, FloatW8 b) { return {_mm256_sub_ps(a.v, b.v)}; }
+PBD_W8 FloatW8 operator*(FloatW8 a, FloatW8 b) { return {_mm256_mul_ps(a.v, b.v)}; }
+PBD_W8 FloatW8 operator/(FloatW8 a, FloatW8 b) { return {_mm256_div_ps(a.v, b.v)}; }
+PBD_W8 FloatW8 operator-(FloatW8 a) { return {_mm256_xor_ps(a.v, _mm256_set1_ps(-0.0f))}; }
+PBD_W8 FloatW8 sqrt(FloatW8 a) { return {_mm256_sqrt_ps(a.v)}; }
+PBD_W8 FloatW8 min(FloatW8 a, FloatW8 b) { return {_mm256_min_ps(a.v, b.v)}; }
+PBD_W8 FloatW8 max(FloatW8 a, FloatW8 b) { return {_mm256_max_ps(a.v, b.v)}; }
+PBD_W8 FloatW8 abs(FloatW8 a) { return {_mm256_andnot_ps(_mm256_set1_ps(-0.0f), a.v)}; }
+PBD_W8 MaskF8 operator>(FloatW8 a, FloatW8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)}; }
+PBD_W8 MaskF8 operator<(FloatW8 a, FloatW8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
+PBD_W8 MaskF8 operator==(FloatW8 a, FloatW8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)}; }
+PBD_W8 MaskF8 operator!=(FloatW8 a, FloatW8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_NEQ_UQ)}; }
+PBD_W8 MaskF8 operator&(MaskF8 a, MaskF8 b) { return {_mm256_and_ps(a.v, b.v)}; }
+PBD_W8 int bits(MaskF8 m) { return _mm256_movemask_ps(m.v); }
+PBD_W8 FloatW8 select(MaskF8 m, FloatW8 a, FloatW8 b) { return {_mm256_blendv_ps(b.v, a.v, m.v)}; }
+
+// Doubles.
+PBD_W8 DoubleW4 operator+(DoubleW4 a, DoubleW4 b) { return {_mm256_add_pd(a.v, b.v)}; }
+PBD_W8 DoubleW4 operator-(DoubleW4 a, DoubleW4 b) { return {_mm256_sub_pd(a.v, b.v)}; }
+PBD_W8 DoubleW4 operator*(DoubleW4 a, DoubleW4 b) { return {_mm256_mul_pd(a.v, b.v)}; }
+PBD_W8 DoubleW4 operator/(DoubleW4 a, DoubleW4 b) { return {_mm256_div_pd(a.v, b.v)}; }
+PBD_W8 DoubleW4 operator-(DoubleW4 a) { return {_mm256_xor_pd(a.v, _mm256_set1_pd(-0.0))}; }
+PBD_W8 DoubleW4 sqrt(DoubleW4 a) { return {_mm256_sqrt_pd(a.v)}; }
+PBD_W8 DoubleW4 min(DoubleW4 a, DoubleW4 b) { return {_mm256_min_pd(a.v, b.v)}; }
+PBD_W8 DoubleW4 max(DoubleW4 a, DoubleW4 b) { return {_mm256_max_pd(a.v, b.v)}; }
+PBD_W8 DoubleW4 abs(DoubleW4 a) { return {_mm256_andnot_pd(_mm256_set1_pd(-0.0), a.v)}; }
+PBD_W8 MaskD4 operator>(DoubleW4 a, DoubleW4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_GT_OQ)}; }
+PBD_W8 MaskD4 operator<(DoubleW4 a, DoubleW4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_LT_OQ)}; }
+PBD_W8 MaskD4 operator==(DoubleW4 a, DoubleW4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_EQ_OQ)}; }
+PBD_W8 MaskD4 operator!=(DoubleW4 a, DoubleW4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_NEQ_UQ)}; }
+PBD_W8 MaskD4 operator&(MaskD4 a, MaskD4 b) { return {_mm256_and_pd(a.v, b.v)}; }
+PBD_W8 int bits(MaskD4 m) { return _mm256_movemask_pd(m.v); }
+PBD_W8 DoubleW4 select(MaskD4 m, DoubleW4 a, DoubleW4 b) { return {_mm256_blendv_pd(b.v, a.v, m.v)}; }
+
+/// What a kernel needs of a lane type beyond arithmetic: its scalar, its lane count, constants, per-lane values,
+/// λ in and out, and padded points gathered into x, y, z and w across lanes and added back.
+template <class W> struct Lanes;
+
+template <> struct Lanes<FloatW8> {
+  using Real = float;
+  static constexpr int kCount = 8;
+  PBD_W8 static FloatW8 splat(float a) { return {_mm256_set1_ps(a)}; }
+  PBD_W8 static FloatW8 zero() { return {_mm256_setzero_ps()}; }
+  template <class F> PBD_W8 static FloatW8 of(const F& f) {
+    return {_mm256_setr_ps(f(0), f(1), f(2), f(3), f(4), f(5), f(6), f(7))};
+  }
+  PBD_W8 static FloatW8 loadu(const float* p) { return {_mm256_loadu_ps(p)}; }
+  PBD_W8 static void storeu(float* p, FloatW8 a) { _mm256_storeu_ps(p, a.v); }
+  /// Points at[0..8) (x y z w, 16-byte aligned) → x, y, z, w across the lanes.
+  PBD_W8 static void gather(float* const (&at)[8], FloatW8 (&xyzw)[4]) {
+    __m256 r[4];
+    for (int j = 0; j < 4; ++j)  // lane j holds point j in its low half and point j + 4 in its high half
+      r[j] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(at[j])), _mm_load_ps(at[j + 4]), 1);
+    const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpacklo_ps(r[2], r[3]);  // x0 x1 y0 y1 | ...
+    const __m256 t2 = _mm256_unpackhi_ps(r[0], r[1]), t3 = _mm256_unpackhi_ps(r[2], r[3]);  // z0 z1 w0 w1 | ...
+    xyzw[0] = {_mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(1, 0, 1, 0))};
+    xyzw[1] = {_mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(3, 2, 3, 2))};
+    xyzw[2] = {_mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(1, 0, 1, 0))};
+    xyzw[3] = {_mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(3, 2, 3, 2))};
+  }
+  /// at[j] += (x, y, z) of lane j, for the lanes set in `moves` (w kept).
+  PBD_W8 static void add(float* const (&at)[8], FloatW8 x, FloatW8 y, FloatW8 z, int moves) {
+    const __m256 o = _mm256_setzero_ps();
+    const __m256 t0 = _mm256_unpacklo_ps(x.v, y.v), t1 = _mm256_unpacklo_ps(z.v, o);  // x0 y0 x1 y1 | z0 0 z1 0
+    const __m256 t2 = _mm256_unpackhi_ps(x.v, y.v), t3 = _mm256_unpackhi_ps(z.v, o);  // x2 y2 x3 y3 | z2 0 z3 0
+    const __m256 r[4] = {_mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(1, 0, 1, 0)), _mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(3, 2, 3, 2)),
+                         _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(1, 0, 1, 0)), _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(3, 2, 3, 2))};
+    for (int j = 0; j < 4; ++j) {
+      if (moves >> j & 1) _mm_store_ps(at[j], _mm_add_ps(_mm_load_ps(at[j]), _mm256_castps256_ps128(r[j])));
+      if (moves >> (j + 4) & 1) _mm_store_ps(at[j + 4], _mm_add_ps(_mm_load_ps(at[j + 4]), _mm256_extractf128_ps(r[j], 1)));
+    }
+  }
+};
+
+template <> struct Lanes<DoubleW4> {
+  using Real = double;
+  static constexpr int kCount = 4;
+  PBD_W8 static DoubleW4 splat(double a) { return {_mm256_set1_pd(a)}; }
+  PBD_W8 static DoubleW4 zero() { return {_mm256_setzero_pd()}; }
+  template <class F> PBD_W8 static DoubleW4 of(const F& f) { return {_mm256_setr_pd(f(0), f(1), f(2), f(3))}; }
+  PBD_W8 static DoubleW4 loadu(const double* p) { return {_mm256_loadu_pd(p)}; }
+  PBD_W8 static void storeu(double* p, DoubleW4 a) { _mm256_storeu_pd(p, a.v); }
+  /// Points at[0..4) (x y z w, 32-byte aligned) → x, y, z, w across the lanes.
+  PBD_W8 static void gather(double* const (&at)[4], DoubleW4 (&xyzw)[4]) {
+    const __m256d r0 = _mm256_load_pd(at[0]), r1 = _mm256_load_pd(at[1]), r2 = _mm256_load_pd(at[2]),
+                  r3 = _mm256_load_pd(at[3]);
+    const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);  // x0 x1 z0 z1 | y0 y1 w0 w1
+    const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);  // x2 x3 z2 z3 | y2 y3 w2 w3
+    xyzw[0] = {_mm256_permute2f128_pd(t0, t2, 0x20)};
+    xyzw[1] = {_mm256_permute2f128_pd(t1, t3, 0x20)};
+    xyzw[2] = {_mm256_permute2f128_pd(t0, t2, 0x31)};
+    xyzw[3] = {_mm256_permute2f128_pd(t1, t3, 0x31)};
+  }
+  PBD_W8 static void add(double* const (&at)[4], DoubleW4 x, DoubleW4 y, DoubleW4 z, int moves) {
+    const __m256d o = _mm256_setzero_pd();
+    const __m256d t0 = _mm256_unpacklo_pd(x.v, y.v), t1 = _mm256_unpackhi_pd(x.v, y.v);  // x0 y0 x2 y2 | x1 y1 x3 y3
+    const __m256d t2 = _mm256_unpacklo_pd(z.v, o), t3 = _mm256_unpackhi_pd(z.v, o);      // z0 0 z2 0 | z1 0 z3 0
+    const __m256d r[4] = {_mm256_permute2f128_pd(t0, t2, 0x20), _mm256_permute2f128_pd(t1, t3, 0x20),
+                          _mm256_permute2f128_pd(t0, t2, 0x31), _mm256_permute2f128_pd(t1, t3, 0x31)};
+    for (int j = 0; j < 4; ++j)
+      if (moves >> j & 1) _mm256_store_pd(at[j], _mm256_add_pd(_mm256_load_pd(at[j]), r[j]));
+  }
+};
+
+#undef PBD_W8
+
+}  // namespace pbd::detail::wide8
+#endif
