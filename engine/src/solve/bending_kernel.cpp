@@ -145,8 +145,8 @@ void project_bending_range(const BendingConstraint<double>* c, Index b, Index e,
   project_bending_range_avx2(c, b, e, q, coeff, lambda, any_xpbd);
 }
 void project_stretch_range(const StretchConstraint<double>* c, Index b, Index e, double* q,
-                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
-  project_stretch_range_avx2(c, b, e, q, coeff, lambda, any_xpbd);
+                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd, Index set) {
+  project_stretch_range_avx2(c, b, e, q, coeff, lambda, any_xpbd, set);
 }
 
 void pad_positions(const double* p, const double* w, Index b, Index e, double* q) {

@@ -11,8 +11,8 @@
 
 namespace pbd::detail {
 
-/// Constraints per SIMD block (the widest: eight float lanes under AVX2): parallel ranges of the bending colors,
-/// and of the double stretch colors, are cut at multiples of this.
+/// Constraints per SIMD block (the widest: eight float lanes under AVX2): parallel ranges of the bending and
+/// stretch colors are cut at multiples of this from each color's start.
 inline constexpr Index kBendingBlock = 8;
 
 /// Gauss-Seidel projection of bending constraints c[b, e) of one color on padded positions q: blocks of
@@ -24,9 +24,10 @@ void project_bending_range(const BendingConstraint<float>* c, Index b, Index e, 
 /// The same in double, four at a time: only on AVX2 machines (double_kernels()).
 void project_bending_range(const BendingConstraint<double>* c, Index b, Index e, double* q,
                            const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
-/// Stretch constraints c[b, e) of one color on padded positions q in double, four at a time (double_kernels()).
+/// Stretch constraints c[b, e) of one color on padded positions q in double, four at a time (double_kernels()); set:
+/// the set all of them belong to, or kMixedSets.
 void project_stretch_range(const StretchConstraint<double>* c, Index b, Index e, double* q,
-                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
+                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd, Index set);
 /// Whether double precision has SIMD kernels in this process (AVX2, not PBD_SIMD=sse2): stretch and bending colors
 /// on padded positions. Otherwise double projects every type with the scalar code on p.
 bool double_kernels();

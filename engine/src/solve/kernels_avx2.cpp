@@ -6,6 +6,7 @@
 
 #include "wide_avx.hpp"
 
+#include <cstdint>
 #include <cstdlib>
 
 #if defined(__AVX2__)
@@ -26,7 +27,6 @@ namespace pbd::detail {
 namespace {
 
 using wide8::Lanes;
-constexpr double kTiny = tiny_squared<double>();  // folded here, never called at run time
 
 // k and α̃ of the lanes' constraints: read once when they share one set (the usual case), else lane by lane.
 template <class W, bool kLambda, class C, class Real>
@@ -74,15 +74,17 @@ template <class W, bool kLambda, class Real>
     if (const int moves = active & ~bits(w[i] == L::zero())) L::add(at[i], r.dp[i].x, r.dp[i].y, r.dp[i].z, moves);
 }
 
-// Four double stretch constraints in the lanes: stretch.hpp's correction() and project()'s writes.
-template <bool kLambda>
-[[gnu::always_inline]] inline void stretch_block(const StretchConstraint<double>* c, double* q,
-                                                 const SolveCoefficients<double>* coeff, double* lambda) {
-  using W = wide8::DoubleW4;
+// L::kCount stretch constraints in the lanes: stretch.hpp's correction() and project()'s writes. set: the set all
+// of them belong to (k and α̃ splatted once per range), or kMixedSets.
+template <class W, bool kLambda, class Real>
+[[gnu::always_inline]] inline void stretch_block(const StretchConstraint<Real>* c, Real* q,
+                                                 const SolveCoefficients<Real>* coeff, Real* lambda, Index set, W k1,
+                                                 W alpha1) {
   using L = Lanes<W>;
-  double* a[4];
-  double* b[4];
-  for (int j = 0; j < 4; ++j) {
+  constexpr int n = L::kCount;
+  Real* a[n];
+  Real* b[n];
+  for (int j = 0; j < n; ++j) {
     a[j] = q + 4 * std::size_t(c[j].particles[0]);
     b[j] = q + 4 * std::size_t(c[j].particles[1]);
   }
@@ -91,10 +93,12 @@ template <bool kLambda>
   L::gather(b, pb);
   const W dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2];
   const W len2 = dx * dx + (dy * dy + dz * dz);
-  W k, alpha;
-  lane_coefficients<W, kLambda>(c, coeff, k, alpha);
+  W k = k1, alpha = alpha1;
+  if (set == kMixedSets) lane_coefficients<W, kLambda>(c, coeff, k, alpha);
   const W denom = alpha + pa[3] + pb[3];
-  const int active = bits((len2 > L::splat(kTiny)) & (denom > L::zero()));
+  constexpr Real tiny = tiny_squared<Real>();  // folded here, never called at run time
+  const auto ok = (len2 > L::splat(tiny)) & (denom > L::zero());
+  const int active = bits(ok);
   if (active == 0) return;
   const W len = sqrt(len2);
   const W rest = L::of([&](int j) { return c[j].rest; });
@@ -102,10 +106,7 @@ template <bool kLambda>
   const W lam = kLambda ? L::loadu(lambda) : L::zero();
   if constexpr (kLambda) num = num - alpha * lam;
   const W s = num / (denom * len);
-  if constexpr (kLambda) {
-    const auto ok = (len2 > L::splat(kTiny)) & (denom > L::zero()) & (alpha != L::zero());
-    L::storeu(lambda, select(ok, lam + s * len, lam));
-  }
+  if constexpr (kLambda) L::storeu(lambda, select(ok & (alpha != L::zero()), lam + s * len, lam));
   const W sa = pa[3] * s, sb = -pb[3] * s;
   if (const int moves = active & ~bits(pa[3] == L::zero())) L::add(a, dx * sa, dy * sa, dz * sa, moves);
   if (const int moves = active & ~bits(pb[3] == L::zero())) L::add(b, dx * sb, dy * sb, dz * sb, moves);
@@ -119,10 +120,23 @@ void bending_range(const BendingConstraint<Real>* c, Index b, Index e, Real* q, 
   for (; b < e; ++b) project_padded_one(c[b], q, coeff[c[b].set], lambda[b]);
 }
 
-template <bool kLambda>
-void stretch_range(const StretchConstraint<double>* c, Index b, Index e, double* q,
-                   const SolveCoefficients<double>* coeff, double* lambda) {
-  for (; b + 4 <= e; b += 4) stretch_block<kLambda>(c + b, q, coeff, lambda + b);
+template <class W, bool kLambda, class Real>
+void stretch_range(const StretchConstraint<Real>* c, Index b, Index e, Real* q, const SolveCoefficients<Real>* coeff,
+                   Real* lambda, Index set) {
+  using L = Lanes<W>;
+  constexpr Index n = L::kCount;
+  W k = L::zero(), alpha = L::zero();
+  if (set != kMixedSets) {
+    k = L::splat(coeff[set].k);
+    if constexpr (kLambda) alpha = L::splat(coeff[set].alpha_tilde);
+  }
+  for (; b + n <= e; b += n) {
+    // the constraint and λ streams, well ahead (stretch_kernel.cpp: needed once they leave the cache, 1000² cloth)
+    _mm_prefetch(reinterpret_cast<const char*>(reinterpret_cast<std::uintptr_t>(c + b) + 128 * sizeof(*c)), _MM_HINT_T0);
+    if constexpr (kLambda)
+      _mm_prefetch(reinterpret_cast<const char*>(reinterpret_cast<std::uintptr_t>(lambda + b) + 128 * sizeof(Real)), _MM_HINT_T0);
+    stretch_block<W, kLambda>(c + b, q, coeff, lambda + b, set, k, alpha);
+  }
   for (; b < e; ++b) project_padded_one(c[b], q, coeff[c[b].set], lambda[b]);
 }
 
@@ -139,9 +153,9 @@ void project_bending_range_avx2(const BendingConstraint<double>* c, Index b, Ind
   else bending_range<wide8::DoubleW4, false>(c, b, e, q, coeff, lambda);
 }
 void project_stretch_range_avx2(const StretchConstraint<double>* c, Index b, Index e, double* q,
-                                const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
-  if (any_xpbd) stretch_range<true>(c, b, e, q, coeff, lambda);
-  else stretch_range<false>(c, b, e, q, coeff, lambda);
+                                const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd, Index set) {
+  if (any_xpbd) stretch_range<wide8::DoubleW4, true>(c, b, e, q, coeff, lambda, set);
+  else stretch_range<wide8::DoubleW4, false>(c, b, e, q, coeff, lambda, set);
 }
 
 #else  // not built for AVX2 (another architecture or compiler): avx2_enabled() is false, these are never called
@@ -154,7 +168,7 @@ void project_bending_range_avx2(const BendingConstraint<double>*, Index, Index, 
   std::abort();
 }
 void project_stretch_range_avx2(const StretchConstraint<double>*, Index, Index, double*,
-                                const SolveCoefficients<double>*, double*, bool) {
+                                const SolveCoefficients<double>*, double*, bool, Index) {
   std::abort();
 }
 #endif

@@ -455,13 +455,16 @@ private:
       ensure_padded(p, w);
       double* q = k_.padded.data();
       const bool any_xpbd = s_.lambda_dirty;
+      const bool sets_known = m_.stretch_sets.size() == std::size_t(st.num_colors());
       const std::size_t base = part_;
       const Index colors = st.num_colors();
       part_ += std::size_t(colors);
       for (Index j = 0; j < colors; ++j) {
         const Index c = kReverse ? colors - 1 - j : j;
-        blocks_range(st.offsets[c], st.offsets[c + 1], kBendingBlock, config_, base + c,
-                     [&](Index b, Index e) { project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd); });
+        const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
+        blocks_range(st.offsets[c], st.offsets[c + 1], kBendingBlock, config_, base + c, [&](Index b, Index e) {
+          project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd, set);
+        });
       }
     }
   }
