@@ -22,8 +22,10 @@
 // first added), the volume constraints, then the sub-step's collisions. The volumes and the collisions are projected
 // in place under every update (Jacobi after applying its deltas): a volume is one constraint, parallel within
 // itself, a contact touches one particle; so every sweep ends with the volumes and then the contacts holding. The
-// float stretch kernel (SIMD on padded positions, stretch_kernel.hpp) is how the colors schedule projects stretch
-// colors in place; it gives the scalar projection's bits.
+// SIMD kernels on padded positions (x y z w per particle) are how the colors schedule projects stretch and bending
+// colors in place (float: stretch_kernel.hpp, bending_kernel.hpp; double with AVX2: kernels_avx2.hpp); they give
+// the scalar projection's bits. The positions are padded before the first such color and copied back before
+// anything that reads p (another type, user types, volumes, contacts) and at the sub-step's end.
 // Threads: Gauss-Seidel sweeps of the built-in types (no volume, no user type) run all of a sub-step's sweeps on one
 // team of threads (team.hpp: one fork/join per sub-step, a barrier per shared loop; every loop gives the same bits
 // however it is cut). Under the block schedule each member takes the same blocks every sweep and, in each boundary
