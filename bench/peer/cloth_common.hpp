@@ -1,0 +1,223 @@
+#pragma once
+// What both bench/peer drivers share (standard library only: the peer's driver includes it too): the cloth file of
+// make_cloth.py, the command line, the stretch error and the one line of JSON they print.
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace peer_bench {
+
+/// The cloth as make_cloth.py writes it (the peer's ClothDemo mesh, in the peer's order).
+struct Cloth {
+  int n = 0;
+  double width = 0, height = 0;
+  std::vector<std::array<double, 3>> x;         ///< vertex positions, m
+  double mass = 1;                              ///< every vertex's mass before the pins, kg
+  std::vector<unsigned> pinned;                 ///< vertices of mass 0
+  std::vector<std::array<unsigned, 3>> tris;    ///< triangles
+  std::vector<std::array<unsigned, 2>> edges;   ///< distance constraints, in the peer's order
+  std::vector<std::array<unsigned, 4>> quads;   ///< dihedral constraints (opposite p0, opposite p1, edge e0, e1)
+};
+
+inline Cloth read_cloth(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  std::stringstream text;
+  for (std::string line; std::getline(in, line);)
+    if (line.empty() || line[0] != '#') text << line << '\n';
+  auto expect = [&](const char* word) {
+    std::string w;
+    if (!(text >> w) || w != word) throw std::runtime_error(path + ": expected '" + word + "', found '" + w + "'");
+  };
+  auto count = [&](const char* word) {
+    expect(word);
+    long long k = -1;
+    if (!(text >> k) || k < 0) throw std::runtime_error(path + ": bad count after '" + word + "'");
+    return std::size_t(k);
+  };
+  Cloth c;
+  int version = 0;
+  expect("pbd_peer_cloth");
+  text >> version;
+  if (version != 1) throw std::runtime_error(path + ": unknown version");
+  expect("n");
+  text >> c.n;
+  expect("width");
+  text >> c.width;
+  expect("height");
+  text >> c.height;
+  c.x.resize(count("vertices"));
+  for (auto& p : c.x) text >> p[0] >> p[1] >> p[2];
+  expect("mass");
+  text >> c.mass;
+  c.pinned.resize(count("pinned"));
+  for (auto& i : c.pinned) text >> i;
+  c.tris.resize(count("triangles"));
+  for (auto& t : c.tris) text >> t[0] >> t[1] >> t[2];
+  c.edges.resize(count("edges"));
+  for (auto& e : c.edges) text >> e[0] >> e[1];
+  c.quads.resize(count("bending"));
+  for (auto& q : c.quads) text >> q[0] >> q[1] >> q[2] >> q[3];
+  if (!text) throw std::runtime_error(path + ": truncated or malformed");
+  const std::size_t nv = c.x.size();
+  auto check = [&](unsigned i) {
+    if (i >= nv) throw std::runtime_error(path + ": vertex index " + std::to_string(i) + " out of range");
+  };
+  for (unsigned i : c.pinned) check(i);
+  for (auto& t : c.tris) for (unsigned i : t) check(i);
+  for (auto& e : c.edges) for (unsigned i : e) check(i);
+  for (auto& q : c.quads) for (unsigned i : q) check(i);
+  return c;
+}
+
+/// The drivers' command line (the same for both engines).
+struct Options {
+  std::string mesh;             ///< make_cloth.py's file (required)
+  int steps = 200;              ///< steps timed
+  int substeps = 1;             ///< sub-steps per step
+  int iterations = 10;          ///< sweeps per sub-step
+  int threads = 0;              ///< 0: the engine's default
+  bool use_double = false;      ///< pbd: World<double> (the peer is always double)
+  std::string solver;           ///< pbd only; empty: the driver's default
+  double dt = 1.0 / 60.0;       ///< step, s
+  double k_distance = 1.0;      ///< PBD stiffness of the distance constraints
+  double k_bending = 0.01;      ///< PBD stiffness of the dihedral constraints
+};
+
+inline void usage(const char* prog, const char* extra) {
+  std::fprintf(stderr,
+               "usage: %s --mesh FILE [--steps S=200] [--substeps 1] [--iterations 10] [--threads T] [--double]\n"
+               "          [--solver NAME] [--dt 1/60] [--k-distance 1] [--k-bending 0.01]\n%s",
+               prog, extra);
+}
+
+inline Options parse(int argc, char** argv, const char* extra_help) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        usage(argv[0], extra_help);
+        std::fprintf(stderr, "%s: %s needs a value\n", argv[0], a.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    auto integer = [&](int lo) {
+      const std::string v = value();
+      char* end = nullptr;
+      const long r = std::strtol(v.c_str(), &end, 10);
+      if (*end || r < lo) {
+        std::fprintf(stderr, "%s: %s: bad value '%s'\n", argv[0], a.c_str(), v.c_str());
+        std::exit(2);
+      }
+      return int(r);
+    };
+    auto real = [&]() {
+      const std::string v = value();
+      char* end = nullptr;
+      const double r = std::strtod(v.c_str(), &end);
+      if (*end || !(r >= 0) || !std::isfinite(r)) {
+        std::fprintf(stderr, "%s: %s: bad value '%s'\n", argv[0], a.c_str(), v.c_str());
+        std::exit(2);
+      }
+      return r;
+    };
+    if (a == "--mesh") o.mesh = value();
+    else if (a == "--steps") o.steps = integer(1);
+    else if (a == "--substeps") o.substeps = integer(1);
+    else if (a == "--iterations") o.iterations = integer(1);
+    else if (a == "--threads") o.threads = integer(1);
+    else if (a == "--double") o.use_double = true;
+    else if (a == "--solver") o.solver = value();
+    else if (a == "--dt") o.dt = real();
+    else if (a == "--k-distance") o.k_distance = real();
+    else if (a == "--k-bending") o.k_bending = real();
+    else if (a == "-h" || a == "--help") {
+      usage(argv[0], extra_help);
+      std::exit(0);
+    } else {
+      usage(argv[0], extra_help);
+      std::fprintf(stderr, "%s: unknown option '%s'\n", argv[0], a.c_str());
+      std::exit(2);
+    }
+  }
+  if (o.mesh.empty()) {
+    usage(argv[0], extra_help);
+    std::fprintf(stderr, "%s: --mesh is required (bench/peer/make_cloth.py writes it)\n", argv[0]);
+    std::exit(2);
+  }
+  if (!(o.dt > 0)) {
+    std::fprintf(stderr, "%s: --dt must be > 0\n", argv[0]);
+    std::exit(2);
+  }
+  return o;
+}
+
+/// RMS and max over the distance edges of |(|xi − xj| − L) / L|, L the rest length in the file's positions;
+/// position(i) gives particle i's final position (in double).
+struct Stretch {
+  double rms = 0, max = 0;
+};
+inline Stretch stretch(const Cloth& c, const std::function<std::array<double, 3>(unsigned)>& position) {
+  auto dist = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return std::sqrt(dx * dx + dy * dy + dz * dz);
+  };
+  Stretch s;
+  double sum = 0;
+  for (const auto& e : c.edges) {
+    const double L = dist(c.x[e[0]], c.x[e[1]]);
+    const double r = std::abs((dist(position(e[0]), position(e[1])) - L) / L);
+    sum += r * r;
+    if (!(r <= s.max)) s.max = r;  // a NaN sticks
+  }
+  s.rms = c.edges.empty() ? 0.0 : std::sqrt(sum / double(c.edges.size()));
+  return s;
+}
+
+/// A JSON number (null when not finite: the line stays valid JSON and run_ab sees the failure).
+inline std::string number(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+/// The result line: engine, precision, solver, counts, timings, error.
+struct Result {
+  std::string engine, precision, solver;
+  int threads = 0;
+  std::size_t particles = 0, distance = 0, bending = 0;
+  long long colors = -1;  ///< -1: unknown
+  double setup_ms = 0, ms_per_step = 0;
+  Stretch error;
+};
+
+inline void print(const Options& o, const Cloth& c, const Result& r) {
+  std::printf(
+      "{\"engine\": \"%s\", \"precision\": \"%s\", \"solver\": \"%s\", \"n\": %d, \"particles\": %zu, "
+      "\"distance\": %zu, \"bending\": %zu, \"colors\": %s, \"threads\": %d, \"steps\": %d, \"substeps\": %d, "
+      "\"iterations\": %d, \"dt\": %s, \"k_distance\": %s, \"k_bending\": %s, \"setup_ms\": %s, "
+      "\"ms_per_step\": %s, \"stretch_rms\": %s, \"stretch_max\": %s}\n",
+      r.engine.c_str(), r.precision.c_str(), r.solver.c_str(), c.n, r.particles, r.distance, r.bending,
+      r.colors < 0 ? "null" : std::to_string(r.colors).c_str(), r.threads, o.steps, o.substeps, o.iterations,
+      number(o.dt).c_str(), number(o.k_distance).c_str(), number(o.k_bending).c_str(), number(r.setup_ms).c_str(),
+      number(r.ms_per_step).c_str(), number(r.error.rms).c_str(), number(r.error.max).c_str());
+  std::fflush(stdout);
+}
+
+using Clock = std::chrono::steady_clock;
+inline double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+}  // namespace peer_bench

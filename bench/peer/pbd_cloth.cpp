@@ -1,0 +1,96 @@
+// pbd on the peer's ClothDemo cloth (bench/peer/README.md): loads make_cloth.py's file, builds a World with the
+// peer's distance (k = 1) and dihedral (k = 0.01) constraints as plain PBD stiffness (the peer scales each
+// correction by k), steps it S times and prints one line of JSON (cloth_common.hpp).
+#include "cloth_common.hpp"
+
+#include "pbd/world.hpp"
+
+#include <oneapi/tbb/task_arena.h>
+
+#include <cstdio>
+#include <exception>
+
+namespace {
+
+using peer_bench::Clock;
+
+template <class Real> peer_bench::Result run(const peer_bench::Options& o, const peer_bench::Cloth& c) {
+  using namespace pbd;
+  const Clock::time_point t0 = Clock::now();
+  World<Real> world;
+  const Index n = Index(c.x.size());
+  Matrix3X<Real> x(3, n);
+  VectorX<Real> w = VectorX<Real>::Constant(n, Real(1.0 / c.mass));
+  for (Index i = 0; i < n; ++i) x.col(i) = Vec3<Real>(Real(c.x[i][0]), Real(c.x[i][1]), Real(c.x[i][2]));
+  for (unsigned i : c.pinned) w[i] = 0;
+  world.add_particles_by_inverse_mass(x, w);
+
+  // The peer's model: DistanceConstraint and DihedralConstraint both return k·(the full projection), with k fixed
+  // per constraint whatever the iteration count: pbd's StiffnessMode::pbd (not the iteration-independent k', not
+  // XPBD compliance).
+  const Index distance = world.add_constraint_set(Stiffness::pbd_k(o.k_distance));
+  const Index bending = world.add_constraint_set(Stiffness::pbd_k(o.k_bending));
+  world.template reserve<StretchConstraint<Real>>(c.edges.size());
+  world.template reserve<BendingConstraint<Real>>(c.quads.size());
+  for (const auto& e : c.edges) {
+    const double dx = c.x[e[1]][0] - c.x[e[0]][0], dy = c.x[e[1]][1] - c.x[e[0]][1], dz = c.x[e[1]][2] - c.x[e[0]][2];
+    world.add_stretch(e[0], e[1], distance, Real(std::sqrt(dx * dx + dy * dy + dz * dz)));
+  }
+  // The peer's DihedralConstraint is on (opposite p0, opposite p1, edge e0, edge e1); pbd's add_bending takes the
+  // shared edge first. Rest angle: the current one (flat: π in pbd's convention, 0 in the peer's; same constraint).
+  for (const auto& q : c.quads) world.add_bending(q[2], q[3], q[0], q[1], bending);
+
+  StepParams<Real> params = world.params();
+  params.dt = Real(o.dt);
+  params.substeps = o.substeps;
+  params.iterations = o.iterations;
+  params.gravity = Vec3<Real>(Real(0), Real(-9.81), Real(0));  // the peer's Simulation default gravitation
+  params.damping = 0;
+  if (!o.solver.empty()) {
+    const auto s = parse_solver(o.solver);
+    if (!s) throw Error("unknown solver '" + o.solver + "' (one of " + solver_names() + ")");
+    params.solver = *s;
+  } else {
+    params.solver = Solver::colored;  // the fastest Gauss-Seidel solver on this cloth (docs/performance.md)
+  }
+  world.set_params(params);
+
+  peer_bench::Result r;
+  r.engine = "pbd";
+  r.precision = sizeof(Real) == 4 ? "float" : "double";
+  r.solver = std::string(name(params.solver));
+  r.particles = world.num_particles();
+  r.distance = world.template constraints<StretchConstraint<Real>>().size();
+  r.bending = world.template constraints<BendingConstraint<Real>>().size();
+  r.colors = (long long)world.num_colors();  // lays out (colors or blocks) now: set-up, not the first step's cost
+  r.threads = tbb::this_task_arena::max_concurrency();
+  r.setup_ms = peer_bench::ms_since(t0);
+
+  const Clock::time_point t1 = Clock::now();
+  for (int s = 0; s < o.steps; ++s) world.step();
+  r.ms_per_step = peer_bench::ms_since(t1) / o.steps;
+
+  const auto p = world.positions();
+  r.error = peer_bench::stretch(c, [&](unsigned i) {
+    return std::array<double, 3>{double(p(0, i)), double(p(1, i)), double(p(2, i))};
+  });
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const peer_bench::Options o = peer_bench::parse(
+      argc, argv, "  --solver: serial, serial-colored, colored (default), jacobi, block; --threads: a tbb::task_arena\n");
+  try {
+    const peer_bench::Cloth c = peer_bench::read_cloth(o.mesh);
+    tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic);
+    peer_bench::Result r;
+    arena.execute([&] { r = o.use_double ? run<double>(o, c) : run<float>(o, c); });
+    peer_bench::print(o, c, r);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pbd_cloth: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
