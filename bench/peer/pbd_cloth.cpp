@@ -67,8 +67,15 @@ template <class Real> peer_bench::Result run(const peer_bench::Options& o, const
   r.setup_ms = peer_bench::ms_since(t0);
 
   const Clock::time_point t1 = Clock::now();
-  for (int s = 0; s < o.steps; ++s) world.step();
+  double integrate = 0, solve = 0;  // the step's phase timers (StepStats): prediction and velocity update, sweeps
+  for (int s = 0; s < o.steps; ++s) {
+    world.step();
+    integrate += world.last_step_stats().seconds_integrate;
+    solve += world.last_step_stats().seconds_solve;
+  }
   r.ms_per_step = peer_bench::ms_since(t1) / o.steps;
+  r.integrate_ms = 1e3 * integrate / o.steps;
+  r.solve_ms = 1e3 * solve / o.steps;
 
   const auto p = world.positions();
   r.error = peer_bench::stretch(c, [&](unsigned i) {
