@@ -161,8 +161,8 @@ public:
     padded_blocks_ = std::is_same_v<Real, float> && kPaddedStretch && schedule_ == Schedule::blocks &&
                      update_ == Update::in_place && m_.user.empty() && m_.num_blocks >= 4;
     for_each_store(m_.stores, [&](const auto& st, auto i) { padded_blocks_ = padded_blocks_ && (i == 0 || st.empty()); });
-    // Only types the float kernels project on padded positions (stretch; bending under the colors schedule): the
-    // positions may stay padded from one sweep to the next.
+    // Only types the SIMD kernels project on padded positions (padded_kernel): the positions may stay padded from
+    // one sweep to the next.
     double_kernels_ = std::is_same_v<Real, double> && double_kernels();
     stay_padded_ = update_ == Update::in_place && schedule_ != Schedule::insertion;
     for_each_store(m_.stores, [&](const auto& st, auto) {
@@ -217,8 +217,9 @@ public:
     if (padded_) unpad(p);
   }
 
-  /// Whether constraints of type C are projected by a float kernel on padded positions in this sub-step's sweeps
-  /// (stretch under the colors schedule or with padded blocks; bending under the colors schedule).
+  /// Whether constraints of type C are projected by a SIMD kernel on padded positions in this sub-step's sweeps:
+  /// float stretch under the colors schedule or with padded blocks, float bending under the colors schedule, and
+  /// double stretch and bending under the colors schedule when the AVX2 kernels run.
   template <class C> bool padded_kernel() const {
     if (update_ != Update::in_place) return false;
     if constexpr (std::is_same_v<Real, float> && kPaddedStretch) {
@@ -232,7 +233,7 @@ public:
 
   /// Jacobi's over-relaxation factor ω.
   Real omega = 1;
-  /// The float stretch kernel may leave the positions padded between sweeps when stretch is all there is (false:
+  /// The SIMD kernels may leave the positions padded between sweeps when they project every type there is (false:
   /// p holds the positions after every sweep, as Chebyshev acceleration needs).
   bool keep_padded = true;
 
