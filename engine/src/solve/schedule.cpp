@@ -22,7 +22,7 @@ template <class Real> void count_touches(Model<Real>& m) {
 }
 
 // Model::stretch_sets for stretch colors [first, num_colors): the set a color's constraints share, or kMixedSets.
-// Only the float stretch kernel reads them.
+// Only the stretch kernels read them (float, and double with AVX2).
 template <class Real> void note_stretch_sets(Model<Real>& m, Index first) {
   const auto& s = m.template store<StretchConstraint<Real>>();
   m.stretch_sets.resize(s.num_colors(), kMixedSets);
