@@ -30,8 +30,6 @@ bool avx2_enabled() {
 #endif
 }
 
-bool double_kernels() { return avx2_enabled(); }
-
 namespace {
 
 // One constraint on padded positions: project()'s correction and writes.
@@ -139,14 +137,6 @@ void project_bending_range(const BendingConstraint<float>* c, Index b, Index e, 
                            const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
   if (avx2_enabled()) project_bending_range_avx2(c, b, e, q, coeff, lambda, any_xpbd);
   else range_default(c, b, e, q, coeff, lambda, any_xpbd);
-}
-void project_bending_range(const BendingConstraint<double>* c, Index b, Index e, double* q,
-                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
-  project_bending_range_avx2(c, b, e, q, coeff, lambda, any_xpbd);
-}
-void project_stretch_range(const StretchConstraint<double>* c, Index b, Index e, double* q,
-                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd, Index set) {
-  project_stretch_range_avx2(c, b, e, q, coeff, lambda, any_xpbd, set);
 }
 
 void pad_positions(const double* p, const double* w, Index b, Index e, double* q) {

@@ -21,19 +21,9 @@ inline constexpr Index kBendingBlock = 8;
 /// On AVX2 machines eight at a time (kernels_avx2.hpp), else four (SSE2; PBD_SIMD=sse2 keeps these).
 void project_bending_range(const BendingConstraint<float>* c, Index b, Index e, float* q,
                            const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd);
-/// The same in double, four at a time: only on AVX2 machines (double_kernels()).
-void project_bending_range(const BendingConstraint<double>* c, Index b, Index e, double* q,
-                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
-/// Stretch constraints c[b, e) of one color on padded positions q in double, four at a time (double_kernels()); set:
-/// the set all of them belong to, or kMixedSets.
-void project_stretch_range(const StretchConstraint<double>* c, Index b, Index e, double* q,
-                           const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd, Index set);
-/// Whether double precision has SIMD kernels in this process (AVX2, not PBD_SIMD=sse2): stretch and bending colors
-/// on padded positions. Otherwise double projects every type with the scalar code on p.
-bool double_kernels();
 
 /// Particles [b, e) between positions p (3 per particle) with inverse masses w and padded positions q, in double
-/// (float: stretch_kernel.hpp).
+/// (float: stretch_kernel.hpp); double runs on padded positions only with the AVX2 kernels (kernels_avx2.hpp).
 void pad_positions(const double* p, const double* w, Index b, Index e, double* q);
 void unpad_positions(const double* q, Index b, Index e, double* p);
 

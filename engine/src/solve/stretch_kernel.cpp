@@ -1,9 +1,9 @@
 #include "stretch_kernel.hpp"
 
+#include "kernels_avx2.hpp"
+
 #include <cassert>
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
 
 namespace pbd::detail {
 
@@ -135,11 +135,7 @@ void range_default(const StretchConstraint<float>* c, Index b, Index e, float* q
   else interleaved_body<false>(items, begin, chains, common, q, coeff, lambda, reverse);
 }
 
-bool use_avx2() {
-  if (const char* env = std::getenv("PBD_SIMD"); env && std::strcmp(env, "sse2") == 0) return false;
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
-}
+bool use_avx2() { return avx2_enabled(); }  // the one CPU check (kernels_avx2.hpp)
 
 // PBD_SIMD=sse2 in the environment keeps the SSE2 build on an AVX2 machine (tests run both builds this way).
 RangeFn pick_range() { return use_avx2() ? range_avx2 : range_default; }

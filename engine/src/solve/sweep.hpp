@@ -35,6 +35,7 @@
 #include "pbd/constraints/projection.hpp"
 #include "scratch.hpp"
 #include "bending_kernel.hpp"
+#include "kernels_avx2.hpp"
 #include "stretch_kernel.hpp"
 #include "team.hpp"
 #include "volume_projection.hpp"
@@ -163,7 +164,7 @@ public:
     for_each_store(m_.stores, [&](const auto& st, auto i) { padded_blocks_ = padded_blocks_ && (i == 0 || st.empty()); });
     // Only types the SIMD kernels project on padded positions (padded_kernel): the positions may stay padded from
     // one sweep to the next.
-    double_kernels_ = std::is_same_v<Real, double> && double_kernels();
+    double_kernels_ = std::is_same_v<Real, double> && avx2_enabled();
     stay_padded_ = update_ == Update::in_place && schedule_ != Schedule::insertion;
     for_each_store(m_.stores, [&](const auto& st, auto) {
       using C = typename std::remove_cvref_t<decltype(st)>::value_type;
@@ -466,7 +467,7 @@ private:
         const Index c = kReverse ? colors - 1 - j : j;
         const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
         blocks_range(st.offsets[c], st.offsets[c + 1], kBendingBlock, config_, base + c, [&](Index b, Index e) {
-          project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd, set);
+          project_stretch_range_avx2(st.items.data(), b, e, q, coeff, lam, any_xpbd, set);
         });
       }
     }
@@ -487,7 +488,10 @@ private:
       for (Index j = 0; j < colors; ++j) {
         const Index c = kReverse ? colors - 1 - j : j;
         blocks_range(st.offsets[c], st.offsets[c + 1], kBendingBlock, config_, base + c,
-                     [&](Index b, Index e) { project_bending_range(st.items.data(), b, e, q, coeff, lam, any_xpbd); });
+                     [&](Index b, Index e) {
+                       if constexpr (std::is_same_v<Real, float>) project_bending_range(st.items.data(), b, e, q, coeff, lam, any_xpbd);
+                       else project_bending_range_avx2(st.items.data(), b, e, q, coeff, lam, any_xpbd);  // double: AVX2 only
+                     });
       }
     }
   }
