@@ -201,10 +201,16 @@ public:
   bool team_ready() const { return team_ready_; }
   /// Runs this sweeper's loops as `member` of a team (nullptr: on its own again).
   void join(Team::Member* member) { team_ = member; }
-  /// A loop of fewer items than this runs on member 0 alone (the team's inline threshold): the loops a fork would
-  /// take (ParallelConfig::inline_below). A barrier costs less than a fork/join, but sharing a smaller loop moves
-  /// its cache lines between the threads: the 30² cloth's colors (about 430 constraints) ran 0.65× on 2 threads.
+  /// A team forms only when some loop has at least this many items (ParallelConfig::inline_below, the loops a fork
+  /// would take): sharing small loops moves their cache lines between the threads (the 30² cloth's colors, about
+  /// 430 constraints, ran 0.65× on 2 threads).
   static std::size_t team_share_below(const ParallelConfig& cfg) { return std::max<std::size_t>(1, cfg.inline_below); }
+  /// Within a team, a loop is shared when each member gets at least ParallelConfig::min_grain items (and always at
+  /// team_share_below): a barrier costs about 0.3 µs here, while a color of 800 bending constraints run by member 0
+  /// alone keeps the others waiting about 5 µs (the last two bending colors of the 100² cloth, every sweep).
+  static std::size_t team_loop_share_below(const ParallelConfig& cfg, int members) {
+    return std::max<std::size_t>(1, std::min(cfg.inline_below, cfg.min_grain * std::size_t(members)));
+  }
 
   /// One sweep over every constraint, updating p (3 per particle).
   void sweep(Real* p) {
@@ -571,7 +577,7 @@ private:
   template <class Body>
   void range(Index begin, Index end, const ParallelConfig& cfg, std::size_t slot, const Body& body) {
     if (team_) {
-      team_->loop(begin, end, parallel_ && std::size_t(end - begin) >= team_share_below(cfg),
+      team_->loop(begin, end, parallel_ && std::size_t(end - begin) >= team_loop_share_below(cfg, team_->size()),
                   [&](std::size_t b, std::size_t e) { body(Index(b), Index(e)); });
       return;
     }
