@@ -200,6 +200,8 @@ struct Result {
   long long colors = -1;  ///< -1: unknown
   double setup_ms = 0, ms_per_step = 0;
   double integrate_ms = -1, solve_ms = -1;  ///< per step, from the engine's own phase timers (-1: not measured)
+  double wait_ms = -1;     ///< per step: of solve_ms, the sweeps' threads waiting for one another (-1: not measured)
+  int shared_steps = -1;   ///< steps whose sweeps ran on more than one thread (-1: not measured)
   Stretch error;
 };
 
@@ -208,12 +210,15 @@ inline void print(const Options& o, const Cloth& c, const Result& r) {
       "{\"engine\": \"%s\", \"precision\": \"%s\", \"solver\": \"%s\", \"n\": %d, \"particles\": %zu, "
       "\"distance\": %zu, \"bending\": %zu, \"colors\": %s, \"threads\": %d, \"steps\": %d, \"substeps\": %d, "
       "\"iterations\": %d, \"dt\": %s, \"k_distance\": %s, \"k_bending\": %s, \"setup_ms\": %s, "
-      "\"ms_per_step\": %s, \"integrate_ms\": %s, \"solve_ms\": %s, \"stretch_rms\": %s, \"stretch_max\": %s}\n",
+      "\"ms_per_step\": %s, \"integrate_ms\": %s, \"solve_ms\": %s, \"wait_ms\": %s, \"shared_steps\": %s, "
+      "\"stretch_rms\": %s, \"stretch_max\": %s}\n",
       r.engine.c_str(), r.precision.c_str(), r.solver.c_str(), c.n, r.particles, r.distance, r.bending,
       r.colors < 0 ? "null" : std::to_string(r.colors).c_str(), r.threads, o.steps, o.substeps, o.iterations,
       number(o.dt).c_str(), number(o.k_distance).c_str(), number(o.k_bending).c_str(), number(r.setup_ms).c_str(),
       number(r.ms_per_step).c_str(), r.integrate_ms < 0 ? "null" : number(r.integrate_ms).c_str(),
-      r.solve_ms < 0 ? "null" : number(r.solve_ms).c_str(), number(r.error.rms).c_str(), number(r.error.max).c_str());
+      r.solve_ms < 0 ? "null" : number(r.solve_ms).c_str(), r.wait_ms < 0 ? "null" : number(r.wait_ms).c_str(),
+      r.shared_steps < 0 ? "null" : std::to_string(r.shared_steps).c_str(), number(r.error.rms).c_str(),
+      number(r.error.max).c_str());
   std::fflush(stdout);
 }
 

@@ -199,6 +199,8 @@ template <class Real> void World<Real>::advance(const Real* forces) {
       stats_.seconds_integrate += seconds(t2 - t1).count() + seconds_since(t4);
       stats_.seconds_collisions += seconds(t3 - t2).count();
       stats_.seconds_solve += seconds(t4 - t3).count();
+      stats_.seconds_waiting += solved.wait_fraction * seconds(t4 - t3).count();
+      stats_.solve_threads = std::max(stats_.solve_threads, solved.threads);
     }
   } catch (...) {
     if (rollback) {

@@ -12,6 +12,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstring>
 #include <random>
 #include <set>
@@ -431,6 +432,44 @@ TEST(StepStatistics, PhasesSweepsColorsAndViolation) {
   w.set_measure_violation(false);
   w.step();
   EXPECT_TRUE(w.last_step_stats().violation.empty());
+}
+
+// The sweeps' waiting (StepStats::seconds_waiting, solve_threads): none on one thread; on two, part of the solve,
+// and not zero once a step's sweeps ran on two threads (every shared color ends at a barrier, whose wait is timed).
+TEST(StepStatistics, WaitingIsPartOfTheSolveAndNoneOnOneThread) {
+  World<double> w = cloth(80);  // colors above the team's threshold (1,024 constraints)
+  tbb::task_arena(1).execute([&] {
+    for (int s = 0; s < 3; ++s) {
+      w.step();
+      EXPECT_EQ(w.last_step_stats().solve_threads, 1);
+      EXPECT_EQ(w.last_step_stats().seconds_waiting, 0.0);
+    }
+  });
+  bool shared = false;
+  tbb::task_arena(2).execute([&] {
+    for (int s = 0; s < 200 && !shared; ++s) {  // a team forms when the arena's worker joins in time
+      // Wake the arena's worker first (both slots busy for 0.2 ms), so that it is at hand when the step's team forms
+      // even when other processes load the machine.
+      tbb::parallel_for(tbb::blocked_range<int>(0, 2, 1), [](const tbb::blocked_range<int>&) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(200);
+        while (std::chrono::steady_clock::now() < until) {
+        }
+      });
+      w.step();
+      const StepStats& st = w.last_step_stats();
+      EXPECT_GE(st.solve_threads, 1);
+      EXPECT_LE(st.solve_threads, 2);
+      EXPECT_GE(st.seconds_waiting, 0.0);
+      EXPECT_LE(st.seconds_waiting, st.seconds_solve);
+      if (st.solve_threads == 2) {
+        shared = true;
+        EXPECT_GT(st.seconds_waiting, 0.0);
+      } else {
+        EXPECT_EQ(st.seconds_waiting, 0.0);
+      }
+    }
+  });
+  if (!shared) GTEST_SKIP() << "no step's sweeps ran on two threads in 200 steps (the arena's worker never joined)";
 }
 
 }  // namespace

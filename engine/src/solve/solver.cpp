@@ -37,7 +37,7 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
       const Sweeper<Real> proto = sweeper;
       const auto start = std::chrono::steady_clock::now();
       const int threads = tbb::this_task_arena::max_concurrency();
-      const int members = Team::run(threads, scratch.team_wait, [&](Team::Member& member) {
+      const Team::Outcome outcome = Team::run(threads, scratch.team_wait, [&](Team::Member& member) {
         std::optional<Sweeper<Real>> own;  // member 0 sweeps with `sweeper` itself, so end() sees its state
         Sweeper<Real>& s = member.rank == 0 ? sweeper : own.emplace(proto);
         s.join(&member);
@@ -48,7 +48,9 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
       // worker that wakes late is worth waiting for, on a small one the wait would cost more than it brings.
       const auto took = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - start);
       scratch.team_wait = std::clamp(took / 10, std::chrono::microseconds(20), std::chrono::microseconds(1000));
-      scratch.team_misses = members == 1 ? std::min(scratch.team_misses + 1, 6) : 0;
+      report.threads = outcome.members;
+      report.wait_fraction = outcome.wait_fraction;
+      scratch.team_misses = outcome.members == 1 ? std::min(scratch.team_misses + 1, 6) : 0;
       scratch.team_skip = (1 << scratch.team_misses) - 1;
     } else {
       for (int it = 0; it < params.iterations; ++it) sweeper.sweep(p);

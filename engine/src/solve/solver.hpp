@@ -44,6 +44,8 @@ namespace pbd::detail {
 struct SolveReport {
   bool chebyshev_fell_back = false;  ///< the Chebyshev guard stopped the acceleration
   double chebyshev_estimate = 0.0;   ///< ρ this sub-step measured (0: none)
+  int threads = 1;                   ///< threads that ran the sweeps together (a team, team.hpp; 1: none)
+  double wait_fraction = 0.0;        ///< share of those threads' time spent waiting for one another (barriers)
 };
 
 /// Step 4 of a sub-step: λ reset where needed, `params.iterations` sweeps of `params.solver` on scratch.p, at time
