@@ -2,11 +2,17 @@
 //
 // Greedy colorings are lopsided: the first colors are large, the last ones small. Let mean be the
 // mean regular batch size, fill = ceil(mean) and cap = max(fill, floor(target x mean)). Visiting
-// items in index order, an item whose color holds more than cap items moves to the smallest color
+// items in index order, an item whose color holds more than cap items may move to the smallest color
 // (ties: lowest color) that holds fewer than fill items and that no item sharing one of its
 // non-fixed nodes has. Donors never drop below cap and receivers never rise above fill, so no color
 // empties and none is added; passes repeat until the largest batch is at most cap or a pass moves
-// nothing. Conflicts are looked up in per-node 64-bit color masks when there are at most 64
+// nothing.
+// Which items move: a donor's excess is spread evenly over its items in index order (the t-th of its
+// s items is due to move when floor((t + 1) x excess / s) exceeds the moves made so far; an item that
+// finds no receiver passes its turn to the next). Items are usually numbered in a spatially coherent
+// order, so every color then keeps the spread over the index range it had; moving the first items
+// instead would leave donors without their first index range and receivers with nothing else, and a
+// parallel loop that cuts each color into equal parts would cut each color in a different place. Conflicts are looked up in per-node 64-bit color masks when there are at most 64
 // regular colors, otherwise through the node -> items adjacency.
 #include <algorithm>
 #include <cmath>
@@ -56,6 +62,19 @@ double balance(const Hypergraph& g, Coloring& coloring, double target) {
   auto& color = coloring.color;
   const std::uint32_t n = g.num_items();
   constexpr int kMaxPasses = 8;
+  // Per donor, this pass: its size and excess when the pass began, items visited, moves made.
+  std::vector<std::uint64_t> start(k), excess(k), seen(k), made(k);
+  auto begin_pass = [&] {
+    for (std::uint32_t c = 0; c < k; ++c) {
+      start[c] = size[c];
+      excess[c] = size[c] > cap ? size[c] - cap : 0;
+      seen[c] = made[c] = 0;
+    }
+  };
+  auto due = [&](std::uint32_t a) {  // the next item of donor a is due to move (spread evenly over its items)
+    const std::uint64_t t = seen[a]++;
+    return (t + 1) * excess[a] / start[a] > made[a];
+  };
   if (k <= 64) {
     std::vector<std::uint64_t> mask(g.num_nodes, 0);
     for (std::uint32_t i = 0; i < n; ++i)
@@ -63,9 +82,10 @@ double balance(const Hypergraph& g, Coloring& coloring, double target) {
         for (std::uint32_t node : g.item(i)) mask[node] |= std::uint64_t{1} << color[i];
     for (int pass = 0; pass < kMaxPasses && largest() > cap; ++pass) {
       bool moved = false;
+      begin_pass();
       for (std::uint32_t i = 0; i < n; ++i) {
         const std::uint32_t a = color[i];
-        if (a >= k || size[a] <= cap) continue;
+        if (a >= k || size[a] <= cap || !due(a)) continue;
         std::uint64_t used = 0;
         for (std::uint32_t node : g.item(i))
           if (!g.is_fixed(node)) used |= mask[node];
@@ -76,6 +96,7 @@ double balance(const Hypergraph& g, Coloring& coloring, double target) {
         color[i] = b;
         --size[a];
         ++size[b];
+        ++made[a];
         moved = true;
       }
       if (!moved) break;
@@ -87,9 +108,10 @@ double balance(const Hypergraph& g, Coloring& coloring, double target) {
     std::uint32_t tick = 0;
     for (int pass = 0; pass < kMaxPasses && largest() > cap; ++pass) {
       bool moved = false;
+      begin_pass();
       for (std::uint32_t i = 0; i < n; ++i) {
         const std::uint32_t a = color[i];
-        if (a >= k || size[a] <= cap) continue;
+        if (a >= k || size[a] <= cap || !due(a)) continue;
         if (++tick == 0) {  // wrapped: forget every old mark
           std::fill(stamp.begin(), stamp.end(), 0);
           tick = 1;
@@ -103,6 +125,7 @@ double balance(const Hypergraph& g, Coloring& coloring, double target) {
         color[i] = b;
         --size[a];
         ++size[b];
+        ++made[a];
         moved = true;
       }
       if (!moved) break;
