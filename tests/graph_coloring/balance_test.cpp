@@ -59,6 +59,26 @@ TEST(Balance, IsDeterministicAndIdempotentOnceBalanced) {
   }
 }
 
+// Balancing keeps each color spread over the item indices (items are usually numbered along the mesh, so a color's
+// index range is its place on the mesh, and a parallel loop that cuts every color at half its count then cuts every
+// color near the same place). On a 100² cloth's bending items, every color's first and last quarter of items (by
+// index) lie in the first and last 40% of all items; moving each donor's first items instead leaves the receivers
+// with early items only (their last quarter then starts before 25%).
+TEST(Balance, EveryColorKeepsItsSpreadOverTheItemIndices) {
+  for (const auto& g : {inputs::cloth_bending(100), inputs::cloth_edges(100, true)}) {
+    Options o;  // greedy_input, balanced to 1.1
+    Coloring c = color(g.view(), o);
+    const double n = g.view().num_items();
+    for (std::uint32_t k = 0; k < c.num_regular_colors; ++k) {
+      const auto items = c.items_of(k);
+      ASSERT_FALSE(items.empty());
+      const double q1 = items[items.size() / 4] / n, q3 = items[3 * items.size() / 4] / n;
+      EXPECT_LT(q1, 0.4) << "color " << k << " of " << c.num_regular_colors;
+      EXPECT_GT(q3, 0.6) << "color " << k << " of " << c.num_regular_colors;
+    }
+  }
+}
+
 TEST(Balance, RejectsTargetBelowOne) {
   const auto g = inputs::cloth_edges(4);
   Coloring c = color(g.view());
