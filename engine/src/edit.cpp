@@ -360,6 +360,18 @@ template <class Real> void World<Real>::validate() const {
     s.validate(fixed, C::kName);
     if (model_.colors_current && s.color.size() > s.size())
       throw Error(detail::message("validate: ", C::kName, " store: more colors than constraints"));
+    // The particle cuts (a team's parts of each color): per color, kCutParts + 1 non-decreasing counts from 0 to its size.
+    const auto& cuts = model_.particle_cuts[i];
+    if (model_.colors_current && !cuts.empty()) {
+      const std::size_t per = detail::kCutParts + 1;
+      if (cuts.size() != std::size_t(s.num_colors()) * per)
+        throw Error(detail::message("validate: ", C::kName, " store: ", cuts.size(), " particle cuts for ", s.num_colors(), " colors"));
+      for (Index c = 0; c < s.num_colors(); ++c) {
+        const Index* row = cuts.data() + c * per;
+        if (row[0] != 0 || row[per - 1] != s.offsets[c + 1] - s.offsets[c] || !std::is_sorted(row, row + per))
+          throw Error(detail::message("validate: ", C::kName, " color ", c, ": particle cuts do not rise from 0 to its size"));
+      }
+    }
     // λ is only ever written where α̃ ≠ 0: while no set is compliant, every λ is 0. (Per constraint it cannot be
     // checked here: λ keeps the last sub-step's layout until the next one resets it.)
     const bool any_compliant = std::ranges::any_of(model_.sets, [](const Stiffness& st) {

@@ -33,6 +33,31 @@ template <class Real> void note_stretch_sets(Model<Real>& m, Index first) {
   }
 }
 
+// Model::particle_cuts of every built-in store (colors layout; cleared under the block layout, whose members cut
+// by block). O(constraints), after every change of layout.
+template <class Real> void note_particle_cuts(Model<Real>& m) {
+  const std::uint64_t n = m.num_particles();
+  for_each_store(m.stores, [&](const auto& s, auto i) {
+    auto& cuts = m.particle_cuts[i];
+    cuts.clear();
+    if (m.layout != Layout::colors || s.empty() || !s.up_to_date()) return;
+    const Index per = kCutParts + 1;
+    cuts.assign(std::size_t(s.num_colors()) * per, 0);
+    for (Index c = 0; c < s.num_colors(); ++c) {
+      Index* row = cuts.data() + std::size_t(c) * per;
+      for (Index k = s.offsets[c]; k < s.offsets[c + 1]; ++k) {
+        Index lo = ~Index(0);
+        for (Index q : s.items[k].particles) lo = std::min(lo, q);
+        // counted from the smallest j with lo < ⌊j·n / kCutParts⌋ on (j ≤ kCutParts: ⌊kCutParts·n / kCutParts⌋ = n)
+        Index j = Index(std::uint64_t(lo) * kCutParts / n);
+        while (std::uint64_t(j) * n / kCutParts <= lo) ++j;
+        ++row[j];
+      }
+      for (Index j = 1; j <= kCutParts; ++j) row[j] += row[j - 1];
+    }
+  });
+}
+
 // Volume constraints colored on their particles (a volume on more than wide_threshold particles gets a color of its
 // own, and runs alone with parallelism inside it).
 template <class Real> void color_volumes(Model<Real>& m) {
@@ -124,6 +149,7 @@ template <class Real> void color_everything(Model<Real>& m) {
   color_volumes(m);
   count_touches(m);
   note_stretch_sets(m, 0);
+  note_particle_cuts(m);
   m.colors_current = true;
 }
 
@@ -159,10 +185,11 @@ template <class Real> void update_colors(Model<Real>& m, Layout layout) {
     if (changed) note_layout(m);
     return;
   }
-  bool ok = true;
+  bool ok = true, stores_changed = false;
   for_each_store(m.stores, [&](auto& s, auto) {
     const Index first = Index(s.color.size());
     if (!ok || s.up_to_date()) return;
+    stores_changed = true;
     ok = color_tail(s, m.fixed);
     for (Index u = first; ok && u < Index(s.size()); ++u)
       for (Index k : s.at(u).particles) ++m.touch_count[k];
@@ -185,11 +212,13 @@ template <class Real> void update_colors(Model<Real>& m, Layout layout) {
     const auto& s = m.template store<StretchConstraint<Real>>();
     note_stretch_sets(m, std::min(s.tail_color, s.num_colors()));
   }
+  if (stores_changed) note_particle_cuts(m);
 }
 
 template <class Real> void note_layout(Model<Real>& m) {
   count_touches(m);
   note_stretch_sets(m, 0);
+  note_particle_cuts(m);
 }
 
 template <class Real> void color_collisions(Store<CollisionConstraint<Real>>& s) {

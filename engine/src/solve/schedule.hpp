@@ -1,7 +1,8 @@
 #pragma once
 // The colored solvers' schedule (private): every coloring goes through graph_coloring. Persistent constraints are
 // colored per type (full, or only the appended ones into tail colors), volume constraints as items spanning their
-// mesh, and each sub-step's collisions; the cooked per-color data (Jacobi counts, stretch sets) follows.
+// mesh, and each sub-step's collisions; the cooked per-color data (Jacobi counts, stretch sets, particle cuts)
+// follows.
 #include "pbd/constraints/collision.hpp"
 #include "pbd/detail/model.hpp"
 
@@ -20,7 +21,8 @@ template <class Real> void color_everything(Model<Real>& m);
 /// on the same partition (only its boundary constraints are colored); many new particles partition anew.
 template <class Real> void update_colors(Model<Real>& m, Layout layout);
 
-/// After a store's layout changed without recoloring (a removal): the Jacobi counts and the stretch colors' sets.
+/// After a store's layout changed without recoloring (a removal): the Jacobi counts, the stretch colors' sets and
+/// the colors' particle cuts.
 template <class Real> void note_layout(Model<Real>& m);
 
 /// Colors this sub-step's collisions (each touches one particle: the k-th collision of a particle gets color k) and

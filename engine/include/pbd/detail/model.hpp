@@ -38,6 +38,9 @@ template <class Real> struct VolumeStore {
   Index num_colors() const { return offsets.empty() ? 0 : Index(offsets.size() - 1); }  ///< colors laid out
 };
 
+/// Particle ranges Model::particle_cuts are counted for: a team of M threads, M dividing it, cuts exactly there.
+inline constexpr Index kCutParts = 64;
+
 /// The arrangement the stores are cooked in: colors (serial_colored, colored, Jacobi) or blocks (block).
 enum class Layout : std::uint8_t { colors, blocks };
 
@@ -61,6 +64,10 @@ template <class Real> struct Model {
   std::vector<std::uint8_t> fixed;     ///< pinned flags the colors were made with, one per particle then
   std::vector<Index> touch_count;      ///< Jacobi: built-in and user constraints touching each particle
   std::vector<Index> stretch_sets;     ///< per stretch color: the set all its constraints share, or kMixedSets
+  /// Colors layout, per built-in store: for color c, entries [c·(kCutParts + 1), (c + 1)·(kCutParts + 1)); entry j
+  /// counts the color's constraints whose smallest particle index is below ⌊j·n / kCutParts⌋ (n particles). A team
+  /// cuts each color there (sweep.hpp), so each thread keeps one range of particles from color to color.
+  std::array<std::vector<Index>, kNumBuiltinTypes> particle_cuts;
 
   /// The store of built-in type C.
   template <class C> Store<C>& store() { return std::get<TypeIndex<C, BuiltinConstraintTypes<Real>>::value>(stores); }
