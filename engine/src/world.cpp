@@ -4,6 +4,7 @@
 
 #include "pbd/detail/message.hpp"
 #include "pbd/metrics.hpp"
+#include "solve/integrate.hpp"
 #include "solve/parallel_range.hpp"
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
@@ -76,41 +77,6 @@ namespace {
 using clock = std::chrono::steady_clock;
 double seconds_since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
 
-// Steps 1–2 of a sub-step: forces, damping, prediction (per particle, so any cut of the range gives the same bits).
-template <class Real>
-void predict(const StepParams<Real>& params, Real h, const Real* w, const Real* x, Real* v, const Real* f, Real* p,
-             Index n, bool parallel, const ParallelConfig& config, tbb::affinity_partitioner& ap) {
-  const Real keep = std::max(Real(0), Real(1) - params.damping * h);
-  const Real hg[3] = {h * params.gravity[0], h * params.gravity[1], h * params.gravity[2]};
-  // One loop per case (damping, external forces), each without a branch per component, so that the compiler can
-  // vectorize it; every case does the operations of the general one, so the bits do not depend on which runs.
-  auto loop = [&](auto damp, auto force) {
-    detail::run_range(0, n, parallel, config, ap, [&](Index b, Index e) {
-      for (Index i = b; i < e; ++i) {
-        const bool pinned = w[i] == Real(0);  // pinned particles keep v = 0
-        for (int d = 0; d < 3; ++d) {
-          const std::size_t j = 3 * std::size_t(i) + d;
-          Real vd = v[j];
-          // Damp first: damping then acts on the motion only, and a body at rest feels the whole of g and f.
-          if constexpr (decltype(damp)::value) vd *= keep;
-          vd += hg[d];
-          if constexpr (decltype(force)::value) vd += h * (w[i] * f[j]);  // external force: a = w·f
-          vd = pinned ? Real(0) : vd;
-          v[j] = vd;
-          p[j] = x[j] + h * vd;
-        }
-      }
-    });
-  };
-  using yes = std::true_type;
-  using no = std::false_type;
-  const bool damp = params.damping > Real(0);
-  if (damp && f) loop(yes{}, yes{});
-  else if (damp) loop(yes{}, no{});
-  else if (f) loop(no{}, yes{});
-  else loop(no{}, no{});
-}
-
 }  // namespace
 
 template <class Real> void World<Real>::advance(const Real* forces) {
@@ -136,8 +102,17 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   const bool parallel = is_parallel(params_.solver);
   const Index n = num_particles();
   detail::update_free_bodies(model_, k.free_bodies);
+  // The whole step on one team of threads when it is only predict, sweeps and update (solver.hpp).
+  const detail::TeamSubstepsReport team =
+      detail::run_substeps_on_team(model_, state_, k, params_, parallel_, forces, bool(force_callback_));
+  if (team.ran) {
+    stats_.seconds_integrate = team.seconds_integrate;
+    stats_.seconds_solve = team.seconds_solve;
+    stats_.seconds_waiting = team.wait_fraction * team.seconds_solve;
+    stats_.solve_threads = team.threads;
+  }
   try {
-    for (int s = 0; s < params_.substeps; ++s) {
+    for (int s = 0; s < (team.ran ? 0 : params_.substeps); ++s) {
       const double t = state_.time + double(h) * double(s + 1);
       const Real* f = forces;
       if (force_callback_) {
@@ -153,8 +128,9 @@ template <class Real> void World<Real>::advance(const Real* forces) {
       // 1.–2. forces, damping, predict
       const auto t1 = clock::now();
       k.p.resize(3, n);
-      predict(params_, h, model_.inverse_mass.data(), state_.x.data(), state_.v.data(), f, k.p.data(), n, parallel,
-              parallel_, k.particle_partitioners[0]);
+      detail::run_range(0, n, parallel, parallel_, k.particle_partitioners[0],
+                        detail::Predict<Real>(params_, h, model_.inverse_mass.data(), state_.x.data(),
+                                              state_.v.data(), f, k.p.data()));
       const auto t2 = clock::now();
       // 3. collisions
       k.collisions.clear();
@@ -169,21 +145,15 @@ template <class Real> void World<Real>::advance(const Real* forces) {
       stats_.chebyshev_fallbacks += solved.chebyshev_fell_back ? 1 : 0;
       if (solved.chebyshev_estimate > 0.0) params_.chebyshev.rho = Real(solved.chebyshev_estimate);  // chebyshev.hpp
       const auto t4 = clock::now();
-      // 5. update: v = (p − x)/h, x = p. Computed as v += (p − p̂)/h with p̂ = x + h·v the prediction (the same
-      // operations as in step 2, so the same bits): equal in exact arithmetic, but in floating point a velocity no
-      // constraint changed keeps all its digits instead of being rounded to a multiple of ulp(x)/h, which would let
-      // a slow body (v·damping·h under half an ulp of x per step) keep its speed for ever and crawl.
-      // Free bodies get back the momentum and angular momentum the solve changed (free_bodies.hpp).
+      // 5. update (integrate.hpp); free bodies get back the momentum and angular momentum the solve changed
+      // (free_bodies.hpp).
       Real* v = state_.v.data();
       const Real* x = state_.x.data();
       const Real* p = k.p.data();
       detail::FreeBodies<Real>& fb = k.free_bodies;
       const bool despin = detail::measure_solver_spin<Real>(model_, fb, k.collisions.items, x, p, v, h);
       detail::run_range(0, n, parallel, parallel_, k.particle_partitioners[1], [&](Index b, Index e) {
-        for (std::size_t j = 3 * std::size_t(b); j < 3 * std::size_t(e); ++j) {
-          const Real predicted = x[j] + h * v[j];
-          v[j] += (p[j] - predicted) / h;
-        }
+        detail::update_velocities(h, x, p, v, b, e);
         if (!despin) return;
         for (Index i = b; i < e; ++i) {
           const Index body = fb.body[i];

@@ -55,4 +55,24 @@ template <class Real>
 SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, const StepParams<Real>& params,
            const ParallelConfig& config, double time, bool reverse);
 
+/// What run_substeps_on_team reports (ran = false: it ran nothing, the caller steps sub-step by sub-step).
+struct TeamSubstepsReport {
+  bool ran = false;
+  int threads = 1;                 ///< members of the team
+  double seconds_integrate = 0.0;  ///< steps 1, 2 and 5, as member 0 saw them
+  double seconds_solve = 0.0;      ///< step 4 (with each sub-step's λ reset)
+  double wait_fraction = 0.0;      ///< of the members' time in step 4, the share spent waiting for one another
+};
+
+/// Every sub-step of a step on one team of threads (team.hpp), when the step is only predict, sweeps and update:
+/// a parallel Gauss-Seidel solver (colors or blocks) over the built-in types, no Chebyshev acceleration, no user
+/// type, volume or collider, no force callback (external forces are fine), no free body, and a model whose sweeps
+/// would form a team anyway (Sweeper::team_ready). Predict and update are then the team's loops over the same
+/// particle parts the sweeps use, so a sub-step costs no fork/join and its particles stay in their thread's cache;
+/// the bits are those of the sub-step-by-sub-step path. Otherwise returns ran = false before any sub-step.
+template <class Real>
+TeamSubstepsReport run_substeps_on_team(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch,
+                                        const StepParams<Real>& params, const ParallelConfig& config,
+                                        const Real* forces, bool has_callback);
+
 }  // namespace pbd::detail

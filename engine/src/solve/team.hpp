@@ -129,10 +129,7 @@ public:
     return {team.size_, team.size_ > 1 ? std::min(1.0, waited) : 0.0};
   }
 
-private:
-  static constexpr int kClosed = 1 << 30;
-
-  // A monotonic tick count: the time-stamp counter where there is one (cheap), else steady_clock's nanoseconds.
+  /// A monotonic tick count: the time-stamp counter where there is one (cheap), else steady_clock's nanoseconds.
   static std::uint64_t ticks() {
 #if defined(__x86_64__) || defined(__i386__)
     return __rdtsc();
@@ -140,6 +137,9 @@ private:
     return std::uint64_t(std::chrono::steady_clock::now().time_since_epoch().count());
 #endif
   }
+
+private:
+  static constexpr int kClosed = 1 << 30;
 
   static void pause() {
 #if defined(__SSE2__)
