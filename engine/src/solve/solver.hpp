@@ -33,7 +33,9 @@
 // too gives the same bits on any thread count. Colors smaller than ParallelConfig::inline_below run inline: a
 // fork/join costs about as much as projecting a thousand constraints. The Gauss-Seidel sweeps of the colored and
 // block solvers hold one team of threads for the whole solve instead (team.hpp: a barrier per loop, a fork/join per
-// sub-step). Everything runs in the caller's tbb::task_arena, so a host decides the thread count.
+// sub-step). A step that is only steps 2, 4 and 5 (no collider, force callback or free body; run_substeps_on_team)
+// holds one team for all its sub-steps, steps 1–2 and 5 being the team's loops over the particles. Everything runs
+// in the caller's tbb::task_arena, so a host decides the thread count.
 #include "pbd/step_params.hpp"
 #include "pbd/detail/model.hpp"
 #include "scratch.hpp"
