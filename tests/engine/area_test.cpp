@@ -34,6 +34,44 @@ TEST(Area, ConservesLinearMomentumWithEqualAndUnequalMasses) {
   }
 }
 
+// The area constraint's own correction (area_math.hpp: the |∇_i C|² in closed form, ¼|v|², ¼|u|², ¼|v − u|²) is
+// the generic correction of projection.hpp (which sums the norms of evaluate()'s gradients) up to rounding, for
+// random triangles (sharp, obtuse, near-degenerate), masses, stiffness and compliance.
+TEST(Area, ClosedFormCorrectionIsTheGenericOne) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(0.05, 5.0);
+  int compared = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    Vec3<double> p[3] = {test::random_point<double>(rng), test::random_point<double>(rng),
+                         test::random_point<double>(rng)};
+    if (trial % 5 == 0) p[2] = p[0] + (1.0 + 1e-3 * u(rng)) * (p[1] - p[0]) + Vec3<double>(0, 0, 1e-4);  // thin
+    const double w[3] = {trial % 7 ? u(rng) : 0.0, u(rng), u(rng)};
+    const SolveCoefficients<double> coeff{u(rng) / 5.0, trial % 2 ? 0.0 : 1e-3 * u(rng)};
+    const double lambda = trial % 2 ? 0.0 : 0.01 * u(rng);
+    const AreaConstraint<double> c{{0, 1, 2}, 0, 0.2 * u(rng)};
+    Vec3<double> dp[3], dp_generic[3];
+    double dl = 0, dl_generic = 0;
+    const bool ok = correction(c, p, w, coeff, lambda, dp, dl);
+    // the generic correction (projection.hpp) from evaluate()'s gradients
+    double C;
+    Vec3<double> grad[3];
+    bool ok_generic = evaluate(c, p, C, grad);
+    double denom = coeff.alpha_tilde;
+    for (int i = 0; ok_generic && i < 3; ++i) denom += w[i] * grad[i].squaredNorm();
+    ok_generic = ok_generic && denom > 0;
+    ASSERT_EQ(ok, ok_generic) << trial;
+    if (!ok) continue;
+    dl_generic = (-coeff.k * C - coeff.alpha_tilde * lambda) / denom;
+    EXPECT_NEAR(dl, dl_generic, 1e-9 * (1.0 + std::abs(dl_generic))) << trial;
+    for (int i = 0; i < 3; ++i) {
+      dp_generic[i] = (w[i] * dl_generic) * grad[i];
+      EXPECT_LT((dp[i] - dp_generic[i]).norm(), 1e-9 * (1.0 + dp_generic[i].norm())) << trial << " corner " << i;
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 450);
+}
+
 template <class Real> class AreaTest : public ::testing::Test {};
 using Precisions = ::testing::Types<float, double>;
 TYPED_TEST_SUITE(AreaTest, Precisions);

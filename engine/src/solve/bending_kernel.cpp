@@ -7,12 +7,12 @@
 #include <cstring>
 
 #if defined(__SSE2__)
-namespace pbd::detail::bend {
+namespace pbd::detail::lane {
 /// A constant in every lane (bending_math.hpp's Lit): float(v), as the scalar float code converts it.
 template <> struct Lit<wide::FloatW> {
   static wide::FloatW of(double v) { return wide::splat(float(v)); }
 };
-}  // namespace pbd::detail::bend
+}  // namespace pbd::detail::lane
 #endif
 
 namespace pbd::detail {
@@ -130,6 +130,12 @@ void project_padded_one(const BendingConstraint<double>& c, double* q, SolveCoef
 }
 void project_padded_one(const StretchConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
                         double& lambda) {
+  project_one(c, q, coeff, lambda);
+}
+void project_padded_one(const AreaConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda) {
+  project_one(c, q, coeff, lambda);
+}
+void project_padded_one(const AreaConstraint<double>& c, double* q, SolveCoefficients<double> coeff, double& lambda) {
   project_one(c, q, coeff, lambda);
 }
 

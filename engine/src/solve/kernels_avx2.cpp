@@ -1,4 +1,4 @@
-// AVX2 builds of the bending kernel (float and double) and of the double stretch kernel (kernels_avx2.hpp).
+// AVX2 builds of the bending and area kernels (float and double) and of the double stretch kernel (kernels_avx2.hpp).
 // This file alone is compiled with -mavx2 -mno-fma (engine/CMakeLists.txt). It instantiates no inline function the
 // rest of the engine also instantiates (the scalar remainders are called out of line), so the linker never keeps an
 // AVX2 copy of a function other files call on machines without AVX2.
@@ -10,7 +10,7 @@
 #include <cstdlib>
 
 #if defined(__AVX2__)
-namespace pbd::detail::bend {
+namespace pbd::detail::lane {
 /// A constant in every lane: Real(v), as the scalar code converts it.
 template <> struct Lit<wide8::FloatW8> {
   [[gnu::always_inline]] static wide8::FloatW8 of(double v) { return wide8::Lanes<wide8::FloatW8>::splat(float(v)); }
@@ -18,7 +18,7 @@ template <> struct Lit<wide8::FloatW8> {
 template <> struct Lit<wide8::DoubleW4> {
   [[gnu::always_inline]] static wide8::DoubleW4 of(double v) { return wide8::Lanes<wide8::DoubleW4>::splat(v); }
 };
-}  // namespace pbd::detail::bend
+}  // namespace pbd::detail::lane
 #endif
 
 namespace pbd::detail {
@@ -44,18 +44,30 @@ template <class W, bool kLambda, class C, class Real>
   }
 }
 
-// L::kCount bending constraints of one color in the lanes: bending_step as the scalar correction() runs it, and only
-// the writes project() makes (movable corners of lanes that project; λ of lanes with α̃ ≠ 0). kLambda = false: every
-// α̃ is +0 and every λ 0 (the scalar "− α̃·λ" then subtracts +0, which changes no bit).
-template <class W, bool kLambda, class Real>
-[[gnu::always_inline]] inline void bending_block(const BendingConstraint<Real>* c, Real* q,
-                                                 const SolveCoefficients<Real>* coeff, Real* lambda) {
+// The shared arithmetic of a constraint type written over lanes (bending_math.hpp, area_math.hpp).
+template <class Real, class W>
+[[gnu::always_inline]] inline auto lane_step(const BendingConstraint<Real>*, const lane::V3<W> (&p)[4],
+                                             const W (&w)[4], W rest, W neg_k, W alpha, W lam) {
+  return bend::bending_step<Real>(p, w, rest, neg_k, alpha, lam);
+}
+template <class Real, class W>
+[[gnu::always_inline]] inline auto lane_step(const AreaConstraint<Real>*, const lane::V3<W> (&p)[3], const W (&w)[3],
+                                             W rest, W neg_k, W alpha, W lam) {
+  return area::area_step<Real>(p, w, rest, neg_k, alpha, lam);
+}
+
+// L::kCount constraints of one color (bending or area) in the lanes: the step as the scalar correction() runs it,
+// and only the writes project() makes (movable corners of lanes that project; λ of lanes with α̃ ≠ 0).
+// kLambda = false: every α̃ is +0 and every λ 0 (the scalar "− α̃·λ" then subtracts +0, which changes no bit).
+template <class W, bool kLambda, class C, class Real>
+[[gnu::always_inline]] inline void lanes_block(const C* c, Real* q, const SolveCoefficients<Real>* coeff,
+                                               Real* lambda) {
   using L = Lanes<W>;
-  constexpr int n = L::kCount;
-  Real* at[4][n];  // [corner][lane]
-  bend::V3<W> p[4];
-  W w[4];
-  for (int i = 0; i < 4; ++i) {
+  constexpr int n = L::kCount, corners = C::kArity;
+  Real* at[corners][n];  // [corner][lane]
+  lane::V3<W> p[corners];
+  W w[corners];
+  for (int i = 0; i < corners; ++i) {
     for (int j = 0; j < n; ++j) at[i][j] = q + 4 * std::size_t(c[j].particles[i]);
     W xyzw[4];
     L::gather(at[i], xyzw);
@@ -66,11 +78,11 @@ template <class W, bool kLambda, class Real>
   lane_coefficients<W, kLambda>(c, coeff, k, alpha);
   const W lam = kLambda ? L::loadu(lambda) : L::zero();
   const W rest = L::of([&](int j) { return c[j].rest; });
-  const auto r = bend::bending_step<Real>(p, w, rest, -k, alpha, lam);
+  const auto r = lane_step<Real>(c, p, w, rest, -k, alpha, lam);
   const int active = bits(r.ok);
   if (active == 0) return;
   if constexpr (kLambda) L::storeu(lambda, select(r.ok & (alpha != L::zero()), lam + r.dlambda, lam));
-  for (int i = 0; i < 4; ++i)
+  for (int i = 0; i < corners; ++i)
     if (const int moves = active & ~bits(w[i] == L::zero())) L::add(at[i], r.dp[i].x, r.dp[i].y, r.dp[i].z, moves);
 }
 
@@ -112,11 +124,10 @@ template <class W, bool kLambda, class Real>
   if (const int moves = active & ~bits(pb[3] == L::zero())) L::add(b, dx * sb, dy * sb, dz * sb, moves);
 }
 
-template <class W, bool kLambda, class Real>
-void bending_range(const BendingConstraint<Real>* c, Index b, Index e, Real* q, const SolveCoefficients<Real>* coeff,
-                   Real* lambda) {
+template <class W, bool kLambda, class C, class Real>
+void lanes_range(const C* c, Index b, Index e, Real* q, const SolveCoefficients<Real>* coeff, Real* lambda) {
   constexpr Index n = Lanes<W>::kCount;
-  for (; b + n <= e; b += n) bending_block<W, kLambda>(c + b, q, coeff, lambda + b);
+  for (; b + n <= e; b += n) lanes_block<W, kLambda>(c + b, q, coeff, lambda + b);
   for (; b < e; ++b) project_padded_one(c[b], q, coeff[c[b].set], lambda[b]);
 }
 
@@ -144,13 +155,23 @@ void stretch_range(const StretchConstraint<Real>* c, Index b, Index e, Real* q, 
 
 void project_bending_range_avx2(const BendingConstraint<float>* c, Index b, Index e, float* q,
                                 const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
-  if (any_xpbd) bending_range<wide8::FloatW8, true>(c, b, e, q, coeff, lambda);
-  else bending_range<wide8::FloatW8, false>(c, b, e, q, coeff, lambda);
+  if (any_xpbd) lanes_range<wide8::FloatW8, true>(c, b, e, q, coeff, lambda);
+  else lanes_range<wide8::FloatW8, false>(c, b, e, q, coeff, lambda);
 }
 void project_bending_range_avx2(const BendingConstraint<double>* c, Index b, Index e, double* q,
                                 const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
-  if (any_xpbd) bending_range<wide8::DoubleW4, true>(c, b, e, q, coeff, lambda);
-  else bending_range<wide8::DoubleW4, false>(c, b, e, q, coeff, lambda);
+  if (any_xpbd) lanes_range<wide8::DoubleW4, true>(c, b, e, q, coeff, lambda);
+  else lanes_range<wide8::DoubleW4, false>(c, b, e, q, coeff, lambda);
+}
+void project_area_range_avx2(const AreaConstraint<float>* c, Index b, Index e, float* q,
+                             const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+  if (any_xpbd) lanes_range<wide8::FloatW8, true>(c, b, e, q, coeff, lambda);
+  else lanes_range<wide8::FloatW8, false>(c, b, e, q, coeff, lambda);
+}
+void project_area_range_avx2(const AreaConstraint<double>* c, Index b, Index e, double* q,
+                             const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
+  if (any_xpbd) lanes_range<wide8::DoubleW4, true>(c, b, e, q, coeff, lambda);
+  else lanes_range<wide8::DoubleW4, false>(c, b, e, q, coeff, lambda);
 }
 void project_stretch_range_avx2(const StretchConstraint<double>* c, Index b, Index e, double* q,
                                 const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd, Index set) {
@@ -169,6 +190,14 @@ void project_bending_range_avx2(const BendingConstraint<double>*, Index, Index, 
 }
 void project_stretch_range_avx2(const StretchConstraint<double>*, Index, Index, double*,
                                 const SolveCoefficients<double>*, double*, bool, Index) {
+  std::abort();
+}
+void project_area_range_avx2(const AreaConstraint<float>*, Index, Index, float*, const SolveCoefficients<float>*,
+                             float*, bool) {
+  std::abort();
+}
+void project_area_range_avx2(const AreaConstraint<double>*, Index, Index, double*, const SolveCoefficients<double>*,
+                             double*, bool) {
   std::abort();
 }
 #endif

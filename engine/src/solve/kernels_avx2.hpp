@@ -1,9 +1,10 @@
 #pragma once
 // The SIMD kernels' AVX2 builds (private): eight float lanes or four double lanes of the arithmetic the scalar
-// projections run (bending_math.hpp; stretch.hpp's correction), on padded positions (x y z w per particle), so
+// projections run (bending_math.hpp, area_math.hpp; stretch.hpp's correction), on padded positions (x y z w per particle), so
 // they give project()'s bits. Compiled with -mavx2 and without FMA in a file of their own (kernels_avx2.cpp); call
 // them only when avx2_enabled(). Ranges: constraints c[b, e) of one color, the remainder past the last full block
 // projected one at a time.
+#include "pbd/constraints/area.hpp"
 #include "pbd/constraints/bending.hpp"
 #include "pbd/constraints/stretch.hpp"
 #include "pbd/detail/model.hpp"  // kMixedSets
@@ -19,6 +20,11 @@ void project_bending_range_avx2(const BendingConstraint<float>* c, Index b, Inde
                                 const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd);
 void project_bending_range_avx2(const BendingConstraint<double>* c, Index b, Index e, double* q,
                                 const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
+/// Triangle area on padded positions q: eight constraints at a time in float, four in double (area_math.hpp).
+void project_area_range_avx2(const AreaConstraint<float>* c, Index b, Index e, float* q,
+                             const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd);
+void project_area_range_avx2(const AreaConstraint<double>* c, Index b, Index e, double* q,
+                             const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
 /// Stretch on padded positions q in double, four at a time (set: the set every constraint of the range belongs to,
 /// or kMixedSets). Float keeps stretch_kernel.hpp's four lanes: eight, with their 128-bit gathers and scatters, took
 /// 1.8× its instructions (callgrind, 100² cloth).
@@ -31,5 +37,7 @@ void project_padded_one(const BendingConstraint<double>& c, double* q, SolveCoef
                         double& lambda);
 void project_padded_one(const StretchConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
                         double& lambda);
+void project_padded_one(const AreaConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda);
+void project_padded_one(const AreaConstraint<double>& c, double* q, SolveCoefficients<double> coeff, double& lambda);
 
 }  // namespace pbd::detail

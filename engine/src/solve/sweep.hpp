@@ -22,9 +22,9 @@
 // first added), the volume constraints, then the sub-step's collisions. The volumes and the collisions are projected
 // in place under every update (Jacobi after applying its deltas): a volume is one constraint, parallel within
 // itself, a contact touches one particle; so every sweep ends with the volumes and then the contacts holding. The
-// SIMD kernels on padded positions (x y z w per particle) are how the colors schedule projects stretch and bending
-// colors in place (float: stretch_kernel.hpp, bending_kernel.hpp; double with AVX2: kernels_avx2.hpp); they give
-// the scalar projection's bits. The positions are padded before the first such color and copied back before
+// SIMD kernels on padded positions (x y z w per particle) are how the colors schedule projects stretch, bending and
+// area colors in place (float: stretch_kernel.hpp, bending_kernel.hpp; double, and area in both, with AVX2:
+// kernels_avx2.hpp); they give the scalar projection's bits. The positions are padded before the first such color and copied back before
 // anything that reads p (another type, user types, volumes, contacts) and at the sub-step's end.
 // Threads: Gauss-Seidel sweeps of the built-in types (no volume, no user type) run all of a sub-step's sweeps on one
 // team of threads (team.hpp: one fork/join per sub-step, a barrier per shared loop; every loop gives the same bits
@@ -226,8 +226,9 @@ public:
   }
 
   /// Whether constraints of type C are projected by a SIMD kernel on padded positions in this sub-step's sweeps:
-  /// float stretch under the colors schedule or with padded blocks, float bending under the colors schedule, and
-  /// double stretch and bending under the colors schedule when the AVX2 kernels run.
+  /// float stretch under the colors schedule or with padded blocks, float bending under the colors schedule,
+  /// double stretch and bending under the colors schedule when the AVX2 kernels run, and area (float and double)
+  /// under the colors schedule when the AVX2 kernels run (area_math.hpp).
   template <class C> bool padded_kernel() const {
     if (update_ != Update::in_place) return false;
     if constexpr (std::is_same_v<Real, float> && kPaddedStretch) {
@@ -236,6 +237,7 @@ public:
     }
     if constexpr (std::is_same_v<C, StretchConstraint<double>> || std::is_same_v<C, BendingConstraint<double>>)
       return schedule_ == Schedule::colors && double_kernels_;
+    if constexpr (std::is_same_v<C, AreaConstraint<Real>>) return schedule_ == Schedule::colors && avx2_enabled();
     return false;
   }
 
@@ -318,9 +320,9 @@ private:
         return;
       }
     }
-    if constexpr (kInPlace && std::is_same_v<C, BendingConstraint<Real>>) {
+    if constexpr (kInPlace && (std::is_same_v<C, BendingConstraint<Real>> || std::is_same_v<C, AreaConstraint<Real>>)) {
       if (padded_kernel<C>()) {
-        if (st.num_colors() > 0) project_bending_padded_colors<kReverse>(st, lam, p, w, coeff);
+        if (st.num_colors() > 0) project_lanes_padded_colors<kReverse>(st, lam, p, w, coeff);
         return;
       }
     }
@@ -480,26 +482,25 @@ private:
     }
   }
 
-  // Every bending color on padded positions (colors schedule), four constraints at a time (bending_kernel.hpp);
-  // ranges cut at multiples of kBendingBlock from each color's start.
+  // Every bending or area color on padded positions (colors schedule), several constraints at a time
+  // (bending_kernel.hpp, kernels_avx2.hpp); ranges cut at multiples of kBendingBlock from each color's start.
   template <bool kReverse, class C>
-  void project_bending_padded_colors(const Store<C>& st, Real* lam, Real* p, const Real* w,
-                                     const SolveCoefficients<Real>* coeff) {
-    {
-      ensure_padded(p, w);
-      Real* q = k_.padded.data();
-      const bool any_xpbd = s_.lambda_dirty;
-      const std::size_t base = part_;
-      const Index colors = st.num_colors();
-      part_ += std::size_t(colors);
-      for (Index j = 0; j < colors; ++j) {
-        const Index c = kReverse ? colors - 1 - j : j;
-        blocks_range(st.offsets[c], st.offsets[c + 1], kBendingBlock, config_, base + c,
-                     [&](Index b, Index e) {
-                       if constexpr (std::is_same_v<Real, float>) project_bending_range(st.items.data(), b, e, q, coeff, lam, any_xpbd);
-                       else project_bending_range_avx2(st.items.data(), b, e, q, coeff, lam, any_xpbd);  // double: AVX2 only
-                     }, cuts_of(st, c));
-      }
+  void project_lanes_padded_colors(const Store<C>& st, Real* lam, Real* p, const Real* w,
+                                   const SolveCoefficients<Real>* coeff) {
+    ensure_padded(p, w);
+    Real* q = k_.padded.data();
+    const bool any_xpbd = s_.lambda_dirty;
+    const std::size_t base = part_;
+    const Index colors = st.num_colors();
+    part_ += std::size_t(colors);
+    for (Index j = 0; j < colors; ++j) {
+      const Index c = kReverse ? colors - 1 - j : j;
+      blocks_range(st.offsets[c], st.offsets[c + 1], kBendingBlock, config_, base + c,
+                   [&](Index b, Index e) {
+                     if constexpr (std::is_same_v<C, AreaConstraint<Real>>) project_area_range_avx2(st.items.data(), b, e, q, coeff, lam, any_xpbd);
+                     else if constexpr (std::is_same_v<Real, float>) project_bending_range(st.items.data(), b, e, q, coeff, lam, any_xpbd);
+                     else project_bending_range_avx2(st.items.data(), b, e, q, coeff, lam, any_xpbd);  // double: AVX2 only
+                   }, cuts_of(st, c));
     }
   }
 

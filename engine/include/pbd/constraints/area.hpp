@@ -2,6 +2,8 @@
 /// \file area.hpp
 /// Triangle area constraint: C = ½|(p2 − p1) × (p3 − p1)| − A0 (Müller et al. 2006).
 #include "pbd/constraints/degenerate.hpp"
+#include "pbd/detail/area_math.hpp"
+#include "pbd/stiffness.hpp"
 
 #include <array>
 #include <cmath>
@@ -33,6 +35,21 @@ inline bool evaluate(const AreaConstraint<Real>& c, const Vec3<Real> (&p)[3], Re
   grad[1] = Real(0.5) * v.cross(n);
   grad[2] = Real(0.5) * n.cross(u);
   grad[0] = -grad[1] - grad[2];
+  return true;
+}
+
+/// The area constraint's own correction (projection.hpp's generic one, in the arithmetic the AVX2 kernel shares,
+/// detail/area_math.hpp): Δλ = (−k·C − α̃·λ) / (Σ_i w_i|∇_i C|² + α̃), Δp_i = w_i ∇_i C Δλ, with the |∇_i C|² in
+/// closed form; false where the generic one gives false.
+template <class Real>
+inline bool correction(const AreaConstraint<Real>& c, const Vec3<Real> (&p)[3], const Real (&w)[3],
+                       SolveCoefficients<Real> coeff, Real lambda, Vec3<Real> (&dp)[3], Real& dlambda) {
+  using V = detail::lane::V3<Real>;
+  const V q[3] = {{p[0].x(), p[0].y(), p[0].z()}, {p[1].x(), p[1].y(), p[1].z()}, {p[2].x(), p[2].y(), p[2].z()}};
+  const auto r = detail::area::area_step<Real>(q, w, c.rest, -coeff.k, coeff.alpha_tilde, lambda);
+  if (!r.ok) return false;
+  dlambda = r.dlambda;
+  for (int i = 0; i < 3; ++i) dp[i] = Vec3<Real>(r.dp[i].x, r.dp[i].y, r.dp[i].z);
   return true;
 }
 
