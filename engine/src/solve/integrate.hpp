@@ -22,7 +22,8 @@ template <class Real> struct Predict {
   const Real* x;       ///< positions at the sub-step's start (m)
   Real* v;             ///< velocities (m/s), updated
   const Real* f;       ///< external forces (N) or nullptr
-  Real* p;             ///< predicted positions (m), written
+  Real* p;             ///< predicted positions (m), written (3 per particle)
+  Real* q = nullptr;   ///< or, when set, the padded copy written instead (x y z w per particle, w the inverse mass)
 
   Predict(const StepParams<Real>& params, Real h_, const Real* w_, const Real* x_, Real* v_, const Real* f_, Real* p_)
       : h(h_), keep(std::max(Real(0), Real(1) - params.damping * h_)), damp(params.damping > Real(0)),
@@ -31,16 +32,20 @@ template <class Real> struct Predict {
   void operator()(Index b, Index e) const {
     // One loop per case (damping, external forces), each without a branch per component, so that the compiler can
     // vectorize it; every case does the operations of the general one, so the bits do not depend on which runs.
-    using yes = std::true_type;
-    using no = std::false_type;
-    if (damp && f) run(b, e, yes{}, yes{});
-    else if (damp) run(b, e, yes{}, no{});
-    else if (f) run(b, e, no{}, yes{});
-    else run(b, e, no{}, no{});
+    if (q) with_force(b, e, std::true_type{});
+    else with_force(b, e, std::false_type{});
   }
 
 private:
-  template <class Damp, class Force> void run(Index b, Index e, Damp, Force) const {
+  template <class Padded> void with_force(Index b, Index e, Padded) const {
+    using yes = std::true_type;
+    using no = std::false_type;
+    if (damp && f) run(b, e, yes{}, yes{}, Padded{});
+    else if (damp) run(b, e, yes{}, no{}, Padded{});
+    else if (f) run(b, e, no{}, yes{}, Padded{});
+    else run(b, e, no{}, no{}, Padded{});
+  }
+  template <class Damp, class Force, class Padded> void run(Index b, Index e, Damp, Force, Padded) const {
     for (Index i = b; i < e; ++i) {
       const bool pinned = w[i] == Real(0);  // pinned particles keep v = 0
       for (int d = 0; d < 3; ++d) {
@@ -52,8 +57,10 @@ private:
         if constexpr (Force::value) vd += h * (w[i] * f[j]);  // external force: a = w·f
         vd = pinned ? Real(0) : vd;
         v[j] = vd;
-        p[j] = x[j] + h * vd;
+        if constexpr (Padded::value) q[4 * std::size_t(i) + d] = x[j] + h * vd;
+        else p[j] = x[j] + h * vd;
       }
+      if constexpr (Padded::value) q[4 * std::size_t(i) + 3] = w[i];
     }
   }
 };
@@ -68,6 +75,20 @@ template <class Real> void update_velocities(Real h, const Real* x, const Real* 
     const Real predicted = x[j] + h * v[j];
     v[j] += (p[j] - predicted) / h;
   }
+}
+
+/// update_velocities with the solved positions in the padded copy q (x y z w per particle): copies them into p
+/// (exactly, as unpadding does) and updates v from them, in one pass.
+template <class Real>
+void update_velocities_from_padded(Real h, const Real* x, const Real* q, Real* p, Real* v, Index b, Index e) {
+  for (Index i = b; i < e; ++i)
+    for (int d = 0; d < 3; ++d) {
+      const std::size_t j = 3 * std::size_t(i) + d;
+      const Real solved = q[4 * std::size_t(i) + d];
+      p[j] = solved;
+      const Real predicted = x[j] + h * v[j];
+      v[j] += (solved - predicted) / h;
+    }
 }
 
 }  // namespace pbd::detail

@@ -220,6 +220,18 @@ public:
     else sweep_with<true, false>(p);
   }
 
+  /// Whether every sweep keeps the positions in the padded copy (scratch.padded, sized by begin()) from the first
+  /// type to the end: a caller may then write that copy itself (adopt_padded) and read the result from it.
+  bool stays_padded() const { return stay_padded_ && k_.padded.size() == m_.num_particles(); }
+  /// The caller wrote every particle's predicted position and inverse mass into scratch.padded (stays_padded()):
+  /// the sweeps start from it, and p is not read.
+  void adopt_padded() {
+    assert(stays_padded());
+    padded_ = true;
+  }
+  /// Whether the solved positions are in scratch.padded rather than p (until end() copies them back).
+  bool padded() const { return padded_; }
+
   /// Ends the sub-step's sweeps: p holds the solved positions afterwards.
   void end(Real* p) {
     if (padded_) unpad(p);

@@ -56,24 +56,32 @@ TeamSubstepsReport run_substeps_on_team(Model<Real>& m, State<Real>& state, Scra
       }
       member.wait();
       Sweeper<Real> own = *shared;
+      // When the sweeps keep the positions padded, predict writes the padded copy and the update reads it: no pass
+      // pads or unpads them, and each member touches its own particles only.
+      Real* q = own.stays_padded() ? k.padded.data() : nullptr;
       const auto b = clock::now();
       // 1.–2. forces, damping, predict: the team's parts of the particles
       member.loop(0, std::size_t(n), share, [&](std::size_t i, std::size_t j) {
-        Predict<Real>(params, h, w, x, v, forces, p)(Index(i), Index(j));
+        Predict<Real> predict(params, h, w, x, v, forces, p);
+        predict.q = q;
+        predict(Index(i), Index(j));
       });
       const auto c = clock::now();
       // 4. the sweeps
       const std::uint64_t t0 = Team::ticks(), w0 = member.waited;
       own.join(&member);
+      if (q) own.adopt_padded();
       for (int it = 0; it < params.iterations; ++it) own.sweep(p);
-      own.end(p);
+      const bool in_q = own.padded();
+      if (!in_q) own.end(p);
       own.join(nullptr);
       ticks += Team::ticks() - t0;
       waited += member.waited - w0;
       const auto d = clock::now();
-      // 5. update (no free body: nothing else)
+      // 5. update (no free body: nothing else), from the padded copy when the solved positions are there
       member.loop(0, std::size_t(n), share, [&](std::size_t i, std::size_t j) {
-        update_velocities(h, x, p, v, Index(i), Index(j));
+        if (in_q) update_velocities_from_padded(h, x, k.padded.data(), p, v, Index(i), Index(j));
+        else update_velocities(h, x, p, v, Index(i), Index(j));
       });
       if (member.rank == 0) {
         const auto e = clock::now();
