@@ -392,6 +392,19 @@ template <class Real> void World<Real>::validate() const {
       seen[i] = 1;
     }
   }
+  // Each ring corner's row (volume.hpp: ring_rows) is the row of that corner's particle in its constraint.
+  if (v.table.ring_rows.size() != v.table.ring.size())
+    throw Error(detail::message("validate: ", v.table.ring_rows.size(), " volume ring rows for ", v.table.ring.size(),
+                                " ring corners"));
+  for (const auto& c : v.table.items)
+    for (Index row = c.row_begin; row < c.row_end; ++row)
+      for (Index k = v.table.ring_offsets[row]; k < v.table.ring_offsets[row + 1]; ++k)
+        for (int j = 0; j < 2; ++j) {
+          const Index r = v.table.ring_rows[k][j];
+          if (r >= c.row_end - c.row_begin || v.table.particles[c.row_begin + r] != v.table.ring[k][j])
+            throw Error(detail::message("validate: volume ring corner ", k, " names row ", r,
+                                        ", not the row of particle ", v.table.ring[k][j]));
+        }
 }
 
 // The members defined in this file (the class itself is instantiated in world.cpp).

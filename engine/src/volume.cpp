@@ -29,6 +29,10 @@ void VolumeConstraints<Real>::add(std::span<const std::array<Index, 3>> tris, In
   }
   if (!corners.empty()) ring_offsets.push_back(Index(ring.size()));
   c.row_end = Index(particles.size());
+  // Each ring corner as a row of this constraint (every corner of its triangles is one of its rows).
+  const auto rows_begin = particles.begin() + c.row_begin, rows_end = particles.begin() + c.row_end;
+  auto row_of = [&](Index particle) { return Index(std::lower_bound(rows_begin, rows_end, particle) - rows_begin); };
+  for (std::size_t k = ring_rows.size(); k < ring.size(); ++k) ring_rows.push_back({row_of(ring[k][0]), row_of(ring[k][1])});
   items.push_back(c);
 }
 

@@ -36,6 +36,32 @@ World<double> blob(unsigned seed, int level = 1) {
   return w;
 }
 
+// The projection finds a ring corner's p − o by its row (VolumeConstraints::ring_rows): for every constraint of a
+// table of several meshes (rows relative to each constraint's first), that row holds the corner's particle; and a
+// world of two meshes validates.
+TEST(Volume, RingRowsNameEachCornersRowInItsOwnConstraint) {
+  VolumeConstraints<double> v;
+  const TriangleMesh a = icosphere_mesh(1, 0.5), b = icosphere_mesh(2, 0.3);
+  const Index offset = Index(a.positions.cols());
+  std::vector<std::array<Index, 3>> tb;
+  for (const auto& t : b.triangles) tb.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  v.add(a.triangles, 0, 1.0, {});
+  v.add(tb, 0, 1.0, {});
+  ASSERT_EQ(v.ring_rows.size(), v.ring.size());
+  for (const auto& c : v.items)
+    for (Index r = c.row_begin; r < c.row_end; ++r)
+      for (Index k = v.ring_offsets[r]; k < v.ring_offsets[r + 1]; ++k)
+        for (int j = 0; j < 2; ++j) {
+          ASSERT_LT(v.ring_rows[k][j], c.row_end - c.row_begin);
+          EXPECT_EQ(v.particles[c.row_begin + v.ring_rows[k][j]], v.ring[k][j]) << "corner " << k;
+        }
+  World<double> w = blob(4);
+  MeshConstraintSets sets;
+  sets.volume = w.add_constraint_set(Stiffness::pbd_k(1.0));
+  add_mesh(w, icosphere_mesh(2, 0.3), {}, sets);
+  EXPECT_NO_THROW(w.validate());
+}
+
 TEST(Volume, GradientMatchesFiniteDifferences) {
   for (unsigned seed : {1u, 2u, 3u}) {
     World<double> w = blob(seed);

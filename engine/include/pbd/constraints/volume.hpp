@@ -42,6 +42,7 @@ template <class Real> struct VolumeConstraints {
   std::vector<Index> particles;                  ///< the particle of each row
   std::vector<Index> ring_offsets;               ///< row r's ring is ring[ring_offsets[r], ring_offsets[r + 1])
   std::vector<std::array<Index, 2>> ring;        ///< (j, k) per triangle corner of the row's particle i: ∇_i C = Σ p_j × p_k
+  std::vector<std::array<Index, 2>> ring_rows;   ///< the same j and k as rows of their constraint (0: its row_begin)
 
   std::size_t size() const { return items.size(); }  ///< number of volume constraints
   bool empty() const { return items.empty(); }       ///< true when the world has none
@@ -53,6 +54,7 @@ template <class Real> struct VolumeConstraints {
 template <class Real> struct VolumeScratch {
   std::vector<Real> target;   ///< current target of each constraint (6V unit)
   std::vector<Real> grad;     ///< 3 per row of the constraint being projected
+  std::vector<Real> turned;   ///< 8 per row of that constraint: d = p − o as (d_y d_z d_x 0) and (d_z d_x d_y 0)
   std::vector<Real> partial;  ///< 3 per block: Σ (p − o)·∇C, Σ w|∇C|², Σ w|p − o|⁴
   /// Sets every constraint's target to pressure.at(time) · rest.
   void set_targets(const VolumeConstraints<Real>& v, double time);
