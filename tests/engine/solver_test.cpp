@@ -178,6 +178,27 @@ TYPED_TEST(SolverTest, AStepOnOneTeamGivesTheBitsOfTheSubStepBySubStepPath) {
     }
 }
 
+// A world for a SIMD kernel's bit-for-bit test: four pinned particles (shared corners), three sets (PBD, XPBD or PBD,
+// iteration-independent) and random movable particles of random masses, from a seeded generator.
+template <class Real> struct KernelCase {
+  World<Real> w;
+  std::mt19937 rng;
+  std::uniform_real_distribution<double> u{-1, 1};
+  Index pin[4];
+  Index sets[3];
+  KernelCase(unsigned seed, bool with_xpbd) : rng(seed) {
+    for (int i = 0; i < 4; ++i) pin[i] = w.add_particle(Vec3<Real>(Real(0.3 * i), Real(0.1 * i * i), 1), World<Real>::kPinned);
+    sets[0] = w.add_constraint_set(Stiffness::pbd_k(0.7));
+    sets[1] = w.add_constraint_set(with_xpbd ? Stiffness::xpbd_compliance(1e-3) : Stiffness::pbd_k(0.3));
+    sets[2] = w.add_constraint_set(Stiffness::iteration_independent(0.4));
+  }
+  double uniform() { return u(rng); }
+  Vec3<Real> random_point() { return Vec3<Real>(Real(u(rng)), Real(u(rng)), Real(u(rng))); }
+  Index at(const Vec3<Real>& x) { return w.add_particle(x, Real(0.2 + 2 * std::abs(u(rng)))); }
+  Index movable() { return at(random_point()); }
+  Index any_set() { return sets[std::uniform_int_distribution<int>(0, 2)(rng)]; }
+};
+
 // Stretch constraints that share no movable particle give the same result in any order, so the serial reference
 // (scalar projection, insertion order) and the colored solver (float: four at a time with SIMD on padded
 // positions) must agree bit for bit. The pairs cover what the SIMD kernel masks or mixes within one block of four:
@@ -239,20 +260,15 @@ TYPED_TEST(SolverTest, BendingKernelMatchesTheScalarProjectionBitForBit) {
   for (bool with_xpbd : {true, false})
   for (bool one_set : {false, true}) {
     for (int count : {1, 2, 3, 4, 5, 7, 8, 9, 13, 16, 61, 250}) {
-      std::mt19937 rng{unsigned(count) + 7u};
-      std::uniform_real_distribution<double> u(-1, 1);
-      World<Real> w;
-      Index pin[4];
-      for (int i = 0; i < 4; ++i) pin[i] = w.add_particle(Vec3<Real>(Real(0.3 * i), Real(0.1 * i * i), 1), World<Real>::kPinned);
-      const Index sets[3] = {w.add_constraint_set(Stiffness::pbd_k(0.7)),
-                             w.add_constraint_set(with_xpbd ? Stiffness::xpbd_compliance(1e-3) : Stiffness::pbd_k(0.3)),
-                             w.add_constraint_set(Stiffness::iteration_independent(0.4))};
-      auto random_point = [&] { return Vec3<Real>(Real(u(rng)), Real(u(rng)), Real(u(rng))); };
-      auto at = [&](const Vec3<Real>& x) { return w.add_particle(x, Real(0.2 + 2 * std::abs(u(rng)))); };
-      auto movable = [&] { return at(random_point()); };
+      KernelCase<Real> t(unsigned(count) + 7u, with_xpbd);
+      World<Real>& w = t.w;
+      const Index* pin = t.pin;
+      auto random_point = [&] { return t.random_point(); };
+      auto at = [&](const Vec3<Real>& x) { return t.at(x); };
+      auto movable = [&] { return t.movable(); };
       for (int k = 0; k < count; ++k) {
-        const Index set = sets[one_set ? 1 : std::uniform_int_distribution<int>(0, 2)(rng)];
-        const Real rest = Real(0.3 + 2.8 * std::abs(u(rng)));
+        const Index set = one_set ? t.sets[1] : t.any_set();
+        const Real rest = Real(0.3 + 2.8 * std::abs(t.uniform()));
         const Vec3<Real> a = random_point(), b = random_point();
         switch (k % 8) {
           case 0: w.add_bending(at(a), at(b), at(a + Real(0.4) * (b - a)), movable(), set, rest); break;  // collinear
@@ -288,20 +304,15 @@ TYPED_TEST(SolverTest, AreaKernelMatchesTheScalarProjectionBitForBit) {
   using Real = TypeParam;
   for (bool with_xpbd : {true, false})
     for (int count : {1, 3, 4, 5, 8, 9, 13, 17, 61, 250}) {
-      std::mt19937 rng{unsigned(count) + 11u};
-      std::uniform_real_distribution<double> u(-1, 1);
-      World<Real> w;
-      Index pin[3];
-      for (int i = 0; i < 3; ++i) pin[i] = w.add_particle(Vec3<Real>(Real(0.3 * i), Real(0.2 * i * i), 1), World<Real>::kPinned);
-      const Index sets[3] = {w.add_constraint_set(Stiffness::pbd_k(0.7)),
-                             w.add_constraint_set(with_xpbd ? Stiffness::xpbd_compliance(1e-3) : Stiffness::pbd_k(0.3)),
-                             w.add_constraint_set(Stiffness::iteration_independent(0.4))};
-      auto random_point = [&] { return Vec3<Real>(Real(u(rng)), Real(u(rng)), Real(u(rng))); };
-      auto at = [&](const Vec3<Real>& x) { return w.add_particle(x, Real(0.2 + 2 * std::abs(u(rng)))); };
-      auto movable = [&] { return at(random_point()); };
+      KernelCase<Real> t(unsigned(count) + 11u, with_xpbd);
+      World<Real>& w = t.w;
+      const Index* pin = t.pin;
+      auto random_point = [&] { return t.random_point(); };
+      auto at = [&](const Vec3<Real>& x) { return t.at(x); };
+      auto movable = [&] { return t.movable(); };
       for (int k = 0; k < count; ++k) {
-        const Index set = sets[std::uniform_int_distribution<int>(0, 2)(rng)];
-        const Real rest = Real(0.05 + 0.8 * std::abs(u(rng)));
+        const Index set = t.any_set();
+        const Real rest = Real(0.05 + 0.8 * std::abs(t.uniform()));
         const Vec3<Real> a = random_point(), b = random_point();
         switch (k % 6) {
           case 0: w.add_area(at(a), at(b), at(a + Real(0.4) * (b - a)), set, rest); break;  // collinear
