@@ -50,7 +50,9 @@ TeamSubstepsReport run_substeps_on_team(Model<Real>& m, State<Real>& state, Scra
       const Real* x = positions[s & 1];
       Real* p = positions[(s + 1) & 1];
       const auto a = clock::now();
-      if (member.rank == 0 && s > 0) {  // the last sub-step's update ended at a barrier: no member reads `shared`
+      // Member 0 sets up this sub-step's sweeper: every member copied the last one before the last sub-step's first
+      // shared loop (a team forms only with one), whose barrier member 0 has passed, so no member still reads it.
+      if (member.rank == 0 && s > 0) {
         shared.emplace(m, state, k, schedule, Update::in_place, reverse_of(s), true, config);
         shared->begin(time_of(s));
       }
