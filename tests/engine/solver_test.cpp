@@ -197,6 +197,13 @@ template <class Real> struct KernelCase {
   Index at(const Vec3<Real>& x) { return w.add_particle(x, Real(0.2 + 2 * std::abs(u(rng)))); }
   Index movable() { return at(random_point()); }
   Index any_set() { return sets[std::uniform_int_distribution<int>(0, 2)(rng)]; }
+  /// The colored solver on 1 and 2 threads gives the serial reference's bits after 12 steps (`what` names the case).
+  void expect_colored_is_serial(const testing::Message& what) const {
+    const auto serial = run(w, Solver::serial, 1, 12);
+    for (Real v : serial) ASSERT_TRUE(std::isfinite(v)) << what;
+    for (int threads : {1, 2})
+      EXPECT_TRUE(bitwise_equal(serial, run(w, Solver::colored, threads, 12))) << what << ", " << threads << " threads";
+  }
 };
 
 // Stretch constraints that share no movable particle give the same result in any order, so the serial reference
@@ -261,36 +268,27 @@ TYPED_TEST(SolverTest, BendingKernelMatchesTheScalarProjectionBitForBit) {
   for (bool one_set : {false, true}) {
     for (int count : {1, 2, 3, 4, 5, 7, 8, 9, 13, 16, 61, 250}) {
       KernelCase<Real> t(unsigned(count) + 7u, with_xpbd);
-      World<Real>& w = t.w;
-      const Index* pin = t.pin;
-      auto random_point = [&] { return t.random_point(); };
-      auto at = [&](const Vec3<Real>& x) { return t.at(x); };
-      auto movable = [&] { return t.movable(); };
       for (int k = 0; k < count; ++k) {
         const Index set = one_set ? t.sets[1] : t.any_set();
         const Real rest = Real(0.3 + 2.8 * std::abs(t.uniform()));
-        const Vec3<Real> a = random_point(), b = random_point();
+        const Vec3<Real> a = t.random_point(), b = t.random_point();
         switch (k % 8) {
-          case 0: w.add_bending(at(a), at(b), at(a + Real(0.4) * (b - a)), movable(), set, rest); break;  // collinear
-          case 1: w.add_bending(at(a), at(a), movable(), movable(), set, rest); break;  // coincident edge ends
+          case 0: t.w.add_bending(t.at(a), t.at(b), t.at(a + Real(0.4) * (b - a)), t.movable(), set, rest); break;  // collinear
+          case 1: t.w.add_bending(t.at(a), t.at(a), t.movable(), t.movable(), set, rest); break;  // coincident edge ends
           case 2: {  // exactly flat: p4 = p1 + p2 − p3, in the plane of the first triangle
             const Vec3<Real> c(a.x() + Real(0.5), a.y(), a.z());
-            w.add_bending(at(a), at(c), at(Vec3<Real>(a.x(), a.y() + Real(0.5), a.z())),
-                          at(Vec3<Real>(c.x(), a.y() - Real(0.5), a.z())), set, rest);
+            t.w.add_bending(t.at(a), t.at(c), t.at(Vec3<Real>(a.x(), a.y() + Real(0.5), a.z())),
+                          t.at(Vec3<Real>(c.x(), a.y() - Real(0.5), a.z())), set, rest);
             break;
           }
-          case 3: w.add_bending(pin[0], pin[1], movable(), movable(), set, rest); break;  // shared pinned edge
-          case 4: w.add_bending(movable(), movable(), pin[2], movable(), set, rest); break;  // shared pinned corner
-          case 5: w.add_bending(pin[0], pin[1], pin[2], pin[3], set, rest); break;  // all pinned
-          default: w.add_bending(movable(), movable(), movable(), movable(), set, rest); break;
+          case 3: t.w.add_bending(t.pin[0], t.pin[1], t.movable(), t.movable(), set, rest); break;  // shared pinned edge
+          case 4: t.w.add_bending(t.movable(), t.movable(), t.pin[2], t.movable(), set, rest); break;  // shared pinned corner
+          case 5: t.w.add_bending(t.pin[0], t.pin[1], t.pin[2], t.pin[3], set, rest); break;  // all pinned
+          default: t.w.add_bending(t.movable(), t.movable(), t.movable(), t.movable(), set, rest); break;
         }
       }
-      const auto serial = run(w, Solver::serial, 1, 12);
-      for (Real v : serial) ASSERT_TRUE(std::isfinite(v));
-      for (int threads : {1, 2})
-        EXPECT_TRUE(bitwise_equal(serial, run(w, Solver::colored, threads, 12)))
-            << count << " constraints, " << threads << " threads, " << (with_xpbd ? "with" : "without") << " XPBD, "
-            << (one_set ? "one set" : "three sets");
+      t.expect_colored_is_serial(testing::Message() << count << " constraints, " << (with_xpbd ? "with" : "without")
+                                                   << " XPBD, " << (one_set ? "one set" : "three sets"));
     }
   }
 }
@@ -305,28 +303,20 @@ TYPED_TEST(SolverTest, AreaKernelMatchesTheScalarProjectionBitForBit) {
   for (bool with_xpbd : {true, false})
     for (int count : {1, 3, 4, 5, 8, 9, 13, 17, 61, 250}) {
       KernelCase<Real> t(unsigned(count) + 11u, with_xpbd);
-      World<Real>& w = t.w;
-      const Index* pin = t.pin;
-      auto random_point = [&] { return t.random_point(); };
-      auto at = [&](const Vec3<Real>& x) { return t.at(x); };
-      auto movable = [&] { return t.movable(); };
       for (int k = 0; k < count; ++k) {
         const Index set = t.any_set();
         const Real rest = Real(0.05 + 0.8 * std::abs(t.uniform()));
-        const Vec3<Real> a = random_point(), b = random_point();
+        const Vec3<Real> a = t.random_point(), b = t.random_point();
         switch (k % 6) {
-          case 0: w.add_area(at(a), at(b), at(a + Real(0.4) * (b - a)), set, rest); break;  // collinear
-          case 1: w.add_area(at(a), at(a), movable(), set, rest); break;                      // coincident corners
-          case 2: w.add_area(pin[0], pin[1], movable(), set, rest); break;                    // shared pinned edge
-          case 3: w.add_area(pin[0], pin[1], pin[2], set, rest); break;                       // all pinned
-          default: w.add_area(movable(), movable(), movable(), set, rest); break;
+          case 0: t.w.add_area(t.at(a), t.at(b), t.at(a + Real(0.4) * (b - a)), set, rest); break;  // collinear
+          case 1: t.w.add_area(t.at(a), t.at(a), t.movable(), set, rest); break;                      // coincident corners
+          case 2: t.w.add_area(t.pin[0], t.pin[1], t.movable(), set, rest); break;                    // shared pinned edge
+          case 3: t.w.add_area(t.pin[0], t.pin[1], t.pin[2], set, rest); break;                       // all pinned
+          default: t.w.add_area(t.movable(), t.movable(), t.movable(), set, rest); break;
         }
       }
-      const auto serial = run(w, Solver::serial, 1, 12);
-      for (Real v : serial) ASSERT_TRUE(std::isfinite(v));
-      for (int threads : {1, 2})
-        EXPECT_TRUE(bitwise_equal(serial, run(w, Solver::colored, threads, 12)))
-            << count << " constraints, " << threads << " threads, " << (with_xpbd ? "with" : "without") << " XPBD";
+      t.expect_colored_is_serial(testing::Message() << count << " constraints, " << (with_xpbd ? "with" : "without")
+                                                   << " XPBD");
     }
 }
 
