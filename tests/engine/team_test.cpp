@@ -85,11 +85,12 @@ TEST(Team, ChosenPartsCoverTheRangeOnceWhateverTheStarts) {
   }
 }
 
-// Team::Outcome: the members and the share of their time spent in barriers. One member never waits. Of two, when
-// member 0 works 5 ms alone in a shared loop (its part is the whole range) and member 1 only waits for it, the share
-// is strictly between 0 and 1 (member 0 worked, member 1 waited) and, when both start together, one half. A member
-// counts from when it starts, and on a loaded machine the worker often starts late (then it waits less), so the
-// test runs until one run comes out in 0.35–0.65 (at most 50 runs).
+// Team::Outcome: the members and the share of their time spent in barriers. One member never waits. Of two, both
+// first meet at a barrier (so a worker that starts late makes member 0 wait, and that wait is counted); then member 0
+// works 5 ms alone in a shared loop (its part is the whole range) while member 1 waits for it. The share is then
+// strictly between 0 and 1, and at least about one half: member 1 waits through member 0's whole loop, member 0
+// through the worker's late start. A member's thread descheduled between the two barriers counts as working, so on
+// a loaded machine one run may come out lower: the test asks for one run of at most 50 to reach 0.45.
 TEST(Team, ReportsTheShareOfTheirTimeMembersWaited) {
   auto spin = [](std::chrono::microseconds d) {
     const auto until = std::chrono::steady_clock::now() + d;
@@ -107,6 +108,7 @@ TEST(Team, ReportsTheShareOfTheirTimeMembersWaited) {
     bool half = false;
     for (int attempt = 0; attempt < 50 && !half; ++attempt) {
       const Team::Outcome out = Team::run(2, std::chrono::milliseconds(50), [&](Team::Member& m) {
+        m.wait();
         m.loop_parts(0, 2, true, [](int) -> std::size_t { return 2; },  // member 0: [0, 2); member 1: nothing
                      [&](std::size_t, std::size_t) { spin(std::chrono::milliseconds(5)); });
       });
@@ -117,10 +119,10 @@ TEST(Team, ReportsTheShareOfTheirTimeMembersWaited) {
       ++two;
       EXPECT_GT(out.wait_fraction, 0.0);
       EXPECT_LT(out.wait_fraction, 1.0);
-      half = out.wait_fraction > 0.35 && out.wait_fraction < 0.65;
+      half = out.wait_fraction >= 0.45;
     }
     EXPECT_GT(two, 0) << "no team of two formed in 50 runs that waited 50 ms for the worker";
-    EXPECT_TRUE(half) << "of " << two << " teams of two, none waited about half of its time";
+    EXPECT_TRUE(half) << "of " << two << " teams of two, none waited at least about half of its time";
   });
 }
 
