@@ -71,7 +71,7 @@ struct TeamSubstepsReport {
 /// type, volume or collider, no force callback (external forces are fine), no free body, and a model whose sweeps
 /// would form a team anyway (Sweeper::team_ready). Predict and update are then the team's loops over the same
 /// particle parts the sweeps use, so a sub-step costs no fork/join and its particles stay in their thread's cache;
-/// the bits are those of the sub-step-by-sub-step path. Otherwise returns ran = false before any sub-step.
+/// the bits are those of the sub-step-by-sub-step path. Otherwise returns ran = false, having changed nothing.
 template <class Real>
 TeamSubstepsReport run_substeps_on_team(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch,
                                         const StepParams<Real>& params, const ParallelConfig& config,

@@ -172,30 +172,33 @@ public:
       stay_padded_ = stay_padded_ && (st.empty() || padded_kernel<C>());
     });
     stay_padded_ = stay_padded_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0 && keep_padded;
-    interior_items_ = 0;
-    for_each_store(m_.stores, [&](const auto& st, auto) { interior_items_ += st.sequential ? st.offsets[st.sequential] : 0; });
-    for (const auto& t : m_.user.types()) interior_items_ += t->num_blocks() ? t->color_begin(t->num_blocks()) : 0;
+    interior_items_ = count_interior_items();
     bool any_padded = false;  // sized here, never by a team's members
     for_each_store(m_.stores, [&](const auto& st, auto) {
       using C = typename std::remove_cvref_t<decltype(st)>::value_type;
       any_padded = any_padded || (!st.empty() && padded_kernel<C>());
     });
     if (any_padded) k_.padded.resize(m_.num_particles());
-    // A team (team.hpp) for the sweeps: Gauss-Seidel in place with the built-in types and contacts only (user types
-    // may fork inside, volumes reduce with loops of their own), only when some loop is large enough to share, and
-    // under the block schedule only when the interiors are shared (else sharing the boundary alone moves its cache
-    // lines between the threads every sweep: 0.78× on the 30² cloth's 3 blocks).
-    // The interiors are shared only with at least two blocks per thread (fewer, and the threads mostly trade cache
-    // lines: 3 blocks of a 30² cloth ran 0.75× on 2 threads against 1).
-    const Index threads = Index(std::max(1, tbb::this_task_arena::max_concurrency()));
-    share_interiors_ = parallel_ && m_.num_blocks >= 2 * threads;
-    std::size_t largest = share_interiors_ ? interior_items_ : 0;
+    share_interiors_ = shares_interiors();
+    team_ready_ = team_possible();
+  }
+
+  /// Whether the sweeps would run on a team once begin() ran (team_ready()), without changing anything: a team
+  /// (team.hpp) for Gauss-Seidel in place with the built-in types and contacts only (user types may fork inside,
+  /// volumes reduce with loops of their own), only when some loop is large enough to share, and under the block
+  /// schedule only when the interiors are shared (else sharing the boundary alone moves its cache lines between the
+  /// threads every sweep: 0.78× on the 30² cloth's 3 blocks).
+  bool team_possible() const {
+    if (!parallel_ || schedule_ == Schedule::insertion || update_ != Update::in_place || !m_.user.empty() ||
+        !m_.volume.table.empty() || tbb::this_task_arena::max_concurrency() <= 1)
+      return false;
+    const bool share = shares_interiors();
+    if (schedule_ == Schedule::blocks && !share) return false;
+    std::size_t largest = share ? count_interior_items() : 0;
     for_each_store(m_.stores, [&](const auto& st, auto) {
       for (Index c = st.sequential; c < st.num_colors(); ++c) largest = std::max<std::size_t>(largest, st.offsets[c + 1] - st.offsets[c]);
     });
-    team_ready_ = parallel_ && schedule_ != Schedule::insertion && update_ == Update::in_place && m_.user.empty() &&
-                  m_.volume.table.empty() && tbb::this_task_arena::max_concurrency() > 1 &&
-                  (schedule_ != Schedule::blocks || share_interiors_) && largest >= team_share_below(config_);
+    return largest >= team_share_below(config_);
   }
 
   /// The sweeps may run on a team (Team::run, then join() on each member's own copy of this sweeper).
@@ -235,6 +238,20 @@ public:
   /// Ends the sub-step's sweeps: p holds the solved positions afterwards.
   void end(Real* p) {
     if (padded_) unpad(p);
+  }
+
+  // Constraints in the blocks' interiors (block schedule; 0 otherwise).
+  std::size_t count_interior_items() const {
+    std::size_t n = 0;
+    for_each_store(m_.stores, [&](const auto& st, auto) { n += st.sequential ? st.offsets[st.sequential] : 0; });
+    for (const auto& t : m_.user.types()) n += t->num_blocks() ? t->color_begin(t->num_blocks()) : 0;
+    return n;
+  }
+  // The interiors are shared only with at least two blocks per thread (fewer, and the threads mostly trade cache
+  // lines: 3 blocks of a 30² cloth ran 0.75× on 2 threads against 1).
+  bool shares_interiors() const {
+    const Index threads = Index(std::max(1, tbb::this_task_arena::max_concurrency()));
+    return parallel_ && m_.num_blocks >= 2 * threads;
   }
 
   /// Whether constraints of type C are projected by a SIMD kernel on padded positions in this sub-step's sweeps:

@@ -28,11 +28,11 @@ TeamSubstepsReport run_substeps_on_team(Model<Real>& m, State<Real>& state, Scra
   const long long first = std::llround(state.time / double(params.dt)) * substeps;
   auto time_of = [&](int s) { return state.time + double(h) * double(s + 1); };
   auto reverse_of = [&](int s) { return params.sweep_order == SweepOrder::symmetric && ((first + s) & 1) != 0; };
-  k.collisions.clear();
   std::optional<Sweeper<Real>> shared;  // this sub-step's sweeper, set up by member 0 (begin())
   shared.emplace(m, state, k, schedule, Update::in_place, reverse_of(0), true, config);
+  if (!shared->team_possible()) return report;  // decided before begin(), which resets λ: nothing changed
+  k.collisions.clear();
   shared->begin(time_of(0));
-  if (!shared->team_ready()) return report;
 
   const Index n = m.num_particles();
   k.p.resize(3, n);
