@@ -10,6 +10,9 @@ void add_study_command(CLI::App& app);
 /// `pbd color`: prints the coloring statistics of a scene's constraints.
 void add_color_command(CLI::App& app);
 
+/// `pbd list`: the built-in scenes and the study's generated cloths, one line each.
+void add_list_command(CLI::App& app);
+
 /// `pbd run`: steps a scene, writes its frames as OBJ files, reports time per step and volume errors.
 void add_run_command(CLI::App& app);
 

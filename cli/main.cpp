@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   pbd::cli::add_study_command(app);
   pbd::cli::add_color_command(app);
   pbd::cli::add_run_command(app);
+  pbd::cli::add_list_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

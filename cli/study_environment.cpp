@@ -12,6 +12,12 @@
 #ifndef PBD_SOURCE_DIR
 #define PBD_SOURCE_DIR "."
 #endif
+#ifndef PBD_BUILD_TYPE
+#define PBD_BUILD_TYPE ""
+#endif
+#ifndef PBD_CXX_FLAGS
+#define PBD_CXX_FLAGS ""
+#endif
 
 namespace pbd::cli {
 namespace {
@@ -47,11 +53,6 @@ std::string cpu_model() {
   return "";
 }
 
-std::string load_average() {
-  std::ifstream f("/proc/loadavg");
-  std::string a, b, c;
-  return f >> a >> b >> c ? a + " " + b + " " + c : "";
-}
 
 // argv of this process, space-separated (arguments with spaces or quotes single-quoted).
 std::string command_line() {
@@ -74,7 +75,35 @@ std::string utc_now() {
   return s;
 }
 
+std::string compiler() {
+#if defined(__clang__)
+  return std::string("clang ") + __clang_version__;
+#elif defined(__GNUC__)
+  return std::string("gcc ") + __VERSION__;
+#else
+  return "";
+#endif
+}
+
 }  // namespace
+
+std::string load_average() {
+  std::ifstream f("/proc/loadavg");
+  std::string a, b, c;
+  return f >> a >> b >> c ? a + " " + b + " " + c : "";
+}
+
+nlohmann::json study_context() {
+  const nlohmann::json env = study_environment();
+  return {{"compiler", or_null(compiler())},
+          {"flags", PBD_CXX_FLAGS},
+          {"build_type", or_null(PBD_BUILD_TYPE)},
+          {"cpu", env["machine"]["cpu"]},
+          {"cores", env["machine"]["nproc"]},
+          {"date", env["date"]},
+          {"commit", env["git_commit"]},
+          {"loadavg_start", or_null(load_average())}};
+}
 
 nlohmann::json study_environment() {
   const std::string git = "git -C " + shell_quoted(PBD_SOURCE_DIR) + " ";

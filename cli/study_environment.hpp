@@ -11,6 +11,13 @@ namespace pbd::cli {
 /// "load_average_at_start"}, "git_commit" (of the source tree)}; what cannot be found is null.
 nlohmann::json study_environment();
 
+/// The context block of a report, like Google Benchmark's: {"compiler", "flags", "build_type", "cpu", "cores",
+/// "date", "commit", "loadavg_start"}; what cannot be found is null.
+nlohmann::json study_context();
+
+/// The 1-, 5- and 15-minute load averages ("a b c"), or "" when /proc/loadavg cannot be read.
+std::string load_average();
+
 /// scripts/plot_study.py of the source tree ($PBD_PLOT_SCRIPT overrides it).
 std::filesystem::path plot_script();
 

@@ -6,11 +6,12 @@
 
 #include <algorithm>
 #include <charconv>
+#include <thread>
 
 namespace pbd::cli {
 namespace {
 
-std::vector<std::string> split(const std::string& text) {
+std::vector<std::string> split_list(const std::string& text) {
   std::vector<std::string> out;
   std::size_t begin = 0;
   while (begin <= text.size()) {
@@ -21,13 +22,17 @@ std::vector<std::string> split(const std::string& text) {
   return out;
 }
 
+bool parse_int(const std::string& text, int& v) {
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  return ec == std::errc() && end == text.data() + text.size();
+}
+
 // Comma-separated integers in [lo, hi], sorted, duplicates dropped.
 std::vector<int> int_list(const std::string& flag, const std::string& text, int lo, int hi) {
   std::vector<int> out;
-  for (const std::string& item : split(text)) {
+  for (const std::string& item : split_list(text)) {
     int v = 0;
-    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), v);
-    if (ec != std::errc() || end != item.data() + item.size())
+    if (!parse_int(item, v))
       throw Error(flag + ": \"" + item + "\" is not an integer (expected a comma-separated list such as 1,2,4)");
     if (v < lo || v > hi)
       throw Error(flag + ": " + item + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
@@ -41,7 +46,7 @@ std::vector<int> int_list(const std::string& flag, const std::string& text, int 
 
 std::vector<StudySolver> solver_list(const std::string& text) {
   std::vector<StudySolver> out;
-  for (const std::string& item : split(text)) {
+  for (const std::string& item : split_list(text)) {
     const auto s = parse_solver(item);
     if (!s) throw Error("--solvers: unknown solver \"" + item + "\" (valid: " + solver_names() + ")");
     if (std::any_of(out.begin(), out.end(), [&](const StudySolver& o) { return o.solver == *s; })) continue;
@@ -51,30 +56,77 @@ std::vector<StudySolver> solver_list(const std::string& text) {
   return out;
 }
 
+std::string all_threads() {
+  const int n = std::max(1, int(std::thread::hardware_concurrency()));
+  std::string s;
+  for (int t = 1; t <= n; ++t) s += (t > 1 ? "," : "") + std::to_string(t);
+  return n == 1 ? "1" : s;
+}
+
 }  // namespace
 
-std::vector<std::string> default_study_scenes() { return builtin_scene_names(); }
+std::vector<std::string> default_study_scenes() {
+  std::vector<std::string> out = builtin_scene_names();
+  for (const char* cloth : {"cloth30", "cloth100", "cloth300"}) out.push_back(cloth);
+  return out;
+}
+
+std::vector<std::string> default_scaling_scenes() { return {"cloth30", "cloth100", "cloth300", "cloth1000"}; }
+
+std::vector<Split> splits_of(int budget) {
+  std::vector<Split> out;
+  for (int s = 1; s <= budget; ++s)
+    if (budget % s == 0) out.push_back({s, budget / s});
+  return out;
+}
+
+Split parse_split(const std::string& flag, const std::string& text) {
+  const std::size_t x = text.find('x');
+  Split s;
+  if (x == std::string::npos || !parse_int(text.substr(0, x), s.substeps) ||
+      !parse_int(text.substr(x + 1), s.iterations))
+    throw Error(flag + ": \"" + text + "\" is not SUBSTEPSxITERATIONS (such as 2x5)");
+  if (s.substeps < 1 || s.substeps > 10000 || s.iterations < 1 || s.iterations > 100000)
+    throw Error(flag + ": \"" + text + "\" is out of range (substeps 1..10000, iterations 1..100000)");
+  return s;
+}
 
 StudyPlan make_plan(const StudyOptions& o) {
   StudyPlan plan;
   plan.quick = o.quick;
-  // --quick: the smoke test (every built-in scene, every solver, 1 and 2 threads, 1 and 4 iterations, 20 steps,
-  // one timed run, a 50-iteration reference); options given explicitly still win.
+  plan.scaling = o.scaling;
   for (const std::string& s : o.scenes)
-    for (const std::string& name : split(s)) plan.scenes.push_back(name);
-  if (plan.scenes.empty()) plan.scenes = default_study_scenes();
+    for (const std::string& name : split_list(s)) plan.scenes.push_back(name);
+  if (plan.scenes.empty()) plan.scenes = o.scaling ? default_scaling_scenes() : default_study_scenes();
+  if (o.scenes.empty() && o.quick && !o.scaling)  // --quick leaves out the 300² cloth
+    plan.scenes.erase(std::remove(plan.scenes.begin(), plan.scenes.end(), "cloth300"), plan.scenes.end());
   for (const std::string& name : plan.scenes) check_study_scene(name);
-  plan.solvers = solver_list(o.solvers);
-  plan.threads = int_list("--threads", o.threads, 1, 1024);
-  plan.iterations = int_list("--iterations", o.quick && !o.given_iterations ? "1,4" : o.iterations, 1, 100000);
-  plan.substeps = int_list("--substeps", o.substeps, 1, 10000);
-  plan.steps = o.steps > 0 ? o.steps : (o.quick ? 20 : 0);
+  // Main mode: every solver (serial is the baseline); scaling mode: the parallel ones.
+  plan.solvers = solver_list(!o.solvers.empty() ? o.solvers : o.scaling ? "colored,jacobi,block"
+                                                                          : "serial,colored,jacobi,block");
+  plan.threads = int_list("--threads", !o.threads.empty() ? o.threads : o.scaling ? all_threads() : "1,2", 1, 1024);
+  // --quick: the smoke test: budgets of 2 and 4 sweeps, at most 20 steps, one timed run, an 8x2 reference.
+  plan.budgets = int_list("--budgets", !o.budgets.empty() ? o.budgets : o.quick ? "2,4" : "2,8", 1, 4096);
+  if (!o.split.empty()) plan.split = parse_split("--split", o.split);
+  plan.steps = o.steps;
+  plan.max_steps = o.quick ? 20 : 0;
   if (o.precision != "float" && o.precision != "double")
     throw Error("--precision: \"" + o.precision + "\" is not float or double");
   plan.double_precision = o.precision == "double";
-  plan.repeats = o.repeats > 0 ? o.repeats : (o.quick ? 1 : 5);
-  plan.reference_iterations = o.reference_iterations > 0 ? o.reference_iterations : (o.quick ? 50 : 200);
-  if (plan.reference_iterations < 2) throw Error("--reference-iterations: must be at least 2");
+  plan.repeats = o.repeats > 0 ? o.repeats : (o.quick ? 1 : 3);
+  plan.reference = parse_split("--reference", !o.reference.empty() ? o.reference : o.quick ? "8x2" : "16x4");
+  if (plan.reference.iterations < 2) throw Error("--reference: needs at least 2 iterations (it is checked at half)");
+  if (plan.reference.substeps < 2) throw Error("--reference: needs at least 2 substeps (it is checked at half)");
+  if (o.format != "table" && o.format != "csv" && o.format != "json")
+    throw Error("--format: \"" + o.format + "\" is not table, csv or json");
+  plan.format = o.format;
+  if (!o.shard.empty()) {
+    const std::size_t slash = o.shard.find('/');
+    if (slash == std::string::npos || !parse_int(o.shard.substr(0, slash), plan.shard) ||
+        !parse_int(o.shard.substr(slash + 1), plan.shards) || plan.shards < 1 || plan.shard < 1 ||
+        plan.shard > plan.shards)
+      throw Error("--shard: \"" + o.shard + "\" is not I/N with 1 <= I <= N (such as 2/3)");
+  }
   plan.json = o.json;
   plan.plots = o.plots;
   return plan;

@@ -1,6 +1,6 @@
 #pragma once
 // `pbd study`: its options as given on the command line, and the plan they resolve to (lists parsed, checked,
-// --quick defaults applied).
+// --quick and --scaling defaults applied, the shard chosen).
 #include "pbd/solver.hpp"
 
 #include <string>
@@ -8,51 +8,73 @@
 
 namespace pbd::cli {
 
-/// The options exactly as the command line gave them (lists still comma-separated text).
+/// The options exactly as the command line gave them (lists still comma-separated text; "" = the default).
 struct StudyOptions {
-  std::vector<std::string> scenes;                  ///< --scene (repeatable or comma-separated); empty: default
-  std::string solvers = "serial,colored,jacobi,block";    ///< --solvers
-  std::string threads = "1,2";                      ///< --threads
-  std::string iterations = "1,2,4,8,16,32";         ///< --iterations
-  std::string substeps = "1";                       ///< --substeps
-  int steps = 0;                                    ///< --steps; 0: each scene's own
-  std::string precision = "float";                  ///< --precision
-  int repeats = 0;                                  ///< --repeats (timed runs after the warm-up); 0: default
-  int reference_iterations = 0;                     ///< --reference-iterations; 0: default
-  std::string json;                                 ///< --json FILE
-  std::string plots;                                ///< --plots DIR
-  bool quick = false;                               ///< --quick
-  bool given_iterations = false;                    ///< --iterations was given (so --quick keeps it)
+  std::vector<std::string> scenes;  ///< --scene (repeatable or comma-separated); empty: the default list
+  std::string solvers;              ///< --solvers
+  std::string threads;              ///< --threads
+  std::string budgets;              ///< --budgets: sweeps per step (substeps × iterations)
+  std::string split;                ///< --split SxI of --scaling
+  int steps = 0;                    ///< --steps; 0: each scene's own
+  std::string precision = "float";  ///< --precision
+  int repeats = 0;                  ///< --repeats (timed runs after the warm-up); 0: default
+  std::string reference;            ///< --reference SxI: the converged reference's substeps × iterations
+  std::string json;                 ///< --json FILE
+  std::string plots;                ///< --plots DIR
+  std::string format = "table";     ///< --format table|csv|json (stdout)
+  std::string shard;                ///< --shard I/N
+  bool quick = false;               ///< --quick
+  bool scaling = false;             ///< --scaling
 };
 
 /// One solver of the study: its command-line name and the engine's enum.
 struct StudySolver {
-  std::string name;  ///< serial, serial-colored, colored or jacobi
+  std::string name;  ///< serial, serial-colored, colored, jacobi or block
   Solver solver;     ///< the engine's solver
   bool threaded;     ///< false for the one-thread solvers (serial, serial-colored): run once, at the fewest threads
 };
 
-/// What a study runs: every scene × substeps × iterations × solver × threads (one-thread solvers once).
+/// One split of a sweep budget: substeps × iterations.
+struct Split {
+  int substeps = 1;    ///< substeps per step
+  int iterations = 1;  ///< iterations per substep
+  friend bool operator==(const Split&, const Split&) = default;
+};
+
+/// What a study runs. Main mode: every scene × budget × split of it × solver × threads (one-thread solvers once).
+/// Scaling mode: every scene × parallel solver × thread count at one split, with the shared-nothing reference.
 struct StudyPlan {
   std::vector<std::string> scenes;       ///< scene names or files, in the order given
   std::vector<StudySolver> solvers;      ///< solvers, in the order given
   std::vector<int> threads;              ///< thread counts, ascending
-  std::vector<int> iterations;           ///< iterations per substep, ascending
-  std::vector<int> substeps;             ///< substeps per step, ascending
+  std::vector<int> budgets;              ///< sweeps per step, ascending (main mode)
+  Split split{1, 10};                    ///< the split of scaling mode
   int steps = 0;                         ///< steps per run; 0: each scene's own
+  int max_steps = 0;                     ///< cap on each scene's own steps (0: none; --quick: 20)
   bool double_precision = false;         ///< World<double> instead of World<float>
-  int repeats = 5;                       ///< timed runs per combination after one warm-up run
-  int reference_iterations = 200;        ///< iterations of the converged reference (serial, double)
+  int repeats = 3;                       ///< timed runs per combination after one warm-up run
+  Split reference{16, 4};                ///< the converged reference's substeps × iterations (serial, double)
   std::string json;                      ///< JSON report file ("" = none)
   std::string plots;                     ///< plot directory ("" = none)
+  std::string format = "table";          ///< what stdout gets: table, csv or json
+  int shard = 1, shards = 1;             ///< this run is part `shard` (1-based) of `shards`
   bool quick = false;                    ///< the smoke-test study
+  bool scaling = false;                  ///< the scaling study
 };
 
 /// Checks the options and resolves them into a plan; throws pbd::Error naming the bad value and listing the valid
-/// ones (unknown solver or scene, empty list, value out of range).
+/// ones (unknown solver, scene or format, empty list, value out of range, a shard outside 1..N).
 StudyPlan make_plan(const StudyOptions& options);
 
-/// Default scenes of the study: the built-in scenes.
+/// Every split of `budget` sweeps: s × (budget / s) for each divisor s, from 1 × budget to budget × 1.
+std::vector<Split> splits_of(int budget);
+
+/// Parses "SxI" (e.g. "2x5"); throws pbd::Error naming `flag`.
+Split parse_split(const std::string& flag, const std::string& text);
+
+/// Default scenes of the main study: the built-in scenes, then the cloths of 30², 100² and 300² particles.
 std::vector<std::string> default_study_scenes();
+/// Default scenes of the scaling study: the cloths of 30² to 1000² particles.
+std::vector<std::string> default_scaling_scenes();
 
 }  // namespace pbd::cli

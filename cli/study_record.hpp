@@ -1,30 +1,64 @@
 #pragma once
-// One measured combination of `pbd study` (one row of the table, one record of the JSON report), and the converged
-// reference its error is measured against.
+// What `pbd study` measures: the scenes it ran, the converged reference of each, one record per measured
+// combination (one row of the table, one record of the JSON report), and the error measures in physical units.
 #include "pbd/metrics.hpp"
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace pbd::cli {
 
-/// The converged reference of one (scene, substeps): serial solver, double precision, many iterations.
+/// RMS and maximum of one error measure over its items, in the measure's unit.
+struct ErrorValue {
+  double rms = 0.0;  ///< RMS over the items
+  double max = 0.0;  ///< maximum over the items
+};
+
+/// Error measures by name, in physical units: stretch_pct (relative stretch, %), bending_rad (rad), area_pct (%),
+/// volume_pct (%), penetration_mm (mm), anchor_mm (mm); a user-defined type keeps its own name and unit.
+using Errors = std::map<std::string, ErrorValue>;
+
+/// The measure name and unit scale of an engine violation type ("stretch" → {"stretch_pct", 100}).
+std::pair<std::string, double> measure_of(const std::string& violation_type);
+
+/// The violations of a state as Errors (measure_of applied to each type).
+Errors errors_of(const std::vector<NamedViolation>& violations);
+
+/// One scene as the study ran it.
+struct SceneInfo {
+  std::string name;            ///< scene name
+  std::size_t particles = 0;   ///< particles
+  std::size_t constraints = 0; ///< persistent constraints (a volume constraint counts once)
+  int steps = 0;               ///< steps per run
+  double size_m = 1.0;         ///< bounding-box diagonal of the initial positions, m
+  std::string primary_error;   ///< the measure its results are judged by (a key of Errors)
+  std::string family;          ///< "cloth" for the generated cloth<N>, else ""
+  std::vector<std::string> measures;  ///< the error measures it has
+};
+
+/// One sampled step of the reference: the state before it and the positions after it.
+struct ReferenceSample {
+  int step = 0;                 ///< 0-based step index
+  double time = 0.0;            ///< simulated time before the step, s
+  Matrix3X<double> x, v;        ///< positions (m) and velocities (m/s) before the step
+  Matrix3X<double> x_after;     ///< positions after the step, m
+};
+
+/// The converged reference of one scene: serial solver, double precision, many substeps and iterations.
 struct Reference {
   std::string scene;              ///< scene name
-  int substeps = 1;               ///< substeps per step
+  int substeps = 0;               ///< substeps per step
+  int iterations = 0;             ///< iterations per substep
   int steps = 0;                  ///< steps run
-  int iterations = 0;             ///< iterations per substep (N)
   Matrix3X<double> positions;     ///< final positions
-  double size = 0.0;              ///< scene size: bounding-box diagonal of the initial positions, m
-  double step_convergence = 0.0;      ///< per step: RMS distance of N/2- from N-iteration steps, / size (RMS over samples)
-  double step_convergence_max = 0.0;  ///< per step: maximum distance between them, / size
-  double trajectory_convergence = 0.0;  ///< whole run: RMS distance of the final N/2- from the N-iteration positions, / size
-  double rms_violation = 0.0;     ///< pooled RMS violation of the reference's final state
-  double max_violation = 0.0;     ///< pooled maximum violation of the reference's final state
-  std::optional<double> energy_drift;  ///< the reference's own energy drift (scenes without colliders)
-  double seconds = 0.0;           ///< wall time spent computing it (both runs)
+  std::vector<ReferenceSample> samples;  ///< the sampled steps (kept in memory only)
+  double iteration_convergence_mm = 0.0;  ///< RMS over samples: one step at iterations/2 against the reference step
+  double time_convergence_mm = 0.0;       ///< RMS over samples: one step at substeps/2 against the reference step
+  Errors errors;                  ///< its final state's errors
+  double seconds = 0.0;           ///< wall time spent computing it
 };
 
 /// What one combination measured.
@@ -32,28 +66,36 @@ struct Record {
   std::string scene;            ///< scene name
   std::string solver;           ///< solver name
   int threads = 1;              ///< threads of the task arena
-  int iterations = 0;           ///< iterations per substep
   int substeps = 1;             ///< substeps per step
+  int iterations = 1;           ///< iterations per substep
   int steps = 0;                ///< steps per run
   std::string precision;        ///< float or double
   int repeats = 0;              ///< timed runs (after one warm-up run)
-  double ms_per_step = 0.0;     ///< median over the timed runs of (run time / steps), ms
+  std::vector<double> ms;       ///< each timed run, ms per step, in run order (not in the report)
+  double ms_per_step = 0.0;     ///< median of the timed runs, ms per step
   double ms_per_step_min = 0.0; ///< fastest timed run, ms per step
+  double ms_per_step_max = 0.0; ///< slowest timed run, ms per step
+  double ms_per_step_cv = 0.0;  ///< coefficient of variation of the timed runs (standard deviation / mean)
   std::size_t particles = 0;    ///< particles
-  std::size_t constraints = 0;  ///< persistent constraints (a volume constraint counts once)
+  std::size_t constraints = 0;  ///< persistent constraints
   std::size_t colors = 0;       ///< colors of the persistent constraints (0 for solvers that do not color)
-  double rms_violation = 0.0;   ///< RMS of the normalized violation over all constraints of all types (metrics.hpp)
-  double max_violation = 0.0;   ///< maximum of it
-  std::vector<NamedViolation> violations;  ///< the same per constraint type
-  double ref_error = 0.0;       ///< per-step error: RMS over sampled steps of the RMS distance from the reference
-                                ///< step taken from the same state, / scene size
-  double ref_error_max = 0.0;   ///< maximum over sampled steps and particles of that distance, / scene size
-  double trajectory_error = 0.0;  ///< RMS distance of the final positions from the reference run's, / scene size
+  Errors errors;                ///< the final state's errors, physical units
+  double primary_error = 0.0;   ///< errors[scene's primary measure].rms
+  std::optional<double> ref_error_mm;        ///< RMS over sampled steps of one step's RMS distance from the reference
+                                             ///< step taken from the same reference state, mm (none in scaling mode)
+  std::optional<double> ref_error_max_mm;    ///< maximum over sampled steps and particles of that distance, mm
+  std::optional<double> trajectory_error_mm; ///< RMS distance of the final positions from the reference run's, mm
   std::optional<double> energy_drift;  ///< (E_end − E_0) / (M |g| size), scenes without colliders only
   std::uint64_t state_hash = 0; ///< FNV-1a of the final positions' bytes
   bool repeatable = true;       ///< every run (warm-up included) ended with the same hash
+  double load = 0.0;            ///< mean number of other runnable processes sampled around its timed runs
+  bool busy = false;            ///< its timing is suspect: CV above 10% or the machine was loaded
+  bool pareto = false;          ///< on its scene's front of ms_per_step against primary_error
+  int budget() const { return substeps * iterations; }  ///< sweeps per step
   /// Nanoseconds per constraint projection: ms_per_step / (constraints × substeps × iterations).
   double ns_per_projection() const;
+  /// "SxI": substeps × iterations.
+  std::string split() const { return std::to_string(substeps) + "x" + std::to_string(iterations); }
 };
 
 }  // namespace pbd::cli

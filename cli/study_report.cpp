@@ -1,9 +1,14 @@
 #include "study_report.hpp"
 
+#include "pbd/error.hpp"
+#include "study_load.hpp"
+
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <ostream>
+#include <set>
 
 namespace pbd::cli {
 
@@ -14,176 +19,454 @@ double Record::ns_per_projection() const {
 
 namespace {
 
+using json = nlohmann::json;
+
 std::string hex(std::uint64_t h) {
   char s[19];
   std::snprintf(s, sizeof s, "%016llx", static_cast<unsigned long long>(h));
   return s;
 }
 
-double error_of(const Record& r, const std::string& error) {
-  return error == "ref_error" ? r.ref_error : r.rms_violation;
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-nlohmann::json optional_number(const std::optional<double>& v) {
-  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+json optional_number(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+std::optional<double> number_or_none(const json& v) {
+  return v.is_null() ? std::nullopt : std::optional<double>(v.get<double>());
 }
 
-nlohmann::json to_json(const Record& r) {
-  nlohmann::json violations = nlohmann::json::object();
-  for (const auto& t : r.violations)
-    violations[t.type] = {{"rms", t.value.rms}, {"max", t.value.max}, {"count", t.value.count}};
-  return {{"scene", r.scene},
-          {"solver", r.solver},
-          {"threads", r.threads},
-          {"iterations", r.iterations},
-          {"substeps", r.substeps},
-          {"steps", r.steps},
-          {"precision", r.precision},
-          {"repeats", r.repeats},
-          {"ms_per_step", r.ms_per_step},
-          {"ms_per_step_min", r.ms_per_step_min},
-          {"ns_per_projection", r.ns_per_projection()},
-          {"particles", r.particles},
-          {"constraints", r.constraints},
-          {"colors", r.colors},
-          {"rms_violation", r.rms_violation},
-          {"max_violation", r.max_violation},
-          {"violations", violations},
-          {"ref_error", r.ref_error},
-          {"ref_error_max", r.ref_error_max},
-          {"trajectory_error", r.trajectory_error},
-          {"energy_drift", optional_number(r.energy_drift)},
-          {"state_hash", hex(r.state_hash)},
-          {"repeatable", r.repeatable}};
+// JSON numbers cannot be infinite: a diverged error is written as null... and read back as infinity.
+json finite(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+double finite_back(const json& v) { return v.is_null() ? INFINITY : v.get<double>(); }
+
+json errors_json(const Errors& e) {
+  json out = json::object();
+  for (const auto& [name, v] : e) out[name] = {{"rms", finite(v.rms)}, {"max", finite(v.max)}};
+  return out;
+}
+Errors errors_back(const json& j) {
+  Errors out;
+  for (const auto& [name, v] : j.items()) out[name] = {finite_back(v.at("rms")), finite_back(v.at("max"))};
+  return out;
 }
 
-nlohmann::json to_json(const Reference& r) {
-  return {{"scene", r.scene},
-          {"substeps", r.substeps},
-          {"steps", r.steps},
-          {"solver", "serial"},
-          {"precision", "double"},
-          {"iterations", r.iterations},
-          {"size", r.size},
-          {"step_convergence", r.step_convergence},
-          {"step_convergence_max", r.step_convergence_max},
-          {"trajectory_convergence", r.trajectory_convergence},
-          {"rms_violation", r.rms_violation},
-          {"max_violation", r.max_violation},
-          {"energy_drift", optional_number(r.energy_drift)},
-          {"seconds", r.seconds}};
+const SceneInfo* find_scene(const Report& r, const std::string& name) {
+  for (const SceneInfo& s : r.scenes)
+    if (s.name == name) return &s;
+  return nullptr;
 }
 
-std::string list(const std::vector<int>& v) {
-  std::string s;
-  for (int x : v) {
-    if (!s.empty()) s += ',';
-    s += std::to_string(x);
+
+}  // namespace
+
+void finish(Report& report) {
+  std::vector<Record>& records = report.records;
+  // Pareto front per scene over (median ms per step, primary error).
+  for (Record& r : records) {
+    r.pareto = std::none_of(records.begin(), records.end(), [&](const Record& o) {
+      return o.scene == r.scene && o.ms_per_step <= r.ms_per_step && o.primary_error <= r.primary_error &&
+             (o.ms_per_step < r.ms_per_step || o.primary_error < r.primary_error);
+    });
   }
+  // Best split per (scene, solver, threads, budget).
+  report.best_splits.clear();
+  std::map<std::tuple<std::string, std::string, int, int>, std::size_t> best;
+  std::vector<std::tuple<std::string, std::string, int, int>> order;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const Record& r = records[i];
+    const auto key = std::make_tuple(r.scene, r.solver, r.threads, r.budget());
+    const auto it = best.find(key);
+    if (it == best.end()) {
+      best[key] = i;
+      order.push_back(key);
+    } else {
+      const Record& b = records[it->second];
+      if (r.primary_error < b.primary_error || (r.primary_error == b.primary_error && r.ms_per_step < b.ms_per_step))
+        it->second = i;
+    }
+  }
+  for (const auto& key : order) {
+    const Record& r = records[best[key]];
+    report.best_splits.push_back({r.scene, r.solver, r.threads, r.budget(), r.substeps, r.iterations, r.ms_per_step,
+                                  r.primary_error});
+  }
+  // Dominance of serial by each parallel solver at its most threads.
+  report.dominance.clear();
+  for (const SceneInfo& scene : report.scenes) {
+    std::map<std::string, int> most;
+    std::vector<std::string> solvers;
+    for (const Record& r : records)
+      if (r.scene == scene.name && r.solver != "serial") {
+        if (!most.count(r.solver)) solvers.push_back(r.solver);
+        most[r.solver] = std::max(most[r.solver], r.threads);
+      }
+    for (const std::string& solver : solvers) {
+      Dominance d{scene.name, solver, scene.primary_error, most[solver], 0, {}};
+      for (const Record& s : records) {
+        if (s.scene != scene.name || s.solver != "serial") continue;
+        ++d.serial_points;
+        const bool dominated = std::any_of(records.begin(), records.end(), [&](const Record& c) {
+          return c.scene == s.scene && c.solver == solver && c.threads == d.threads && c.ms_per_step < s.ms_per_step &&
+                 c.primary_error <= s.primary_error;
+        });
+        if (!dominated) d.undominated.push_back(s.split());
+      }
+      if (d.serial_points) report.dominance.push_back(d);
+    }
+  }
+  // Strong scaling: speed-up over the same solver on 1 thread at the same split, round by round.
+  report.strong.clear();
+  if (report.study.value("mode", "study") == "scaling") {
+    for (const Record& r : records) {
+      const auto one = std::find_if(records.begin(), records.end(), [&](const Record& o) {
+        return o.scene == r.scene && o.solver == r.solver && o.threads == 1 && o.substeps == r.substeps &&
+               o.iterations == r.iterations;
+      });
+      if (one == records.end()) continue;
+      std::vector<double> ratios;
+      for (std::size_t k = 0; k < std::min(one->ms.size(), r.ms.size()); ++k) ratios.push_back(one->ms[k] / r.ms[k]);
+      if (ratios.empty()) continue;
+      const auto [lo, hi] = std::minmax_element(ratios.begin(), ratios.end());
+      report.strong.push_back({r.scene, r.solver, r.particles, r.threads, r.ms_per_step, r.ms_per_step_min,
+                               r.ms_per_step_max, median(ratios), *lo, *hi});
+    }
+  }
+  // Warnings.
+  json warnings = json::array();
+  const json& context = report.study["context"];
+  const int cores = context.value("cores", 1);
+  const double before = context.value("load_before", 0.0), during = context.value("load_during", 0.0);
+  if (before > kBusyLoad || during > kBusyLoad) {
+    char w[256];
+    std::snprintf(w, sizeof w, "the machine was busy: other processes kept %.2f threads runnable before the study "
+                  "and %.2f on average during it (%d cores); timings are not trustworthy", before, during, cores);
+    warnings.push_back(w);
+  }
+  const auto busy = std::count_if(records.begin(), records.end(), [](const Record& r) { return r.busy; });
+  if (busy > 0) {
+    char w[256];
+    std::snprintf(w, sizeof w, "%ld of %zu points are marked busy (their runs' CV above %.0f%% or other processes "
+                  "runnable above %.1f threads)", long(busy), records.size(), 100 * kBusyCv, kBusyLoad);
+    warnings.push_back(w);
+  }
+  for (const Record& r : records)
+    if (!r.repeatable) warnings.push_back(r.scene + " " + r.solver + " " + std::to_string(r.threads) + " threads " +
+                                          r.split() + ": the runs ended in different states");
+  report.study["warnings"] = warnings;
+  report.study["busy"] = !warnings.empty();
+}
+
+json report_json(const Report& report) {
+  json doc = {{"schema", 2}, {"study", report.study}};
+  json& scenes = doc["scenes"] = json::array();
+  for (const SceneInfo& s : report.scenes)
+    scenes.push_back({{"name", s.name}, {"particles", s.particles}, {"constraints", s.constraints},
+                      {"steps", s.steps}, {"size_m", s.size_m}, {"primary_error", s.primary_error},
+                      {"family", s.family.empty() ? json(nullptr) : json(s.family)}, {"measures", s.measures}});
+  json& refs = doc["references"] = json::array();
+  for (const Reference& r : report.references)
+    refs.push_back({{"scene", r.scene}, {"solver", "serial"}, {"precision", "double"}, {"substeps", r.substeps},
+                    {"iterations", r.iterations}, {"steps", r.steps}, {"seconds", r.seconds},
+                    {"iteration_convergence_mm", finite(r.iteration_convergence_mm)},
+                    {"time_convergence_mm", finite(r.time_convergence_mm)}, {"errors", errors_json(r.errors)}});
+  json& records = doc["records"] = json::array();
+  for (const Record& r : report.records)
+    records.push_back({{"scene", r.scene}, {"solver", r.solver}, {"threads", r.threads}, {"budget", r.budget()},
+                       {"substeps", r.substeps}, {"iterations", r.iterations}, {"steps", r.steps},
+                       {"precision", r.precision}, {"repeats", r.repeats}, {"ms_runs", r.ms},
+                       {"ms_per_step", r.ms_per_step}, {"ms_per_step_min", r.ms_per_step_min},
+                       {"ms_per_step_max", r.ms_per_step_max}, {"ms_per_step_cv", r.ms_per_step_cv},
+                       {"ns_per_projection", r.ns_per_projection()}, {"particles", r.particles},
+                       {"constraints", r.constraints}, {"colors", r.colors}, {"errors", errors_json(r.errors)},
+                       {"primary_error", finite(r.primary_error)},
+                       {"ref_error_mm", r.ref_error_mm ? finite(*r.ref_error_mm) : json(nullptr)},
+                       {"ref_error_max_mm", r.ref_error_max_mm ? finite(*r.ref_error_max_mm) : json(nullptr)},
+                       {"trajectory_error_mm", r.trajectory_error_mm ? finite(*r.trajectory_error_mm) : json(nullptr)},
+                       {"energy_drift", optional_number(r.energy_drift)}, {"state_hash", hex(r.state_hash)},
+                       {"repeatable", r.repeatable}, {"load", r.load}, {"busy", r.busy}, {"pareto", r.pareto}});
+  json& best = doc["best_splits"] = json::array();
+  for (const BestSplit& b : report.best_splits)
+    best.push_back({{"scene", b.scene}, {"solver", b.solver}, {"threads", b.threads}, {"budget", b.budget},
+                    {"substeps", b.substeps}, {"iterations", b.iterations}, {"ms_per_step", b.ms_per_step},
+                    {"primary_error", finite(b.primary_error)}});
+  json& dom = doc["dominance"] = json::array();
+  for (const Dominance& d : report.dominance)
+    dom.push_back({{"scene", d.scene}, {"solver", d.solver}, {"threads", d.threads}, {"measure", d.measure},
+                   {"serial_points", d.serial_points}, {"dominated", d.serial_points - int(d.undominated.size())},
+                   {"undominated", d.undominated}});
+  json& sn = doc["shared_nothing"] = json::array();
+  for (const SharedNothing& s : report.shared_nothing) {
+    const auto [lo, hi] = std::minmax_element(s.speedups.begin(), s.speedups.end());
+    sn.push_back({{"scene", s.scene}, {"threads", s.threads}, {"speedups", s.speedups},
+                  {"speedup", median(s.speedups)}, {"speedup_min", *lo}, {"speedup_max", *hi}});
+  }
+  if (report.study.value("mode", "study") == "scaling") {
+    json strong = json::array(), size = json::array();
+    for (const StrongScaling& s : report.strong)
+      strong.push_back({{"scene", s.scene}, {"particles", s.particles}, {"solver", s.solver}, {"threads", s.threads},
+                        {"ms_per_step", s.ms_per_step}, {"ms_per_step_min", s.ms_per_step_min},
+                        {"ms_per_step_max", s.ms_per_step_max}, {"speedup", s.speedup},
+                        {"speedup_min", s.speedup_min}, {"speedup_max", s.speedup_max}});
+    for (const Record& r : report.records)
+      size.push_back({{"scene", r.scene}, {"particles", r.particles}, {"constraints", r.constraints},
+                      {"solver", r.solver}, {"threads", r.threads}, {"ms_per_step", r.ms_per_step},
+                      {"ns_per_projection", r.ns_per_projection()}, {"primary_error", finite(r.primary_error)}});
+    json split = report.study["options"].value("split", json::object());
+    doc["scaling"] = {{"split", split}, {"strong", strong}, {"size", size}};
+  }
+  return doc;
+}
+
+Report report_from_json(const json& doc, const std::string& source) {
+  try {
+    if (doc.value("schema", 0) != 2) throw Error(source + ": not a pbd study report of schema 2");
+    Report report;
+    report.study = doc.at("study");
+    for (const json& s : doc.at("scenes")) {
+      SceneInfo i;
+      i.name = s.at("name");
+      i.particles = s.at("particles");
+      i.constraints = s.at("constraints");
+      i.steps = s.at("steps");
+      i.size_m = s.at("size_m");
+      i.primary_error = s.at("primary_error");
+      i.family = s.at("family").is_null() ? "" : s.at("family").get<std::string>();
+      i.measures = s.at("measures").get<std::vector<std::string>>();
+      report.scenes.push_back(i);
+    }
+    for (const json& r : doc.at("references")) {
+      Reference ref;
+      ref.scene = r.at("scene");
+      ref.substeps = r.at("substeps");
+      ref.iterations = r.at("iterations");
+      ref.steps = r.at("steps");
+      ref.seconds = r.at("seconds");
+      ref.iteration_convergence_mm = finite_back(r.at("iteration_convergence_mm"));
+      ref.time_convergence_mm = finite_back(r.at("time_convergence_mm"));
+      ref.errors = errors_back(r.at("errors"));
+      report.references.push_back(std::move(ref));
+    }
+    for (const json& j : doc.at("records")) {
+      Record r;
+      r.scene = j.at("scene");
+      r.solver = j.at("solver");
+      r.threads = j.at("threads");
+      r.substeps = j.at("substeps");
+      r.iterations = j.at("iterations");
+      r.steps = j.at("steps");
+      r.precision = j.at("precision");
+      r.repeats = j.at("repeats");
+      r.ms = j.at("ms_runs").get<std::vector<double>>();
+      r.ms_per_step = j.at("ms_per_step");
+      r.ms_per_step_min = j.at("ms_per_step_min");
+      r.ms_per_step_max = j.at("ms_per_step_max");
+      r.ms_per_step_cv = j.at("ms_per_step_cv");
+      r.particles = j.at("particles");
+      r.constraints = j.at("constraints");
+      r.colors = j.at("colors");
+      r.errors = errors_back(j.at("errors"));
+      r.primary_error = finite_back(j.at("primary_error"));
+      if (!j.at("trajectory_error_mm").is_null() || !j.at("ref_error_mm").is_null()) {
+        r.ref_error_mm = finite_back(j.at("ref_error_mm"));
+        r.ref_error_max_mm = finite_back(j.at("ref_error_max_mm"));
+        r.trajectory_error_mm = finite_back(j.at("trajectory_error_mm"));
+      }
+      r.energy_drift = number_or_none(j.at("energy_drift"));
+      r.state_hash = std::stoull(j.at("state_hash").get<std::string>(), nullptr, 16);
+      r.repeatable = j.at("repeatable");
+      r.load = j.at("load");
+      r.busy = j.at("busy");
+      report.records.push_back(std::move(r));
+    }
+    for (const json& s : doc.at("shared_nothing"))
+      report.shared_nothing.push_back({s.at("scene"), s.at("threads"), s.at("speedups").get<std::vector<double>>()});
+    finish(report);
+    return report;
+  } catch (const json::exception& e) {
+    throw Error(source + ": not a complete pbd study report (" + e.what() + ")");
+  }
+}
+
+Report merge_reports(const std::vector<Report>& parts, const std::vector<std::string>& sources) {
+  if (parts.empty()) throw Error("merge: no reports given");
+  Report out;
+  out.study = parts.front().study;
+  json options = out.study.at("options");
+  options.erase("shard");
+  double seconds = 0.0;
+  std::set<std::string> shards;
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    const Report& part = parts[p];
+    json o = part.study.at("options");
+    const std::string shard = o.value("shard", json(nullptr)).is_null() ? "" : o.at("shard").get<std::string>();
+    if (!shards.insert(shard).second)
+      throw Error(sources[p] + ": shard " + (shard.empty() ? std::string("(whole run)") : shard) +
+                  " is given twice");
+    o.erase("shard");
+    if (o != options)
+      throw Error(sources[p] + ": its study options differ from " + sources.front() + "'s (" + o.dump() + " vs " +
+                  options.dump() + ")");
+    if (part.study.value("mode", "study") != out.study.value("mode", "study"))
+      throw Error(sources[p] + ": a " + part.study.value("mode", "study") + " report cannot join a " +
+                  out.study.value("mode", "study") + " report");
+    seconds += part.study.value("seconds", 0.0);
+    for (const SceneInfo& s : part.scenes)
+      if (!find_scene(out, s.name)) out.scenes.push_back(s);
+    for (const Reference& r : part.references)
+      if (std::none_of(out.references.begin(), out.references.end(),
+                       [&](const Reference& o2) { return o2.scene == r.scene; }))
+        out.references.push_back(r);
+    for (const SharedNothing& s : part.shared_nothing) out.shared_nothing.push_back(s);
+    for (const Record& r : part.records) out.records.push_back(r);
+  }
+  // Records in the order of the options' scenes, then as the shards ran them.
+  const std::vector<std::string> scene_order = options.at("scenes").get<std::vector<std::string>>();
+  auto rank = [&](const std::string& scene) {
+    for (std::size_t i = 0; i < out.scenes.size(); ++i)
+      if (out.scenes[i].name == scene) return i;
+    return out.scenes.size();
+  };
+  std::stable_sort(out.scenes.begin(), out.scenes.end(), [&](const SceneInfo& a, const SceneInfo& b) {
+    const auto pa = std::find(scene_order.begin(), scene_order.end(), a.name) - scene_order.begin();
+    const auto pb = std::find(scene_order.begin(), scene_order.end(), b.name) - scene_order.begin();
+    return pa < pb;
+  });
+  std::stable_sort(out.records.begin(), out.records.end(), [&](const Record& a, const Record& b) {
+    return std::make_tuple(rank(a.scene), a.budget(), a.substeps) < std::make_tuple(rank(b.scene), b.budget(), b.substeps);
+  });
+  std::stable_sort(out.references.begin(), out.references.end(),
+                   [&](const Reference& a, const Reference& b) { return rank(a.scene) < rank(b.scene); });
+  std::stable_sort(out.shared_nothing.begin(), out.shared_nothing.end(),
+                   [&](const SharedNothing& a, const SharedNothing& b) { return rank(a.scene) < rank(b.scene); });
+  out.study["options"]["shard"] = nullptr;
+  out.study["seconds"] = seconds;
+  json merged = json::array();
+  for (const std::string& s : sources) merged.push_back(s);
+  out.study["merged_from"] = merged;
+  finish(out);
+  return out;
+}
+
+namespace {
+
+std::string fmt(double v, const char* f = "%.3g") {
+  if (!std::isfinite(v)) return "inf";
+  char s[32];
+  std::snprintf(s, sizeof s, f, v);
   return s;
 }
 
 }  // namespace
 
-std::vector<Dominance> dominance(const std::vector<Record>& records) {
-  std::vector<Dominance> out;
-  for (const std::string solver : {"colored", "block"}) {
-    std::map<std::pair<std::string, int>, int> max_threads;  // (scene, substeps) → most threads of its records
-    std::vector<std::pair<std::string, int>> order;
-    for (const Record& r : records) {
-      const auto key = std::make_pair(r.scene, r.substeps);
-      if (std::find(order.begin(), order.end(), key) == order.end()) order.push_back(key);
-      if (r.solver == solver) max_threads[key] = std::max(max_threads[key], r.threads);
-    }
-    for (const auto& key : order) {
-      if (!max_threads.count(key)) continue;
-      for (const std::string error : {"ref_error", "rms_violation"}) {
-        Dominance d{key.first, key.second, solver, max_threads[key], error, 0, {}};
-        for (const Record& s : records) {
-          if (s.scene != key.first || s.substeps != key.second || s.solver != "serial") continue;
-          ++d.serial_points;
-          const bool dominated = std::any_of(records.begin(), records.end(), [&](const Record& c) {
-            return c.scene == s.scene && c.substeps == s.substeps && c.solver == solver && c.threads == d.threads &&
-                   c.ms_per_step < s.ms_per_step && error_of(c, error) <= error_of(s, error);
-          });
-          if (!dominated) d.undominated.push_back(s.iterations);
-        }
-        if (d.serial_points) out.push_back(d);
+void print_table(std::ostream& out, const Report& report) {
+  const json& c = report.study["context"];
+  char line[640];
+  std::snprintf(line, sizeof line,
+                "# pbd study (%s mode), %s, commit %s\n# %s; %s %s, %s\n# %s, %d cores; other processes runnable: "
+                "%.2f before, %.2f during (max %.0f); load average %s at the start\n",
+                report.study.value("mode", "study").c_str(), c.value("date", "?").c_str(),
+                c.value("commit", json("?")).is_null() ? "?" : c.value("commit", "?").c_str(),
+                c.value("compiler", "?").c_str(), c.value("build_type", "?").c_str(), c.value("flags", "").c_str(),
+                report.records.empty() ? "no records" : report.records.front().precision.c_str(),
+                c.value("cpu", json("?")).is_null() ? "?" : c.value("cpu", "?").c_str(), c.value("cores", 0),
+                c.value("load_before", 0.0), c.value("load_during", 0.0), c.value("load_during_max", 0.0),
+                c.value("loadavg_start", "?").c_str());
+  out << line;
+  for (const SceneInfo& s : report.scenes) {
+    std::snprintf(line, sizeof line, "\n## %s: %zu particles, %zu constraints, %d steps; primary error %s\n",
+                  s.name.c_str(), s.particles, s.constraints, s.steps, s.primary_error.c_str());
+    out << line;
+    for (const Reference& r : report.references)
+      if (r.scene == s.name) {
+        std::snprintf(line, sizeof line, "reference: serial, double, %dx%d, %.1f s; one step at half the "
+                      "iterations moves %s mm, at half the substeps %s mm\n", r.substeps, r.iterations, r.seconds,
+                      fmt(r.iteration_convergence_mm).c_str(), fmt(r.time_convergence_mm).c_str());
+        out << line;
       }
-    }
-  }
-  return out;
-}
-
-void print_table(std::ostream& out, const std::vector<Record>& records, const std::vector<Dominance>& dom) {
-  char line[512];
-  std::string scene;
-  for (const Record& r : records) {
-    if (r.scene != scene) {
-      scene = r.scene;
-      std::snprintf(line, sizeof line, "\n# %s: %zu particles, %zu constraints, %d steps, %s\n", r.scene.c_str(),
-                    r.particles, r.constraints, r.steps, r.precision.c_str());
-      out << line;
-      std::snprintf(line, sizeof line, "%-15s %3s %5s %4s %10s %10s %7s %6s %10s %10s %10s %10s %16s\n", "solver",
-                    "thr", "iter", "sub", "ms/step", "ms_min", "ns/proj", "colors", "rms_viol", "max_viol",
-                    "ref_error", "drift", "state_hash");
-      out << line;
-    }
-    const std::string drift = r.energy_drift ? [&] {
-      char s[32];
-      std::snprintf(s, sizeof s, "%+.3e", *r.energy_drift);
-      return std::string(s);
-    }() : std::string("-");
-    std::snprintf(line, sizeof line,
-                  "%-15s %3d %5d %4d %10.4f %10.4f %7.1f %6zu %10.3e %10.3e %10.3e %10s %16s%s\n", r.solver.c_str(),
-                  r.threads, r.iterations, r.substeps, r.ms_per_step, r.ms_per_step_min, r.ns_per_projection(),
-                  r.colors, r.rms_violation, r.max_violation, r.ref_error, drift.c_str(), hex(r.state_hash).c_str(),
-                  r.repeatable ? "" : "  (runs differ!)");
+    std::snprintf(line, sizeof line, "%-14s %3s %8s %10s %21s %5s %7s %11s %10s %10s %16s\n", "solver", "thr",
+                  "split", "ms/step", "(min-max)", "cv%", "ns/proj", s.primary_error.c_str(), "ref_mm", "traj_mm",
+                  "state_hash");
     out << line;
+    for (const Record& r : report.records) {
+      if (r.scene != s.name) continue;
+      const std::string range = "(" + fmt(r.ms_per_step_min, "%.4g") + "-" + fmt(r.ms_per_step_max, "%.4g") + ")";
+      std::snprintf(line, sizeof line, "%-14s %3d %8s %10.4g %21s %5.1f %7.1f %11s %10s %10s %16s%s%s%s\n",
+                    r.solver.c_str(), r.threads, r.split().c_str(), r.ms_per_step, range.c_str(),
+                    100 * r.ms_per_step_cv, r.ns_per_projection(), fmt(r.primary_error).c_str(),
+                    r.ref_error_mm ? fmt(*r.ref_error_mm).c_str() : "-",
+                    r.trajectory_error_mm ? fmt(*r.trajectory_error_mm).c_str() : "-", hex(r.state_hash).c_str(),
+                    r.pareto ? "  front" : "", r.busy ? "  BUSY" : "", r.repeatable ? "" : "  (runs differ!)");
+      out << line;
+    }
+    bool header = false;
+    for (const BestSplit& b : report.best_splits) {
+      if (b.scene != s.name) continue;
+      if (!header) out << "best split per budget (lowest " << s.primary_error << "):";
+      header = true;
+      std::snprintf(line, sizeof line, "%s %s %dT %d: %dx%d", "", b.solver.c_str(), b.threads, b.budget, b.substeps,
+                    b.iterations);
+      out << line << ";";
+    }
+    if (header) out << "\n";
+    for (const SharedNothing& sn : report.shared_nothing)
+      if (sn.scene == s.name) {
+        std::snprintf(line, sizeof line, "shared-nothing split on %d threads (this machine's ceiling): %.2fx\n",
+                      sn.threads, median(sn.speedups));
+        out << line;
+      }
   }
-  if (dom.empty()) return;
-  out << "\n# Do colored and block (most threads) dominate serial? For each serial point: a point of theirs with lower "
-         "ms/step and no higher error.\n";
-  for (const Dominance& d : dom) {
-    std::snprintf(line, sizeof line, "%-14s substeps %d, %-7s on %d threads, %-13s: %d of %d serial points dominated%s%s\n",
-                  d.scene.c_str(), d.substeps, d.solver.c_str(), d.threads, d.error.c_str(),
+  if (!report.dominance.empty())
+    out << "\n# Dominance: for each serial point, a point of the parallel solver at its most threads with lower "
+           "ms/step and no higher primary error\n";
+  for (const Dominance& d : report.dominance) {
+    std::string missing;
+    for (const std::string& u : d.undominated) missing += (missing.empty() ? "" : ",") + u;
+    std::snprintf(line, sizeof line, "%-14s %-8s %dT on %-14s: %d of %d serial points dominated%s%s\n",
+                  d.scene.c_str(), d.solver.c_str(), d.threads, d.measure.c_str(),
                   d.serial_points - int(d.undominated.size()), d.serial_points,
-                  d.undominated.empty() ? "" : "; not at iterations ", list(d.undominated).c_str());
+                  missing.empty() ? "" : "; not ", missing.c_str());
     out << line;
   }
+  if (!report.strong.empty()) out << "\n# Strong scaling: speed-up over the same solver on 1 thread\n";
+  for (const StrongScaling& s : report.strong) {
+    if (s.threads == 1) continue;
+    std::snprintf(line, sizeof line, "%-10s %-8s %dT: %.2fx (%.2f-%.2f)\n", s.scene.c_str(), s.solver.c_str(),
+                  s.threads, s.speedup, s.speedup_min, s.speedup_max);
+    out << line;
+  }
+  for (const json& w : report.study["warnings"]) out << "\n*** WARNING: " << w.get<std::string>() << "\n";
 }
 
-nlohmann::json report_json(const StudyPlan& plan, const nlohmann::json& environment,
-                           const std::vector<Reference>& references, const std::vector<Record>& records,
-                           const std::vector<Dominance>& dom) {
-  nlohmann::json solvers = nlohmann::json::array();
-  for (const auto& s : plan.solvers) solvers.push_back(s.name);
-  nlohmann::json study = environment;
-  study["options"] = {{"scenes", plan.scenes},
-                      {"solvers", solvers},
-                      {"threads", plan.threads},
-                      {"iterations", plan.iterations},
-                      {"substeps", plan.substeps},
-                      {"steps", plan.steps > 0 ? nlohmann::json(plan.steps) : nlohmann::json("scene")},
-                      {"precision", plan.double_precision ? "double" : "float"},
-                      {"repeats", plan.repeats},
-                      {"reference_iterations", plan.reference_iterations},
-                      {"quick", plan.quick}};
-  nlohmann::json doc = {{"study", study},
-                        {"references", nlohmann::json::array()},
-                        {"records", nlohmann::json::array()},
-                        {"dominance", nlohmann::json::array()}};
-  for (const auto& r : references) doc["references"].push_back(to_json(r));
-  for (const auto& r : records) doc["records"].push_back(to_json(r));
-  for (const auto& d : dom)
-    doc["dominance"].push_back({{"scene", d.scene},
-                                {"substeps", d.substeps},
-                                {"solver", d.solver},
-                                {"threads", d.threads},
-                                {"error", d.error},
-                                {"serial_points", d.serial_points},
-                                {"undominated_iterations", d.undominated}});
-  return doc;
+void print_csv(std::ostream& out, const Report& report) {
+  std::set<std::string> measures;
+  for (const Record& r : report.records)
+    for (const auto& [name, v] : r.errors) measures.insert(name);
+  out << "scene,solver,threads,budget,substeps,iterations,steps,precision,repeats,ms_per_step,ms_per_step_min,"
+         "ms_per_step_max,ms_per_step_cv,ns_per_projection,particles,constraints,colors,primary_error,ref_error_mm,"
+         "ref_error_max_mm,trajectory_error_mm,energy_drift,state_hash,repeatable,load,busy,pareto";
+  for (const std::string& m : measures) out << "," << m << "_rms," << m << "_max";
+  out << "\n";
+  auto opt = [](const std::optional<double>& v) { return v ? fmt(*v, "%.6g") : std::string(); };
+  for (const Record& r : report.records) {
+    out << r.scene << "," << r.solver << "," << r.threads << "," << r.budget() << "," << r.substeps << ","
+        << r.iterations << "," << r.steps << "," << r.precision << "," << r.repeats << ","
+        << fmt(r.ms_per_step, "%.6g") << "," << fmt(r.ms_per_step_min, "%.6g") << ","
+        << fmt(r.ms_per_step_max, "%.6g") << "," << fmt(r.ms_per_step_cv, "%.4f") << ","
+        << fmt(r.ns_per_projection(), "%.4g") << "," << r.particles << "," << r.constraints << "," << r.colors
+        << "," << fmt(r.primary_error, "%.6g") << "," << opt(r.ref_error_mm) << "," << opt(r.ref_error_max_mm) << ","
+        << opt(r.trajectory_error_mm) << "," << opt(r.energy_drift) << "," << hex(r.state_hash) << ","
+        << (r.repeatable ? 1 : 0) << "," << fmt(r.load, "%.2f") << "," << (r.busy ? 1 : 0) << ","
+        << (r.pareto ? 1 : 0);
+    for (const std::string& m : measures) {
+      const auto it = r.errors.find(m);
+      if (it == r.errors.end()) out << ",,";
+      else out << "," << fmt(it->second.rms, "%.6g") << "," << fmt(it->second.max, "%.6g");
+    }
+    out << "\n";
+  }
 }
 
 }  // namespace pbd::cli

@@ -1,5 +1,6 @@
 #pragma once
-// The results of `pbd study`: the table on stdout, the dominance check, the JSON report.
+// The results of `pbd study`: what is derived from the records (Pareto front, best split per budget, dominance,
+// strong scaling), the table, CSV and JSON forms of the report, and the merge of shards' reports.
 #include "study_options.hpp"
 #include "study_record.hpp"
 
@@ -10,28 +11,70 @@
 
 namespace pbd::cli {
 
-/// Does the colored solver at `threads` dominate the serial solver on one scene? For every serial point
-/// (iterations) it looks for a colored point that is faster (median ms per step) with no higher error.
-struct Dominance {
-  std::string scene;                   ///< scene
-  int substeps = 1;                    ///< substeps
-  std::string solver;                  ///< the parallel solver compared with serial: "colored" or "block"
-  int threads = 0;                     ///< threads of its points
-  std::string error;                   ///< the error compared: "ref_error" or "rms_violation"
-  int serial_points = 0;               ///< serial points on this scene
-  std::vector<int> undominated;        ///< iterations of the serial points none of its points dominates
+/// The same-run shared-nothing reference of one scene at one thread count (study_runner.hpp).
+struct SharedNothing {
+  std::string scene;             ///< scene
+  int threads = 2;               ///< copies stepping at once
+  std::vector<double> speedups;  ///< threads × t(alone) / t(together), one per round
 };
 
-/// One Dominance per (scene, substeps, parallel Gauss-Seidel solver: colored, block; error measure) with both serial
-/// and that solver's records, comparing against its records at the most threads measured.
-std::vector<Dominance> dominance(const std::vector<Record>& records);
+/// Per (scene, solver, threads, budget): the split with the lowest primary error (the faster one on a tie).
+struct BestSplit {
+  std::string scene, solver;     ///< scene and solver
+  int threads = 1, budget = 1;   ///< threads and sweeps per step
+  int substeps = 1, iterations = 1;  ///< the best split
+  double ms_per_step = 0.0;      ///< its median time per step, ms
+  double primary_error = 0.0;    ///< its primary error
+};
 
-/// Prints the table (one line per record, grouped by scene) and the dominance summary.
-void print_table(std::ostream& out, const std::vector<Record>& records, const std::vector<Dominance>& dom);
+/// Does a parallel solver at its most threads dominate the serial solver on one scene? For every serial point it
+/// looks for a point of the solver that is faster (median ms per step) with no higher primary error.
+struct Dominance {
+  std::string scene, solver, measure;  ///< scene, parallel solver, the primary measure compared
+  int threads = 0;                     ///< threads of its points
+  int serial_points = 0;               ///< serial points on this scene
+  std::vector<std::string> undominated;  ///< splits "SxI" of the serial points none of its points dominates
+};
 
-/// The JSON report: {"study": {command, machine, options}, "references": [...], "records": [...], "dominance": [...]}.
-nlohmann::json report_json(const StudyPlan& plan, const nlohmann::json& environment,
-                           const std::vector<Reference>& references, const std::vector<Record>& records,
-                           const std::vector<Dominance>& dom);
+/// Strong scaling of one solver on one scene (scaling mode): speed-up over the same solver on 1 thread, per round.
+struct StrongScaling {
+  std::string scene, solver;     ///< scene and solver
+  std::size_t particles = 0;     ///< particles
+  int threads = 1;               ///< threads
+  double ms_per_step = 0.0, ms_per_step_min = 0.0, ms_per_step_max = 0.0;  ///< its time, ms
+  double speedup = 0.0, speedup_min = 0.0, speedup_max = 0.0;  ///< median, min, max over rounds of t(1) / t(T)
+};
+
+/// Everything one report holds.
+struct Report {
+  nlohmann::json study;                   ///< command, date, git_commit, seconds, mode, context, options, warnings
+  std::vector<SceneInfo> scenes;          ///< scenes run
+  std::vector<Reference> references;      ///< their references (main mode)
+  std::vector<Record> records;            ///< every measured combination
+  std::vector<SharedNothing> shared_nothing;  ///< shared-nothing references
+  // Derived by finish():
+  std::vector<BestSplit> best_splits;     ///< best split per budget
+  std::vector<Dominance> dominance;       ///< dominance of serial by each parallel solver
+  std::vector<StrongScaling> strong;      ///< strong scaling (scaling mode)
+};
+
+/// Derives the Pareto flags, best splits, dominance and strong scaling from the records, and the warnings
+/// (busy points, a busy machine) into study["warnings"] and study["busy"].
+void finish(Report& report);
+
+/// The report as JSON (schema 2; docs/results.md describes every field).
+nlohmann::json report_json(const Report& report);
+/// The report read back from JSON (the references without their in-memory samples); throws pbd::Error naming
+/// `source` and the missing or malformed key.
+Report report_from_json(const nlohmann::json& doc, const std::string& source);
+
+/// Joins shards' reports: their records, scenes, references and shared-nothing references; the options must
+/// agree apart from the shard. Throws pbd::Error naming the file that does not fit.
+Report merge_reports(const std::vector<Report>& parts, const std::vector<std::string>& sources);
+
+/// The table on stdout: context, one section per scene, the best splits, the dominance check, the warnings.
+void print_table(std::ostream& out, const Report& report);
+/// CSV on stdout: a header and one line per record.
+void print_csv(std::ostream& out, const Report& report);
 
 }  // namespace pbd::cli

@@ -1,25 +1,48 @@
 #include "study_runner.hpp"
 
+#include "pbd/error.hpp"
 #include "pbd/io/build_world.hpp"
-#include "pbd/io/describe_world.hpp"
+#include "study_scenes.hpp"
 
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <thread>
 #include <type_traits>
 
 namespace pbd::cli {
+
+std::pair<std::string, double> measure_of(const std::string& type) {
+  if (type == "stretch") return {"stretch_pct", 100.0};
+  if (type == "bending") return {"bending_rad", 1.0};
+  if (type == "area") return {"area_pct", 100.0};
+  if (type == "volume") return {"volume_pct", 100.0};
+  if (type == "collision") return {"penetration_mm", 1000.0};
+  if (type == "anchor") return {"anchor_mm", 1000.0};
+  return {type, 1.0};
+}
+
+Errors errors_of(const std::vector<NamedViolation>& violations) {
+  Errors out;
+  for (const NamedViolation& v : violations) {
+    const auto [name, scale] = measure_of(v.type);
+    out[name] = {v.value.rms * scale, v.value.max * scale};
+  }
+  return out;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// E_end − E_0 in units of M |g| size (the potential energy of lifting the movable mass by the scene's size); only
-// for scenes without colliders (contacts remove energy on purpose).
+// E_end − E_0 in units of M |g| size; only for scenes without colliders (contacts remove energy on purpose).
 template <class Real>
 std::optional<double> energy_drift(const World<Real>& world, const Energy& initial, double size) {
   if (!world.colliders().empty()) return std::nullopt;
@@ -28,12 +51,12 @@ std::optional<double> energy_drift(const World<Real>& world, const Energy& initi
   return (energy(world).total() - initial.total()) / scale;
 }
 
-template <class Real> World<Real> prepared_world(const Scene& scene, Solver solver, int iterations, int substeps) {
+template <class Real> World<Real> prepared_world(const Scene& scene, Solver solver, Split split) {
   World<Real> world = build_world<Real>(scene.world);
   StepParams<Real> params = world.params();
   params.solver = solver;
-  params.iterations = iterations;
-  params.substeps = substeps;
+  params.iterations = split.iterations;
+  params.substeps = split.substeps;
   world.set_params(params);
   if (solver != Solver::serial) world.num_colors();  // color now: not part of any timed step
   return world;
@@ -43,161 +66,303 @@ template <class Real> void advance(World<Real>& world, int steps) {
   for (int s = 0; s < steps; ++s) world.step();
 }
 
-// RMS and maximum, over the sampled steps, of one step's distance from the reference step taken from the same state.
-struct StepErrors {
+// The steps (0-based) the reference keeps: up to kSamples, evenly spread, the last included.
+constexpr int kSamples = 5;
+constexpr int kConvergenceSamples = 2;  // the reference's own convergence is checked at the last two
+std::vector<int> sample_steps(int steps) {
+  std::vector<int> out;
+  const int n = std::min(kSamples, steps);
+  for (int k = 0; k < n; ++k) out.push_back(int((long(k) + 1) * steps / n) - 1);
+  return out;
+}
+
+// `world` put into a sampled reference state.
+template <class Real> void load_sample(World<Real>& world, const ReferenceSample& s) {
+  world.positions() = s.x.cast<Real>();
+  world.velocities() = s.v.cast<Real>();
+  world.set_time(s.time);
+}
+
+// RMS accumulation over samples of per-sample RMS distances.
+struct Rms {
   double sum2 = 0.0, max = 0.0;
   int count = 0;
-  void add(const Violation& d, double size) {
-    sum2 += (d.rms / size) * (d.rms / size);
-    max = std::max(max, d.max / size);
+  void add(const Violation& d) {
+    sum2 += d.rms * d.rms;
+    max = std::max(max, d.max);
     ++count;
   }
   double rms() const { return count ? std::sqrt(sum2 / count) : 0.0; }
 };
 
-// The steps (0-based) whose error is measured: kStepSamples of them, evenly spread, the last step included.
-constexpr int kStepSamples = 10;
-bool is_sample(int step, int steps) {
-  const int n = std::min(kStepSamples, steps);
-  for (int k = 0; k < n; ++k)
-    if (int((long(k) + 1) * steps / n) - 1 == step) return true;
-  return false;
+// RMS and maximum over particles of |a_i − b_i|, m.
+Violation distance(const Matrix3X<double>& a, const Matrix3X<double>& b) {
+  ViolationAccumulator acc;
+  for (Eigen::Index i = 0; i < a.cols(); ++i) acc.add((a.col(i) - b.col(i)).norm());
+  return acc.result();
 }
 
-// `world` in double: a copy, or for float the same model (its values in double) in the same state at the same time.
-template <class Real> World<double> in_double(const World<Real>& world) {
-  if constexpr (std::is_same_v<Real, double>) {
-    return world;
-  } else {
-    World<double> copy = build_world<double>(describe_world(world));
-    copy.set_time(world.time());
-    return copy;
-  }
+double finite_or_inf(double v) { return std::isfinite(v) ? v : std::numeric_limits<double>::infinity(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// Steps `world` once and returns the distance of the result from the reference step: the same state stepped by the
-// serial solver in double with `iterations`.
-template <class Real> Violation step_against_reference(World<Real>& world, int iterations) {
-  World<double> ref = in_double(world);
-  StepParams<double> params = ref.params();
-  params.solver = Solver::serial;
-  params.iterations = iterations;
-  ref.set_params(params);
-  ref.step();
-  world.step();
-  return position_distance(world, Matrix3X<double>(ref.positions()));
-}
+// A timed sample of a short run repeats it until it lasts this long (runs of tiny scenes are otherwise too short
+// to time: a rope run takes 0.3 ms), at most kMaxLoops times.
+constexpr double kMinSampleSeconds = 0.02;
+constexpr int kMaxLoops = 1000;
 
-template <class Real> Record run_typed(const Scene& scene, const Combination& c, const Reference& ref, int repeats) {
+// One combination of a group while the group runs.
+template <class Real> struct Member {
+  Combination c;
+  std::unique_ptr<tbb::task_arena> arena;
+  World<Real> initial;
+  Energy e0;
   Record r;
-  r.scene = scene.name;
-  r.solver = c.solver.name;
-  r.threads = c.threads;
-  r.iterations = c.iterations;
-  r.substeps = c.substeps;
-  r.steps = c.steps;
-  r.precision = sizeof(Real) == sizeof(float) ? "float" : "double";
-  r.repeats = repeats;
-  tbb::task_arena arena(c.threads);
-  arena.execute([&] {
-    World<Real> initial = prepared_world<Real>(scene, c.solver.solver, c.iterations, c.substeps);
-    r.particles = initial.num_particles();
-    r.constraints = initial.num_constraints();
-    r.colors = c.solver.solver == Solver::serial ? 0 : std::size_t(initial.num_colors());
-    const Energy e0 = energy(initial);
-    std::vector<double> ms;
-    // Warm-up run (caches, page faults, thread start-up), which also measures the per-step error.
-    World<Real> world = initial;
-    StepErrors step_errors;
-    for (int s = 0; s < c.steps; ++s) {
-      if (is_sample(s, c.steps)) step_errors.add(step_against_reference(world, ref.iterations), ref.size);
-      else world.step();
-    }
-    r.ref_error = step_errors.rms();
-    r.ref_error_max = step_errors.max;
-    r.trajectory_error = position_distance(world, ref.positions).rms / ref.size;
-    r.state_hash = position_hash(world);
-    for (int k = 0; k < repeats; ++k) {
-      world = initial;  // copied outside the timed region
+  std::size_t first_sample = 0;
+  int loops = 1;  // runs per timed sample
+};
+
+template <class Real>
+std::vector<Record> run_group_typed(const Scene& scene, const SceneInfo& info, const std::vector<Combination>& group,
+                                    const Reference* ref, int repeats, LoadMonitor& load) {
+  std::vector<Member<Real>> members;
+  members.reserve(group.size());
+  for (const Combination& c : group) {
+    auto arena = std::make_unique<tbb::task_arena>(c.threads);
+    World<Real> initial = arena->execute([&] { return prepared_world<Real>(scene, c.solver.solver, c.split); });
+    Member<Real> m{c, std::move(arena), std::move(initial), {}, {}, 0, 1};
+    Record& r = m.r;
+    r.scene = info.name;
+    r.solver = c.solver.name;
+    r.threads = c.threads;
+    r.substeps = c.split.substeps;
+    r.iterations = c.split.iterations;
+    r.steps = c.steps;
+    r.precision = std::is_same_v<Real, float> ? "float" : "double";
+    r.repeats = repeats;
+    r.particles = m.initial.num_particles();
+    r.constraints = m.initial.num_constraints();
+    r.colors = c.solver.solver == Solver::serial ? 0 : std::size_t(m.initial.num_colors());
+    m.e0 = energy(m.initial);
+    members.push_back(std::move(m));
+  }
+  // Warm-up: each member's run, untimed; it gives the final state's errors and hash, and how many runs one timed
+  // sample needs to last kMinSampleSeconds.
+  for (Member<Real>& m : members) {
+    m.arena->execute([&] {
+      Record& r = m.r;
+      World<Real> world = m.initial;
       const auto t0 = Clock::now();
-      advance(world, c.steps);
-      ms.push_back(1e3 * seconds_since(t0) / double(c.steps));
-      r.repeatable = r.repeatable && position_hash(world) == r.state_hash;
+      advance(world, r.steps);
+      const double seconds = seconds_since(t0);
+      m.loops = std::clamp(int(std::ceil(kMinSampleSeconds / std::max(seconds, 1e-9))), 1, kMaxLoops);
+      r.state_hash = position_hash(world);
+      r.errors = errors_of(constraint_violations(world));
+      const auto primary = r.errors.find(info.primary_error);
+      r.primary_error = finite_or_inf(primary == r.errors.end() ? 0.0 : primary->second.rms);
+      r.energy_drift = energy_drift(world, m.e0, info.size_m);
+      if (ref) {
+        r.trajectory_error_mm = finite_or_inf(1e3 * position_distance(world, ref->positions).rms);
+        Rms step_error;  // one step from each sampled reference state, against the reference's step
+        for (const ReferenceSample& s : ref->samples) {
+          World<Real> w = m.initial;
+          load_sample(w, s);
+          w.step();
+          step_error.add(position_distance(w, s.x_after));
+        }
+        r.ref_error_mm = finite_or_inf(1e3 * step_error.rms());
+        r.ref_error_max_mm = finite_or_inf(1e3 * step_error.max);
+      }
+    });
+  }
+  // The timed rounds, interleaved: A B C ... A B C ...
+  for (Member<Real>& m : members) m.first_sample = load.count();
+  std::vector<std::vector<double>> load_samples(members.size());
+  for (int k = 0; k < repeats; ++k) {
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      Member<Real>& m = members[i];
+      load_samples[i].push_back(load.sample());
+      m.arena->execute([&] {
+        double seconds = 0.0;
+        for (int l = 0; l < m.loops; ++l) {
+          World<Real> world = m.initial;  // copied outside the timed region
+          const auto t0 = Clock::now();
+          advance(world, m.r.steps);
+          seconds += seconds_since(t0);
+          m.r.repeatable = m.r.repeatable && position_hash(world) == m.r.state_hash;
+        }
+        m.r.ms.push_back(1e3 * seconds / (double(m.r.steps) * m.loops));
+      });
     }
-    std::sort(ms.begin(), ms.end());
-    const std::size_t n = ms.size();
-    r.ms_per_step = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
-    r.ms_per_step_min = ms.front();
-    r.violations = constraint_violations(world);
-    const Violation all = pooled(r.violations);
-    r.rms_violation = all.rms;
-    r.max_violation = all.max;
-    r.energy_drift = energy_drift(world, e0, ref.size);
-  });
-  return r;
+  }
+  std::vector<Record> out;
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    Record r = std::move(members[i].r);
+    const auto [lo, hi] = std::minmax_element(r.ms.begin(), r.ms.end());
+    r.ms_per_step = median(r.ms);
+    r.ms_per_step_min = *lo;
+    r.ms_per_step_max = *hi;
+    double mean = 0.0, var = 0.0;
+    for (double t : r.ms) mean += t / double(r.ms.size());
+    for (double t : r.ms) var += (t - mean) * (t - mean);
+    r.ms_per_step_cv = r.ms.size() > 1 && mean > 0.0 ? std::sqrt(var / double(r.ms.size() - 1)) / mean : 0.0;
+    double sum = 0.0;
+    for (double l : load_samples[i]) sum += l;
+    r.load = load_samples[i].empty() ? 0.0 : sum / double(load_samples[i].size());
+    r.busy = r.ms_per_step_cv > kBusyCv || r.load > kBusyLoad;
+    out.push_back(std::move(r));
+  }
+  return out;
 }
 
-double scene_work(const Scene& scene) {
-  return double(scene.world.num_constraints() + scene.world.num_particles());
-}
+double scene_work(const SceneInfo& info) { return double(info.constraints + info.particles); }
 
 }  // namespace
 
-Reference compute_reference(const Scene& scene, int substeps, int steps, int iterations) {
+SceneInfo scene_info(const Scene& scene, int steps) {
+  SceneInfo info;
+  info.name = scene.name;
+  info.steps = steps;
+  info.particles = std::size_t(scene.world.num_particles());
+  info.constraints = scene.world.num_constraints();
+  info.family = is_generated_cloth(scene.name) ? "cloth" : "";
+  World<double> world = build_world<double>(scene.world);
+  info.size_m = bounding_diagonal(world);
+  if (!(info.size_m > 0.0)) info.size_m = 1.0;
+  std::vector<std::string> types;
+  for (const NamedViolation& v : constraint_violations(world)) {
+    types.push_back(v.type);
+    info.measures.push_back(measure_of(v.type).first);
+  }
+  std::string primary = scene.primary_error == "penetration" ? "collision" : scene.primary_error;
+  if (primary.empty()) {
+    for (const char* t : {"volume", "stretch"})
+      if (primary.empty() && std::find(types.begin(), types.end(), t) != types.end()) primary = t;
+    if (primary.empty() && !types.empty()) primary = types.front();
+  } else if (std::find(types.begin(), types.end(), primary) == types.end()) {
+    throw Error(scene.source + ": primary_error: the scene has no " +
+                (primary == "collision" ? std::string("collider") : primary + " constraint") + " to measure");
+  }
+  info.primary_error = primary.empty() ? "" : measure_of(primary).first;
+  return info;
+}
+
+Reference compute_reference(const Scene& scene, const SceneInfo& info, Split split,
+                            const std::function<void(int)>& progress) {
   const auto t0 = Clock::now();
   Reference ref;
-  ref.scene = scene.name;
-  ref.substeps = substeps;
-  ref.steps = steps;
-  ref.iterations = iterations;
-  World<double> half = prepared_world<double>(scene, Solver::serial, iterations / 2, substeps);
-  World<double> full = prepared_world<double>(scene, Solver::serial, iterations, substeps);
-  ref.size = bounding_diagonal(full);
-  if (!(ref.size > 0.0)) ref.size = 1.0;
-  const Energy e0 = energy(full);
-  advance(half, steps);
-  StepErrors step_errors;  // the N/2-iteration step against the N-iteration step, from the reference's states
-  for (int s = 0; s < steps; ++s) {
-    if (is_sample(s, steps)) {
-      World<double> coarse = full;
-      StepParams<double> params = coarse.params();
-      params.iterations = iterations / 2;
-      coarse.set_params(params);
-      coarse.step();
-      full.step();
-      step_errors.add(position_distance(coarse, Matrix3X<double>(full.positions())), ref.size);
-    } else {
-      full.step();
+  ref.scene = info.name;
+  ref.substeps = split.substeps;
+  ref.iterations = split.iterations;
+  ref.steps = info.steps;
+  World<double> world = prepared_world<double>(scene, Solver::serial, split);
+  const std::vector<int> samples = sample_steps(info.steps);
+  Rms iteration_error, time_error;
+  for (int s = 0; s < info.steps; ++s) {
+    if (progress && s > 0) progress(s);
+    if (std::find(samples.begin(), samples.end(), s) == samples.end()) {
+      world.step();
+      continue;
     }
+    ReferenceSample sample{s, world.time(), world.positions(), world.velocities(), {}};
+    if (s < samples[samples.size() > kConvergenceSamples ? samples.size() - kConvergenceSamples : 0]) {  // convergence: at the last two samples only
+      world.step();
+      sample.x_after = world.positions();
+      ref.samples.push_back(std::move(sample));
+      continue;
+    }
+    // The same state stepped at half the iterations and at half the substeps: how far the reference is from
+    // converged in each.
+    auto coarse_step = [&](Split coarse) {
+      World<double> w = world;
+      StepParams<double> params = w.params();
+      params.substeps = coarse.substeps;
+      params.iterations = coarse.iterations;
+      w.set_params(params);
+      w.step();
+      return Matrix3X<double>(w.positions());
+    };
+    const Matrix3X<double> half_iterations = coarse_step({split.substeps, split.iterations / 2});
+    const Matrix3X<double> half_substeps = coarse_step({split.substeps / 2, split.iterations});
+    world.step();
+    sample.x_after = world.positions();
+    iteration_error.add(distance(half_iterations, sample.x_after));
+    time_error.add(distance(half_substeps, sample.x_after));
+    ref.samples.push_back(std::move(sample));
   }
-  ref.positions = full.positions();
-  ref.step_convergence = step_errors.rms();
-  ref.step_convergence_max = step_errors.max;
-  ref.trajectory_convergence = position_distance(half, ref.positions).rms / ref.size;
-  const Violation v = pooled(constraint_violations(full));
-  ref.rms_violation = v.rms;
-  ref.max_violation = v.max;
-  ref.energy_drift = energy_drift(full, e0, ref.size);
+  ref.positions = world.positions();
+  ref.iteration_convergence_mm = 1e3 * iteration_error.rms();
+  ref.time_convergence_mm = 1e3 * time_error.rms();
+  ref.errors = errors_of(constraint_violations(world));
   ref.seconds = seconds_since(t0);
   return ref;
 }
 
-Record run_combination(const Scene& scene, const Combination& c, const Reference& ref, int repeats) {
-  Record r = c.double_precision ? run_typed<double>(scene, c, ref, repeats) : run_typed<float>(scene, c, ref, repeats);
-  if (!std::isfinite(r.ref_error)) r.ref_error = r.ref_error_max = std::numeric_limits<double>::infinity();
-  if (!std::isfinite(r.trajectory_error)) r.trajectory_error = std::numeric_limits<double>::infinity();
-  return r;
+std::vector<Record> run_group(const Scene& scene, const SceneInfo& info, const std::vector<Combination>& group,
+                              const Reference* ref, int repeats, LoadMonitor& load) {
+  if (group.empty()) return {};
+  return group.front().double_precision ? run_group_typed<double>(scene, info, group, ref, repeats, load)
+                                        : run_group_typed<float>(scene, info, group, ref, repeats, load);
 }
 
-double estimated_cost(const Scene& scene, const Combination& c, int repeats, int reference_iterations) {
-  // Sweeps dominate; a thread count of t divides the threaded solvers' share (roughly).
-  const double sweeps = double(repeats + 1) * c.steps * c.substeps * std::max(1, c.iterations);
-  const double reference_steps = 1.3 * std::min(kStepSamples, c.steps) * c.substeps * reference_iterations;
-  return (sweeps / (c.solver.threaded ? std::sqrt(double(c.threads)) : 1.0) + reference_steps) * scene_work(scene);
+std::vector<double> shared_nothing_speedups(const Scene& part, int steps, Split split, int threads, int rounds) {
+  const World<float> initial = prepared_world<float>(part, Solver::serial, split);
+  int loops = 1;
+  // Wall time of `copies` runs at once: the threads start, copy the world and wait; the clock runs from their
+  // release to the last one's end (thread start-up and the first copy are not timed).
+  auto run_copies = [&](int copies) {
+    std::atomic<int> ready{0};
+    std::atomic<bool> go{false};
+    std::vector<Clock::time_point> ends(static_cast<std::size_t>(copies));
+    std::vector<std::thread> team;
+    for (int k = 0; k < copies; ++k)
+      team.emplace_back([&, k] {
+        tbb::task_arena arena(1);
+        arena.execute([&] {
+          World<float> world = initial;
+          ready.fetch_add(1);
+          while (!go.load(std::memory_order_acquire)) std::this_thread::yield();
+          for (int l = 0; l < loops; ++l) {
+            if (l > 0) world = initial;
+            advance(world, steps);
+          }
+          ends[std::size_t(k)] = Clock::now();
+        });
+      });
+    while (ready.load() < copies) std::this_thread::yield();
+    const auto t0 = Clock::now();
+    go.store(true, std::memory_order_release);
+    for (std::thread& t : team) t.join();
+    return std::chrono::duration<double>(*std::max_element(ends.begin(), ends.end()) - t0).count();
+  };
+  // Warm-up, which also sets how many runs each copy makes so that one lasts kMinSampleSeconds.
+  const double once = run_copies(1);
+  loops = std::clamp(int(std::ceil(kMinSampleSeconds / std::max(once, 1e-9))), 1, kMaxLoops);
+  std::vector<double> out;
+  for (int k = 0; k < rounds; ++k) {
+    const double alone = run_copies(1);
+    const double together = run_copies(threads);
+    out.push_back(threads * alone / together);
+  }
+  return out;
 }
 
-double estimated_reference_cost(const Scene& scene, int substeps, int steps, int iterations) {
-  return 1.5 * double(steps) * substeps * iterations * scene_work(scene) * 1.3;  // double is slower than float
+double estimated_group_cost(const SceneInfo& info, const std::vector<Combination>& group, int repeats) {
+  double cost = 0.0;
+  for (const Combination& c : group) {
+    const double sweeps = double(repeats + 1) * c.steps * c.split.substeps * c.split.iterations + 1.0 * kSamples;
+    cost += sweeps / (c.solver.threaded ? std::sqrt(double(c.threads)) : 1.0) * scene_work(info);
+  }
+  return cost;
+}
+
+double estimated_reference_cost(const SceneInfo& info, Split split) {
+  const double steps = info.steps + 1.5 * std::min(kConvergenceSamples, info.steps);
+  return 1.5 * steps * split.substeps * split.iterations * scene_work(info);  // double, serial
 }
 
 }  // namespace pbd::cli

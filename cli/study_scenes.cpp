@@ -38,6 +38,7 @@ std::string hanging_cloth_json(int n) {
       {"substeps", 1},
       {"iterations", 10},
       {"steps", steps},
+      {"primary_error", "stretch"},
       {"bodies",
        {{{"type", "cloth"},
          {"resolution", n},
@@ -66,7 +67,13 @@ bool is_file(const std::string& name) {
 
 }  // namespace
 
-std::vector<std::string> generated_scene_names() { return {"cloth100", "cloth300", "cloth1000"}; }
+std::vector<std::string> generated_scene_names() { return {"cloth30", "cloth100", "cloth300", "cloth1000"}; }
+
+bool is_generated_cloth(const std::string& name) {
+  if (!cloth_resolution(name) || is_file(name)) return false;
+  const auto builtin = builtin_scene_names();
+  return std::find(builtin.begin(), builtin.end(), name) == builtin.end();
+}
 
 void check_study_scene(const std::string& name) {
   if (cloth_resolution(name)) return;
@@ -82,11 +89,7 @@ void check_study_scene(const std::string& name) {
 
 Scene load_study_scene(const std::string& name) {
   check_study_scene(name);
-  if (const auto n = cloth_resolution(name); n && !is_file(name)) {
-    const auto builtin = builtin_scene_names();
-    if (std::find(builtin.begin(), builtin.end(), name) == builtin.end())
-      return parse_scene(hanging_cloth_json(*n), name + " (generated)");
-  }
+  if (is_generated_cloth(name)) return parse_scene(hanging_cloth_json(*cloth_resolution(name)), name + " (generated)");
   return load_builtin_scene(name);
 }
 

@@ -1,255 +1,455 @@
 #!/usr/bin/python3
-"""Plots of a `pbd study` JSON report (run with Debian's /usr/bin/python3, which has python3-matplotlib).
+"""Plots of a `pbd study` JSON report, schema 2 (run with Debian's /usr/bin/python3, which has python3-matplotlib).
 
-Usage: scripts/plot_study.py STUDY.json [OUT_DIR] [--svg]
+Usage: scripts/plot_study.py STUDY.json [OUT_DIR]
 
-Writes into OUT_DIR (default: the JSON's folder):
-  speed_error.png      per scene: error against time per step (the speed-error plane), one curve per solver/threads,
-                       one point per iteration count; top row per-step distance from the converged reference (dotted
-                       red: how much the reference itself moves from N/2 to N iterations), bottom row RMS constraint
-                       violation
-  thread_scaling.png   per scene: speed-up over the serial solver at the same iterations, against threads
-  ns_per_projection.png  time per constraint projection against the number of constraints (scene size)
-  summary.md           the main table in Markdown: per scene and iteration count, ms per step and errors of each
-                       solver at its most threads, and the dominance check of the report
+Writes into OUT_DIR (default: the JSON's folder), each figure as .png (150 dpi) and .svg; one without data is skipped:
+  speed_error        per scene: primary error against ms per step (median, bars min..max), marker per solver, fill
+                     per thread count, busy points hollow with a red edge; grey steps: the Pareto front, labelled SxI
+  convergence        per scene: primary error against sweeps per step, each solver at its most threads: all
+                     iterations (1xN, solid), all substeps (Nx1, dashed), the best split per budget (big markers)
+  thread_scaling     study mode: per scene, speed-up of each parallel solver from 1 thread to its most threads (median
+                     over the splits, bar min..max), the ideal, and the shared-nothing ceiling of this machine;
+                     scaling mode: per scene, speed-up against threads (scaling.strong), the ideal and shared-nothing
+  ns_per_projection  cloth<N> family (2 or more scenes): ns per constraint projection against particles
+  summary.md         context and warnings; per scene the best split per budget of each solver at its most threads
+                     and the dominance check; in scaling mode the strong-scaling table
 """
 import json
 import math
 import os
+import statistics
 import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.ticker import NullFormatter  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.ticker import FixedLocator, NullFormatter  # noqa: E402
 
-STYLE = {  # solver -> (color, marker)
-    "serial": ("black", "o"),
-    "serial-colored": ("tab:gray", "v"),
-    "colored": ("tab:blue", "s"),
-    "jacobi": ("tab:orange", "^"),
-    "block": ("tab:green", "D"),
-}
-DASH = {1: "-", 2: "--", 4: ":", 8: "-."}
-
-
-def style(solver, threads):
-    color, marker = STYLE.get(solver, ("tab:purple", "x"))
-    return dict(color=color, marker=marker, linestyle=DASH.get(threads, "-"))
+plt.rcParams.update({"font.size": 8, "axes.titlesize": 9, "axes.labelsize": 8, "legend.fontsize": 8,
+                     "xtick.labelsize": 7, "ytick.labelsize": 7, "svg.fonttype": "none"})
+STYLE = {"serial": ("black", "o"), "colored": ("tab:blue", "s"), "jacobi": ("tab:orange", "^"),
+         "block": ("tab:green", "D")}  # solver -> (color, marker)
+FILLS = ["full", "top", "right", "bottom", "left"]  # by index of the thread count among all thread counts
+DASHES = ["-", "--", ":", "-."]
+SHARED = "shared-nothing split (this machine's ceiling)"
+MEASURES = {"stretch_pct": ("RMS stretch", "%"), "bending_rad": ("RMS bending", "rad"),
+            "area_pct": ("RMS area error", "%"), "volume_pct": ("RMS volume error", "%"),
+            "penetration_mm": ("RMS penetration", "mm"), "anchor_mm": ("RMS anchor drift", "mm")}
 
 
-def label(solver, threads):
-    return solver if solver in ("serial", "serial-colored") else f"{solver}, {threads} thr"
+def measure_label(m):
+    name, unit = MEASURES.get(m, (f"RMS {m.rsplit('_', 1)[0]}", m.rsplit("_", 1)[-1] if "_" in m else "?"))
+    return f"{name} ({unit})"
 
 
-def scenes_of(records):
-    seen = []
-    for r in records:
-        if r["scene"] not in seen:
-            seen.append(r["scene"])
-    return seen
+def solver_style(solver):
+    return STYLE.get(solver, ("tab:purple", "v"))
 
 
-def curves(records, scene, substeps=None):
-    """{(solver, threads, substeps): [records sorted by iterations]} for one scene."""
-    out = {}
-    for r in records:
-        if r["scene"] != scene or (substeps is not None and r["substeps"] != substeps):
-            continue
-        out.setdefault((r["solver"], r["threads"], r["substeps"]), []).append(r)
-    for v in out.values():
-        v.sort(key=lambda r: r["iterations"])
-    return out
+def pos(v):
+    """v if it can be drawn on a log axis, else None."""
+    return v if isinstance(v, (int, float)) and math.isfinite(v) and v > 0 else None
 
 
-def positive(v):
-    return v if v is not None and v > 0 and math.isfinite(v) else float("nan")
+def fmt(v, spec=".3g"):
+    return "-" if v is None else format(v, spec)
 
 
-def grid(n):
-    cols = min(n, 3)
-    return (n + cols - 1) // cols, cols
+def span(d, key, spec=".3g"):
+    """d[key] (d[key_min]–d[key_max])."""
+    return f"{fmt(d.get(key), spec)} ({fmt(d.get(key + '_min'), spec)}–{fmt(d.get(key + '_max'), spec)})"
 
 
-def speed_error(doc, out, ext):
-    records = doc["records"]
-    scenes = scenes_of(records)
-    cols = len(scenes)
-    fig, axes = plt.subplots(2, cols, figsize=(3.6 * cols, 6.4), squeeze=False)
-    for j, scene in enumerate(scenes):
-        for i, (key, name) in enumerate([("ref_error", "distance to reference / size (RMS)"),
-                                         ("rms_violation", "constraint violation (RMS)")]):
-            ax = axes[i][j]
-            multi_sub = len({r["substeps"] for r in records if r["scene"] == scene}) > 1
-            for (solver, threads, sub), rs in curves(records, scene).items():
-                lab = label(solver, threads) + (f", {sub} sub" if multi_sub else "")
-                ax.plot([r["ms_per_step"] for r in rs], [positive(r[key]) for r in rs], label=lab, markersize=4,
-                        **style(solver, threads))
-                if solver == "serial":
-                    for r in rs:
-                        ax.annotate(str(r["iterations"]), (r["ms_per_step"], positive(r[key])), fontsize=6,
-                                    xytext=(3, 3), textcoords="offset points")
-            if key == "ref_error":
-                for ref in doc.get("references", []):
-                    if ref["scene"] == scene and ref.get("step_convergence", 0) > 0:
-                        ax.axhline(ref["step_convergence"], color="tab:red", linewidth=0.8, linestyle=":",
-                                   label="reference: N/2 vs N iterations")
-            ax.set_xscale("log")
-            ax.set_yscale("log")
-            ax.xaxis.set_minor_formatter(NullFormatter())
-            ax.yaxis.set_minor_formatter(NullFormatter())
-            ax.grid(True, which="both", alpha=0.25)
-            if i == 0:
-                ax.set_title(scene)
-            else:
-                ax.set_xlabel("ms per step (median)")
-            if j == 0:
-                ax.set_ylabel(name)
-    handles, labels = axes[0][0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 6), fontsize=8)
-    fig.suptitle("Speed vs error (lower left is better; numbers: serial iterations per substep)", fontsize=10)
-    fig.tight_layout(rect=(0, 0.06, 1, 0.97))
-    path = os.path.join(out, "speed_error." + ext)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+def bars(y, lo, hi):
+    """yerr/xerr of errorbar from values and their minima and maxima."""
+    return [[max(0, a - b) for a, b in zip(y, lo)], [max(0, b - a) for a, b in zip(y, hi)]]
 
 
-def thread_scaling(doc, out, ext):
-    records = doc["records"]
-    scenes = scenes_of(records)
-    rows, cols = grid(len(scenes))
-    fig, axes = plt.subplots(rows, cols, figsize=(3.6 * cols, 3.0 * rows), squeeze=False)
-    for k, scene in enumerate(scenes):
-        ax = axes[k // cols][k % cols]
-        ax.yaxis.set_minor_formatter(NullFormatter())
-        rs = [r for r in records if r["scene"] == scene]
-        sub = min(r["substeps"] for r in rs)
-        its = sorted({r["iterations"] for r in rs})
-        serial = {r["iterations"]: r["ms_per_step"] for r in rs if r["solver"] == "serial" and r["substeps"] == sub}
-        threads = sorted({r["threads"] for r in rs})
-        for it in (its[0], its[-1]) if len(its) > 1 else its:
-            for solver in ("colored", "jacobi", "block"):
-                pts = sorted((r["threads"], r["ms_per_step"]) for r in rs
-                             if r["solver"] == solver and r["iterations"] == it and r["substeps"] == sub)
-                if not pts or it not in serial:
-                    continue
-                color, marker = STYLE[solver]
-                ax.plot([t for t, _ in pts], [serial[it] / ms for _, ms in pts], color=color, marker=marker,
-                        linestyle="-" if it == its[-1] else ":", label=f"{solver}, {it} it")
-        ax.axhline(1.0, color="black", linewidth=0.8)
-        ax.set_xticks(threads)
-        ax.set_title(scene, fontsize=9)
-        ax.set_xlabel("threads")
-        ax.set_ylabel("speed-up over serial")
-        ax.grid(True, alpha=0.25)
-        ax.legend(fontsize=6)
-    for k in range(len(scenes), rows * cols):
-        axes[k // cols][k % cols].axis("off")
-    fig.suptitle("Thread scaling: serial ms/step ÷ solver ms/step at the same iterations", fontsize=10)
-    fig.tight_layout()
-    path = os.path.join(out, "thread_scaling." + ext)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+def speedups(rows):
+    """(threads, speed-ups, their minima, their maxima) of scaling.strong or shared_nothing rows, by threads."""
+    return zip(*sorted((d["threads"], d["speedup"], d["speedup_min"], d["speedup_max"]) for d in rows))
 
 
-def ns_per_projection(doc, out, ext):
-    records = doc["records"]
-    top = max(r["iterations"] for r in records)
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    series = {}
-    for r in records:
-        if r["iterations"] == top:
-            series.setdefault((r["solver"], r["threads"]), []).append(r)
-    for (solver, threads), rs in sorted(series.items()):
-        rs.sort(key=lambda r: r["constraints"])
-        ax.plot([r["constraints"] for r in rs], [r["ns_per_projection"] for r in rs], label=label(solver, threads),
-                **style(solver, threads))
-        if solver == "serial":
-            for r in rs:
-                ax.annotate(r["scene"], (r["constraints"], r["ns_per_projection"]), fontsize=7, xytext=(3, 4),
-                            textcoords="offset points")
+def title(scene):
+    return f"{scene['name']} ({scene['particles']:,} particles)"
+
+
+def log_ticks(ax, which):
+    """At least 3 labelled ticks on a log axis: decades, else 1-3, 1-2-5, ... steps; widens a too narrow range."""
+    axis, get, put = (ax.xaxis, ax.get_xlim, ax.set_xlim) if which == "x" else (ax.yaxis, ax.get_ylim, ax.set_ylim)
+    lo, hi = get()
+    if hi / lo < 4:
+        lo, hi = math.sqrt(lo * hi) / 2, math.sqrt(lo * hi) * 2
+    for subs in ((1,), (1, 3), (1, 2, 5), (1, 2, 3, 5, 7), tuple(range(1, 10))):
+        ticks = [m * 10.0 ** e for e in range(math.floor(math.log10(lo)), math.ceil(math.log10(hi)) + 1) for m in subs]
+        ticks = [t for t in ticks if lo <= t * (1 + 1e-9) and t <= hi * (1 + 1e-9)]
+        if len(ticks) >= 3:
+            break
+    ticks = ticks[::math.ceil(len(ticks) / 7) if subs == (1,) else 1]
+    plain = all(1e-3 <= t < 1e6 for t in ticks)  # else all as powers of ten
+
+    def label(v):
+        if plain:
+            return f"{v:.3g}" if v < 1000 else f"{v:,.0f}"
+        e = math.floor(math.log10(v) + 1e-9)
+        return f"$10^{{{e}}}$" if abs(v / 10 ** e - 1) < 1e-6 else f"${v / 10 ** e:.3g}\\times10^{{{e}}}$"
+
+    axis.set_major_locator(FixedLocator(ticks))
+    axis.set_ticklabels([label(t) for t in ticks])
+    axis.set_minor_formatter(NullFormatter())
+    put(lo, hi)
+
+
+def log2_ticks(ax, values):
+    lo, hi = min(values), max(values)
+    ax.set_xscale("log", base=2)
+    ax.set_xlim(lo / 1.4, hi * 1.4)
+    ax.xaxis.set_major_locator(FixedLocator([2 ** k for k in range(int(math.log2(lo)), int(math.log2(hi)) + 1)]))
+    ax.xaxis.set_major_formatter(lambda v, _: f"{v:.0f}")
+    ax.xaxis.set_minor_formatter(NullFormatter())
+
+
+def loglog(ax):
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("constraints in the scene")
-    ax.set_ylabel("ns per constraint projection")
-    ax.xaxis.set_minor_formatter(NullFormatter())
-    ax.set_title(f"Cost per projection at {top} iterations (ms/step ÷ constraints·substeps·iterations)", fontsize=9)
-    ax.grid(True, which="both", alpha=0.25)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    path = os.path.join(out, "ns_per_projection." + ext)
-    fig.savefig(path, dpi=110)
+    ax.margins(0.08)
+    log_ticks(ax, "x")
+    log_ticks(ax, "y")
+
+
+def finish(ax, sc, xlabel, skipped, drawn):
+    """Title, labels and grid of a per-scene panel, and a note on the points left out."""
+    if skipped:
+        x, y, ha, va = (0.99, 0.99, "right", "top") if drawn else (0.5, 0.5, "center", "center")
+        ax.text(x, y, f"{skipped} point{'s' * (skipped > 1)} with zero or non-finite error not shown", ha=ha, va=va,
+                transform=ax.transAxes, fontsize=6, color="dimgray")
+    if not drawn:
+        ax.set(xticks=[], yticks=[])
+    ax.grid(True, which="major", alpha=0.25)
+    ax.set_title(title(sc))
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(measure_label(sc["primary_error"]))
+
+
+def panels(n, w=3.6, h=2.9):
+    cols = min(n, 3)
+    rows = (n + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(w * cols, h * rows), squeeze=False, layout="constrained")
+    for k in range(n, rows * cols):
+        axes[k // cols][k % cols].axis("off")
+    return fig, [axes[k // cols][k % cols] for k in range(n)]
+
+
+def save(fig, out, stem, handles, ncol=4):
+    """Writes the figure with its legend below it (ncol > 0) or at its right (ncol = 0)."""
+    where = dict(loc="upper center", bbox_to_anchor=(0.5, 0), ncol=ncol) if ncol else \
+        dict(loc="center left", bbox_to_anchor=(1, 0.5))
+    fig.legend(handles=handles, frameon=False, **where)
+    paths = [os.path.join(out, f"{stem}.{ext}") for ext in ("png", "svg")]
+    for path in paths:
+        fig.savefig(path, dpi=150, bbox_inches="tight")
     plt.close(fig)
-    return path
+    return paths
 
 
-def summary(doc, out, ext):
-    records = doc["records"]
-    lines = []
-    for scene in scenes_of(records):
-        rs = [r for r in records if r["scene"] == scene]
-        first = rs[0]
-        lines.append(f"**{scene}** ({first['particles']} particles, {first['constraints']} constraints, "
-                     f"{first['steps']} steps, {first['precision']})\n")
-        solvers = []
+class Study:
+    """The report with its lookups."""
+
+    def __init__(self, doc):
+        self.doc, self.info, self.scaling = doc, doc.get("study") or {}, doc.get("scaling") or {}
+        self.mode = self.info.get("mode", "study")
+        self.scenes, self.records = list(doc.get("scenes") or []), doc.get("records") or []
+        self.by_scene, self.top = {}, {}  # scene -> records; (scene, solver) -> most threads
+        for r in self.records:
+            self.by_scene.setdefault(r["scene"], []).append(r)
+            self.top[r["scene"], r["solver"]] = max(r["threads"], self.top.get((r["scene"], r["solver"]), 0))
+        known = {s["name"] for s in self.scenes}
+        self.scenes += [{"name": n, "particles": rs[0].get("particles", 0), "primary_error": "?", "family": None}
+                        for n, rs in self.by_scene.items() if n not in known]  # not in "scenes": what its records say
+        self.scene = {s["name"]: s for s in self.scenes}
+        self.threads = sorted({r["threads"] for r in self.records})
+        self.solvers = list(dict.fromkeys(r["solver"] for r in self.records))
+        self.best = doc.get("best_splits") or []
+
+    def error(self, r):
+        e = r.get("primary_error")  # null (NaN in C++) stays None: not drawn
+        return e if e is not None or "errors" not in r else \
+            r["errors"].get(self.scene[r["scene"]]["primary_error"], {}).get("rms")
+
+    def order(self, solver):
+        return self.solvers.index(solver) if solver in self.solvers else len(self.solvers)
+
+    def fill(self, threads):
+        return FILLS[self.threads.index(threads) % len(FILLS)] if threads in self.threads else "full"
+
+    def with_records(self):
+        return [s for s in self.scenes if self.by_scene.get(s["name"])]
+
+
+def solver_handles(solvers, label=str, **kw):
+    return [Line2D([], [], color=solver_style(s)[0], marker=solver_style(s)[1], label=label(s), **kw) for s in solvers]
+
+
+def speed_error(st, out):
+    scenes = st.with_records()
+    if not scenes:
+        return []
+    fig, axes = panels(len(scenes))
+    for ax, sc in zip(axes, scenes):
+        rs, skipped, groups = st.by_scene[sc["name"]], 0, {}
         for r in rs:
-            if r["solver"] not in solvers:
-                solvers.append(r["solver"])
-        most = {s: max(r["threads"] for r in rs if r["solver"] == s) for s in solvers}
-        head = "| sub | iter | " + " | ".join(f"{label(s, most[s])}: ms/step, ref_error, rms_violation" for s in solvers)
-        lines.append(head + " |")
-        lines.append("|---|---|" + "---|" * len(solvers))
-        keys = sorted({(r["substeps"], r["iterations"]) for r in rs})
-        for sub, it in keys:
-            cells = []
-            for s in solvers:
-                m = [r for r in rs if r["solver"] == s and r["threads"] == most[s] and r["substeps"] == sub
-                     and r["iterations"] == it]
-                cells.append(f"{m[0]['ms_per_step']:.4g}, {m[0]['ref_error']:.2e}, {m[0]['rms_violation']:.2e}"
-                             if m else "-")
-            lines.append(f"| {sub} | {it} | " + " | ".join(cells) + " |")
-        lines.append("")
-    if doc.get("references"):
-        lines.append("| reference of | substeps | steps | iterations (N) | per step: N/2 vs N | whole run: N/2 vs N | "
-                     "its rms_violation | seconds |")
-        lines.append("|---|---|---|---|---|---|---|---|")
-        for ref in doc["references"]:
-            lines.append(f"| {ref['scene']} | {ref['substeps']} | {ref['steps']} | {ref['iterations']} | "
-                         f"{ref['step_convergence']:.1e} | {ref['trajectory_convergence']:.1e} | "
-                         f"{ref['rms_violation']:.2e} | {ref['seconds']:.1f} |")
-        lines.append("")
-    if doc.get("dominance"):
-        lines.append("| scene | substeps | error | serial points dominated | not dominated at iterations |")
-        lines.append("|---|---|---|---|---|")
-        for d in doc["dominance"]:
-            n = d["serial_points"] - len(d["undominated_iterations"])
-            lines.append(f"| {d['scene']} | {d['substeps']} | {d['error']} | {n} of {d['serial_points']} "
-                         f"({d.get('solver', 'colored')} on {d['threads']} threads) | "
-                         f"{', '.join(map(str, d['undominated_iterations'])) or '-'} |")
+            if pos(st.error(r)) and pos(r["ms_per_step"]):
+                groups.setdefault((r["solver"], r["threads"], bool(r.get("busy"))), []).append(r)
+            else:
+                skipped += 1
+        for (solver, threads, busy), g in sorted(groups.items(), key=lambda kv: (kv[0][2], st.order(kv[0][0]))):
+            color, marker = solver_style(solver)
+            x, y = [r["ms_per_step"] for r in g], [st.error(r) for r in g]
+            lo, hi = ([r.get(k) or v for r, v in zip(g, x)] for k in ("ms_per_step_min", "ms_per_step_max"))
+            ax.errorbar(x, y, xerr=bars(x, lo, hi), fmt="none", ecolor=color, elinewidth=0.6, alpha=0.5, zorder=2)
+            kw = dict(markerfacecolor="none", markeredgecolor="red", markeredgewidth=1.0) if busy else \
+                dict(color=color, fillstyle=st.fill(threads), markerfacecoloralt="white", markeredgewidth=0.8)
+            ax.plot(x, y, linestyle="none", marker=marker, markersize=4.5, zorder=3, **kw)
+        front = sorted((r for r in rs if r.get("pareto") and pos(st.error(r)) and pos(r["ms_per_step"])),
+                       key=lambda r: r["ms_per_step"])
+        if front:
+            ax.step([r["ms_per_step"] for r in front], [st.error(r) for r in front], where="post", color="gray",
+                    linewidth=0.8, zorder=1)
+        if groups:
+            loglog(ax)
+        placed = []  # label positions in pixels: a label too close to one already placed is left out
+        for r in front if len({(r["substeps"], r["iterations"]) for r in rs}) > 1 else []:
+            px, py = ax.transData.transform((r["ms_per_step"], st.error(r)))
+            if all(abs(px - qx) > 16 or abs(py - qy) > 7 for qx, qy in placed):
+                placed.append((px, py))
+                ax.annotate(f"{r['substeps']}x{r['iterations']}", (r["ms_per_step"], st.error(r)), xytext=(3, 2),
+                            textcoords="offset points", fontsize=5.5, color="dimgray", zorder=4)
+        finish(ax, sc, "time per step, median (ms)", skipped, groups)
+    handles = solver_handles(st.solvers, linestyle="none")
+    handles += [Line2D([], [], color="gray", marker="o", linestyle="none", fillstyle=st.fill(t),
+                       markerfacecoloralt="white", label=f"{t} thread{'s' * (t > 1)}") for t in st.threads]
+    handles += [Line2D([], [], marker="o", linestyle="none", markerfacecolor="none", markeredgecolor="red",
+                       label="busy (CV > 10% or loaded)")] * any(r.get("busy") for r in st.records)
+    handles += [Line2D([], [], color="gray", linewidth=0.8, label="Pareto front (labels: substeps x iterations)")]
+    fig.suptitle("Speed against error (lower left is better; bars: fastest to slowest timed run)", fontsize=10)
+    return save(fig, out, "speed_error", handles, ncol=min(5, 2 + len(scenes)))
+
+
+def convergence(st, out):
+    scenes = [s for s in st.with_records() if len({r["budget"] for r in st.by_scene[s["name"]]}) > 1]
+    if not scenes:
+        return []
+    fig, axes = panels(len(scenes))
+    for ax, sc in zip(axes, scenes):
+        name, skipped, budgets = sc["name"], 0, set()
+        for solver in st.solvers:
+            t = st.top.get((name, solver))
+            rs = [r for r in st.by_scene[name] if r["solver"] == solver and r["threads"] == t]
+            color, marker = solver_style(solver)
+            for key, dash in (("substeps", "-"), ("iterations", "--")):  # 1xN and Nx1
+                line = sorted((r["budget"], pos(st.error(r))) for r in rs if r[key] == 1)
+                skipped += sum(e is None for _, e in line)
+                line = [(b, e) for b, e in line if e is not None]
+                if line:
+                    ax.plot(*zip(*line), color=color, linestyle=dash, linewidth=1.0, marker=marker, markersize=2.5)
+                    budgets.update(b for b, _ in line)
+            best = sorted((b["budget"], b.get("primary_error")) for b in st.best if b["scene"] == name
+                          and b["solver"] == solver and b["threads"] == t and pos(b.get("primary_error")))
+            if best:
+                ax.plot(*zip(*best), linestyle="none", marker=marker, markersize=7, color=color,
+                        markeredgecolor="black", markeredgewidth=0.5, zorder=4)
+                budgets.update(b for b, _ in best)
+        if budgets:
+            ax.set_yscale("log")
+            ax.margins(y=0.1)
+            log_ticks(ax, "y")
+            log2_ticks(ax, budgets)
+        finish(ax, sc, "sweeps per step (substeps × iterations)", skipped, budgets)
+    most = {s: max(st.top.get((n["name"], s), 0) for n in scenes) for s in st.solvers}
+    handles = solver_handles(st.solvers, lambda s: f"{s} ({most[s]} thr)", linestyle="none")
+    handles += [Line2D([], [], color="gray", linestyle="-", label="1xN: iterations"),
+                Line2D([], [], color="gray", linestyle="--", label="Nx1: substeps"),
+                Line2D([], [], color="gray", marker="o", markersize=7, markeredgecolor="black", linestyle="none",
+                       label="best split")]
+    fig.suptitle("Convergence: error against work per step, each solver at its most threads", fontsize=10)
+    return save(fig, out, "convergence", handles, ncol=7)
+
+
+def thread_scaling(st, out):
+    shared, strong = st.doc.get("shared_nothing") or [], st.scaling.get("strong") or []
+    if st.mode == "scaling":
+        return scaling_panels(st, out, strong, shared) if strong else []
+    ms = {(r["scene"], r["solver"], r["substeps"], r["iterations"], r["threads"]): r["ms_per_step"] for r in st.records}
+    top = {s: max(r["threads"] for r in st.records if r["solver"] == s) for s in st.solvers if s != "serial"}
+    ups = {}  # (scene, solver) -> speed-ups from 1 thread to the solver's most threads, one per split
+    for (scene, solver, sub, it, t), v in ms.items():
+        if t > 1 and top.get(solver) == t and (scene, solver, sub, it, 1) in ms and pos(v):
+            ups.setdefault((scene, solver), []).append(ms[scene, solver, sub, it, 1] / v)
+    if not ups:
+        return []
+    scenes = sorted(st.with_records(), key=lambda s: s["particles"])
+    solvers = [s for s in top if any(k[1] == s for k in ups)]
+    T = max(top[s] for s in solvers)
+    fig, ax = plt.subplots(figsize=(max(6.0, 0.9 * len(scenes) + 1.5), 3.6), layout="constrained")
+    width = 0.6 / len(solvers)
+    for k, solver in enumerate(solvers):
+        for i, sc in enumerate(scenes):
+            u = ups.get((sc["name"], solver))
+            if u:
+                m = statistics.median(u)
+                ax.errorbar(i - 0.3 + width * (k + 0.5), m, yerr=bars([m], [min(u)], [max(u)]), capsize=2,
+                            fmt=solver_style(solver)[1], color=solver_style(solver)[0], markersize=5, elinewidth=0.8)
+    for i, sc in enumerate(scenes):
+        sn = [d for d in shared if d["scene"] == sc["name"] and d["threads"] == T]
+        if sn:
+            _, y, lo, hi = speedups(sn)
+            m = statistics.median(y)
+            ax.errorbar(i + 0.38, m, yerr=bars([m], [min(lo)], [max(hi)]), fmt="o", color="gray", markersize=5,
+                        capsize=2)
+    ax.axhline(T, color="black", linestyle="--", linewidth=0.8)
+    ax.axhline(1, color="black", linewidth=0.5)
+    ax.set_xticks(range(len(scenes)), [f"{s['name']}\n{s['particles']:,}" for s in scenes])
+    ax.set_xlim(-0.6, len(scenes) - 0.4)
+    ax.set_ylim(0, T * 1.15)
+    ax.set_xlabel("scene (particles), by size")
+    ax.set_ylabel("speed-up over the same solver\non 1 thread (×)")
+    ax.grid(True, axis="y", alpha=0.25)
+    ax.set_title(f"Thread scaling: median over all splits, bar min..max ({len(scenes)} scenes)")
+    handles = solver_handles(solvers, lambda s: f"{s} (1 → {top[s]} threads)", linestyle="none")
+    handles += [Line2D([], [], color="gray", marker="o", linestyle="none", label=SHARED)] * \
+        any(d["threads"] == T for d in shared) + [Line2D([], [], color="black", linestyle="--", label=f"ideal ({T}×)")]
+    return save(fig, out, "thread_scaling", handles, ncol=3)
+
+
+def scaling_panels(st, out, strong, shared):
+    names = sorted(dict.fromkeys(d["scene"] for d in strong), key=lambda n: st.scene.get(n, {}).get("particles", 0))
+    fig, axes = panels(len(names), h=2.8)
+    solvers = []
+    for ax, name in zip(axes, names):
+        rows = [d for d in strong if d["scene"] == name and d["solver"] != "serial"]
+        sn = [d for d in shared if d["scene"] == name]
+        for solver in sorted(dict.fromkeys(d["solver"] for d in rows), key=st.order):
+            t, y, lo, hi = speedups(d for d in rows if d["solver"] == solver)
+            color, marker = solver_style(solver)
+            ax.errorbar(t, y, yerr=bars(y, lo, hi), color=color, marker=marker, markersize=4, capsize=2, linewidth=1.0,
+                        elinewidth=0.7)
+            solvers += [solver] * (solver not in solvers)
+        if sn:
+            t, y, lo, hi = speedups(sn)
+            ax.errorbar(t, y, yerr=bars(y, lo, hi), color="gray", marker="o", markersize=4, capsize=2, linestyle=":")
+        threads = sorted({d["threads"] for d in rows + sn})
+        if threads:
+            ax.plot([threads[0], threads[-1]], [threads[0], threads[-1]], color="black", linestyle="--", linewidth=0.8)
+            ax.set_xticks(threads)
+            ax.set_xlim(threads[0] - 0.3, threads[-1] + 0.3)
+            ax.set_ylim(0, threads[-1] * 1.15)
+        ax.grid(True, alpha=0.25)
+        ax.set_title(title(st.scene.get(name) or {"name": name, "particles": rows[0]["particles"] if rows else 0}))
+        ax.set_xlabel("threads")
+        ax.set_ylabel("speed-up over the same\nsolver on 1 thread (×)")
+    handles = solver_handles(solvers)
+    handles += [Line2D([], [], color="gray", marker="o", linestyle=":", label=SHARED)] * bool(shared) + \
+        [Line2D([], [], color="black", linestyle="--", label="ideal (speed-up = threads)")]
+    split = st.scaling.get("split") or {}
+    at = f" at {split['substeps']}x{split['iterations']} (substeps x iterations)" if split else ""
+    fig.suptitle(f"Strong scaling{at}, bars min..max", fontsize=10)
+    return save(fig, out, "thread_scaling", handles, ncol=len(handles))
+
+
+def ns_per_projection(st, out):
+    cloth = sorted((s for s in st.scenes if s.get("family") == "cloth"), key=lambda s: s["particles"])
+    particles = {s["name"]: s["particles"] for s in cloth}
+    series = {}  # (solver, threads) -> {particles: [ns of its records or its scaling.size row]}
+    for r in (st.scaling.get("size") or []) if st.mode == "scaling" else st.records:
+        if r["scene"] in particles and pos(r.get("ns_per_projection")):
+            series.setdefault((r["solver"], r["threads"]), {}).setdefault(particles[r["scene"]], []).append(
+                r["ns_per_projection"])
+    used = sorted({n for s in series.values() for n in s})
+    if len(cloth) < 2 or len(used) < 2:
+        return []
+    fig, ax = plt.subplots(figsize=(6.0, 3.8), layout="constrained")
+    counts = sorted({k[1] for k in series})
+    for (solver, threads), pts in sorted(series.items(), key=lambda kv: (st.order(kv[0][0]), kv[0][1])):
+        color, marker = solver_style(solver)
+        ax.plot(*zip(*sorted((n, statistics.median(v)) for n, v in pts.items())), color=color, marker=marker,
+                markersize=4, linewidth=1.0, linestyle=DASHES[counts.index(threads) % len(DASHES)],
+                label=f"{solver}, {threads} thread{'s' * (threads > 1)}")
+    loglog(ax)
+    for sc in cloth:
+        if sc["particles"] in used:
+            ax.annotate(sc["name"], (sc["particles"], 1), xycoords=("data", "axes fraction"), xytext=(0, -3),
+                        textcoords="offset points", ha="center", va="top", fontsize=6.5, color="dimgray")
+    ax.grid(True, which="major", alpha=0.25)
+    ax.set_xlabel("particles")
+    ax.set_ylabel("time per constraint projection (ns)")
+    split = st.scaling.get("split") or {}
+    what = f"split {split.get('substeps')}x{split.get('iterations')}" if split else "median of all splits"
+    ax.set_title(f"Cost per projection, cloth family ({used[0]:,}–{used[-1]:,} particles; {what})")
+    return save(fig, out, "ns_per_projection", ax.get_legend_handles_labels()[0], ncol=0)
+
+
+def summary(st, out):
+    info, ctx = st.info, st.info.get("context") or {}
+    commit, load = info.get("git_commit") or ctx.get("commit") or "unknown", lambda k: fmt(ctx.get(k), ".2g")
+    lines = [f"# pbd study ({st.mode} mode)", "",
+             f"{info.get('date') or ctx.get('date', '?')}, commit {commit}, CPU {ctx.get('cpu') or 'unknown'}, "
+             f"{ctx.get('cores', '?')} cores, load before {load('load_before')}, during {load('load_during')} "
+             f"(max {load('load_during_max')}), {fmt(info.get('seconds'), '.4g')} s in total.", ""]
+    if info.get("warnings") or info.get("busy"):
+        lines += ["**Warning:**", ""] + [f"- {w}" for w in info.get("warnings") or ["the study was marked busy"]] + [""]
+    rec = {(r["scene"], r["solver"], r["threads"], r["substeps"], r["iterations"]): r for r in st.records}
+    for sc in st.scenes:
+        name, unit = sc["name"], measure_label(sc["primary_error"])
+        rows = sorted((b for b in st.best if b["scene"] == name and b["threads"] == st.top.get((name, b["solver"]))),
+                      key=lambda b: (b["budget"], st.order(b["solver"])))
+        lines += [f"## {title(sc)}", "", "Best split per budget, each solver at its most threads.", "",
+                  f"| budget | solver | threads | best split SxI | ms/step median (min–max) | {unit} |",
+                  "|---:|---|---:|---|---|---:|"] if rows else \
+            [f"## {title(sc)}", "", "No best splits in the report." if st.by_scene.get(name) else "No records.", ""]
+        for b in rows:
+            r = {**rec.get((name, b["solver"], b["threads"], b["substeps"], b["iterations"]), {}), **b}
+            lines.append(f"| {b['budget']} | {b['solver']} | {b['threads']} | {b['substeps']}x{b['iterations']} | "
+                         f"{span(r, 'ms_per_step')}{' busy' * bool(r.get('busy'))} | {fmt(b.get('primary_error'))} |")
+        lines += [""] * bool(rows)
+        for d in (st.doc.get("dominance") or []):
+            if d["scene"] == name:
+                und = ", ".join(d.get("undominated") or [])
+                lines.append(f"- {d['solver']} on {d['threads']} thread{'s' * (d['threads'] > 1)} dominates "
+                             f"{d['dominated']} of {d['serial_points']} serial points on {measure_label(d['measure'])}"
+                             + (f"; not at {und}" if und else ""))
+        lines += [""] if lines[-1] else []
+    strong = st.scaling.get("strong") or []
+    if st.mode == "scaling" and strong:
+        sn = {(d["scene"], d["threads"]): d for d in st.doc.get("shared_nothing") or []}
+        lines += ["## Strong scaling", "", "| scene | solver | threads | ms/step | speed-up (min–max) | "
+                  "shared-nothing speed-up (min–max) |", "|---|---|---:|---:|---|---|"]
+        for d in sorted(strong, key=lambda d: (d.get("particles", 0), d["scene"], st.order(d["solver"]), d["threads"])):
+            s = sn.get((d["scene"], d["threads"]))
+            lines.append(f"| {d['scene']} | {d['solver']} | {d['threads']} | {fmt(d['ms_per_step'])} | "
+                         f"{span(d, 'speedup', '.2f')} | {span(s, 'speedup', '.2f') if s else '-'} |")
     path = os.path.join(out, "summary.md")
     with open(path, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    return path
+        f.write("\n".join(lines).rstrip() + "\n")
+    return [path]
 
 
 def main(argv):
-    args = [a for a in argv[1:] if not a.startswith("--")]
-    if not args or len(args) > 2 or any(a not in ("--svg",) for a in argv[1:] if a.startswith("--")):
+    if len(argv) not in (2, 3) or argv[1].startswith("-"):
         sys.stderr.write(__doc__)
         return 2
-    ext = "svg" if "--svg" in argv else "png"
-    with open(args[0]) as f:
+    with open(argv[1]) as f:
         doc = json.load(f)
-    if not doc.get("records"):
-        sys.stderr.write(f"plot_study.py: {args[0]} has no records\n")
+    if not isinstance(doc, dict) or doc.get("schema") != 2:
+        sys.stderr.write(f"plot_study.py: {argv[1]} lacks \"schema\": 2; this script reads only schema 2 reports\n")
         return 1
-    out = args[1] if len(args) > 1 else (os.path.dirname(args[0]) or ".")
+    out = argv[2] if len(argv) > 2 else (os.path.dirname(argv[1]) or ".")
     os.makedirs(out, exist_ok=True)
-    for plot in (speed_error, thread_scaling, ns_per_projection, summary):
-        print("plot_study.py: wrote", plot(doc, out, ext), file=sys.stderr)
+    st = Study(doc)
+    for plot in (speed_error, convergence, thread_scaling, ns_per_projection, summary):
+        print(f"plot_study.py: {plot.__name__}: " + (", ".join(plot(st, out)) or "no data, skipped"), file=sys.stderr)
     return 0
 
 

@@ -9,6 +9,7 @@
 #include "pbd/io/obj_loader.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -305,6 +306,13 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   scene.name = o.string("name");
   scene.description = o.string("description", "");
   scene.steps = int(o.integer("steps", 1, 100'000'000, 100));
+  if (o.has("primary_error")) {
+    scene.primary_error = o.string("primary_error");
+    const std::array<const char*, 6> measures{"stretch", "bending", "area", "volume", "penetration", "anchor"};
+    if (std::find(measures.begin(), measures.end(), scene.primary_error) == measures.end())
+      o.fail("primary_error", message("unknown error measure ", detail::quoted(scene.primary_error),
+                                      " (expected stretch, bending, area, volume, penetration or anchor)"));
+  }
   StepParams<double> p;
   p.dt = o.number("dt", 1e-9, 10.0);
   p.substeps = int(o.integer("substeps", 1, 100'000, 1));

@@ -1,16 +1,35 @@
 #!/usr/bin/python3
-"""Smoke test of `pbd study --quick`. Usage: check_study.py PBD_EXECUTABLE OUT_DIR"""
+"""Test of `pbd study`: the report's fields, the shard merge, the plots, the output formats and bad options.
+
+Usage: check_study.py PBD_EXECUTABLE OUT_DIR
+
+1. `pbd study --quick --json --plots` (every default scene): every field of the report (schema 2) is present and
+   consistent (min <= median <= max, budget = substeps x iterations, every split of the budget measured, the
+   primary error is that measure's RMS, one Pareto point at least per scene, best splits and dominance derived);
+   colored, Jacobi and block end in the same bits on 1 and 2 threads; every plot exists as PNG and SVG.
+2. The same small study as one run and as three shards joined by `pbd study merge`: the same records in the same
+   order, with the same state hashes and errors.
+3. `--format csv|json`, `pbd list`, and bad options and bad merges: status 2 and a message naming the problem.
+"""
+import csv
+import io
 import json
 import os
 import subprocess
 import sys
 import time
 
-REQUIRED = ["scene", "solver", "threads", "iterations", "substeps", "steps", "precision", "ms_per_step",
-            "ms_per_step_min", "particles", "constraints", "colors", "rms_violation", "max_violation", "ref_error",
-            "state_hash"]
-ALSO = ["repeats", "ns_per_projection", "violations", "ref_error_max", "trajectory_error", "energy_drift",
-        "repeatable"]
+RECORD = ["scene", "solver", "threads", "budget", "substeps", "iterations", "steps", "precision", "repeats", "ms_runs",
+          "ms_per_step", "ms_per_step_min", "ms_per_step_max", "ms_per_step_cv", "ns_per_projection", "particles",
+          "constraints", "colors", "errors", "primary_error", "ref_error_mm", "ref_error_max_mm",
+          "trajectory_error_mm", "energy_drift", "state_hash", "repeatable", "load", "busy", "pareto"]
+CONTEXT = ["compiler", "flags", "build_type", "cpu", "cores", "load_before", "load_during", "load_during_max",
+           "commit", "date", "loadavg_start"]
+# What must not depend on how the work was split into shards (timings and load do).
+SAME = ["scene", "solver", "threads", "budget", "substeps", "iterations", "steps", "precision", "particles",
+        "constraints", "colors", "errors", "primary_error", "ref_error_mm", "ref_error_max_mm", "trajectory_error_mm",
+        "energy_drift", "state_hash", "repeatable"]
+PLOTS = ["speed_error", "convergence", "thread_scaling", "ns_per_projection"]
 
 
 def fail(message):
@@ -18,65 +37,172 @@ def fail(message):
     sys.exit(1)
 
 
+def run(pbd, args, expect=0):
+    r = subprocess.run([pbd] + args, capture_output=True, text=True)
+    if r.returncode != expect:
+        fail(f"pbd {' '.join(args)}: status {r.returncode} (expected {expect})\nstderr: {r.stderr}")
+    return r
+
+
+def check_report(doc, out):
+    study = doc["study"]
+    for key in ("command", "date", "git_commit", "seconds", "mode", "context", "options", "warnings", "busy"):
+        if key not in study:
+            fail(f"study has no {key}")
+    for key in CONTEXT:
+        if key not in study["context"]:
+            fail(f"context has no {key}")
+    scenes = {s["name"]: s for s in doc["scenes"]}
+    if set(scenes) != set(study["options"]["scenes"]):
+        fail(f"scenes {sorted(scenes)} differ from the options' {study['options']['scenes']}")
+    if len(doc["references"]) != len(scenes):
+        fail("expected one reference per scene")
+    records = doc["records"]
+    for r in records:
+        where = f"{r.get('scene')}/{r.get('solver')}/{r.get('threads')}T/{r.get('substeps')}x{r.get('iterations')}"
+        for key in RECORD:
+            if key not in r:
+                fail(f"record {where} has no {key}")
+        if not r["ms_per_step_min"] <= r["ms_per_step"] <= r["ms_per_step_max"] or r["ms_per_step_cv"] < 0:
+            fail(f"record {where}: min/median/max/cv {r['ms_per_step_min']}, {r['ms_per_step']}, "
+                 f"{r['ms_per_step_max']}, {r['ms_per_step_cv']}")
+        if len(r["ms_runs"]) != r["repeats"]:
+            fail(f"record {where}: {len(r['ms_runs'])} runs for {r['repeats']} repeats")
+        if r["budget"] != r["substeps"] * r["iterations"]:
+            fail(f"record {where}: budget {r['budget']}")
+        scene = scenes[r["scene"]]
+        primary = scene["primary_error"]
+        if primary not in r["errors"] or r["errors"][primary]["rms"] != r["primary_error"]:
+            fail(f"record {where}: primary_error {r['primary_error']} is not errors[{primary}].rms")
+        if set(r["errors"]) != set(scene["measures"]):
+            fail(f"record {where}: measures {sorted(r['errors'])}, scene says {scene['measures']}")
+        for key in ("ref_error_mm", "trajectory_error_mm"):
+            if not (isinstance(r[key], (int, float)) and r[key] >= 0):
+                fail(f"record {where}: {key} = {r[key]!r}")
+        if not r["repeatable"]:
+            fail(f"record {where}: runs ended in different states")
+    # Every split of every budget, for every solver and thread count.
+    budgets = study["options"]["budgets"]
+    for name in scenes:
+        for b in budgets:
+            splits = {(s, b // s) for s in range(1, b + 1) if b % s == 0}
+            for solver in study["options"]["solvers"]:
+                for t in (study["options"]["threads"] if solver != "serial" else [1]):
+                    got = {(r["substeps"], r["iterations"]) for r in records
+                           if r["scene"] == name and r["solver"] == solver and r["threads"] == t and r["budget"] == b}
+                    if got != splits:
+                        fail(f"{name} {solver} {t}T budget {b}: splits {sorted(got)}, expected {sorted(splits)}")
+        if not any(r["pareto"] for r in records if r["scene"] == name):
+            fail(f"{name}: no point on the Pareto front")
+    # Determinism: a parallel solver ends in the same bits on 1 and 2 threads.
+    for solver in ("colored", "jacobi", "block"):
+        by_key = {}
+        for r in records:
+            if r["solver"] == solver:
+                by_key.setdefault((r["scene"], r["substeps"], r["iterations"]), {})[r["threads"]] = r["state_hash"]
+        for key, hashes in by_key.items():
+            if sorted(hashes) != [1, 2] or len(set(hashes.values())) != 1:
+                fail(f"{solver} {key}: state hashes across threads: {hashes}")
+    keys = {(b["scene"], b["solver"], b["threads"], b["budget"]) for b in doc["best_splits"]}
+    if keys != {(r["scene"], r["solver"], r["threads"], r["budget"]) for r in records}:
+        fail("best_splits does not have one entry per scene, solver, threads and budget")
+    for b in doc["best_splits"]:
+        lowest = min(r["primary_error"] for r in records if (r["scene"], r["solver"], r["threads"], r["budget"]) ==
+                     (b["scene"], b["solver"], b["threads"], b["budget"]))
+        if b["primary_error"] != lowest:
+            fail(f"best split {b} is not the lowest error {lowest}")
+    if not doc["dominance"] or not doc["shared_nothing"]:
+        fail("no dominance or shared_nothing entries")
+    for stem in PLOTS:
+        for ext in ("png", "svg"):
+            path = os.path.join(out, f"{stem}.{ext}")
+            if not os.path.exists(path) or not os.path.getsize(path):
+                fail(f"plot {path} missing")
+    if not os.path.getsize(os.path.join(out, "summary.md")):
+        fail("summary.md missing")
+    return records
+
+
+def check_shards(pbd, out):
+    small = ["study", "--quick", "--scene", "rope,cloth30,inflate", "--budgets", "1,4"]
+    whole = os.path.join(out, "whole.json")
+    run(pbd, small + ["--json", whole])
+    parts = []
+    for i in (1, 2, 3):
+        parts.append(os.path.join(out, f"shard{i}.json"))
+        run(pbd, small + ["--shard", f"{i}/3", "--json", parts[-1]])
+    merged = os.path.join(out, "merged.json")
+    run(pbd, ["study", "merge"] + parts + ["--json", merged])
+    with open(whole) as f:
+        a = json.load(f)
+    with open(merged) as f:
+        b = json.load(f)
+    pick = lambda doc: [{k: r[k] for k in SAME} for r in doc["records"]]  # noqa: E731
+    if pick(a) != pick(b):
+        fail("3 merged shards do not give the records of one run")
+    if [s["name"] for s in a["scenes"]] != [s["name"] for s in b["scenes"]]:
+        fail("merged scenes differ")
+    sizes = []
+    for p in parts:
+        with open(p) as f:
+            sizes.append(len(json.load(f)["records"]))
+    if min(sizes) == 0 or sum(sizes) != len(a["records"]):
+        fail(f"shards hold {sizes} records, one run {len(a['records'])}")
+    # A shard given twice, and a report of other options, are refused naming the file.
+    r = run(pbd, ["study", "merge", parts[0], parts[0], "--json", os.path.join(out, "x.json")], expect=2)
+    if "given twice" not in r.stderr:
+        fail(f"merging a shard twice: {r.stderr!r}")
+    other = os.path.join(out, "other.json")
+    run(pbd, ["study", "--quick", "--scene", "rope", "--budgets", "2", "--shard", "3/3", "--json", other])
+    r = run(pbd, ["study", "merge", parts[0], other], expect=2)
+    if other not in r.stderr or "options differ" not in r.stderr:
+        fail(f"merging other options: {r.stderr!r}")
+    return len(a["records"])
+
+
+def check_formats_and_errors(pbd):
+    base = ["study", "--quick", "--scene", "rope", "--budgets", "2", "--threads", "1"]
+    rows = list(csv.DictReader(io.StringIO(run(pbd, base + ["--format", "csv"]).stdout)))
+    if len(rows) != 2 * 4 or "stretch_pct_rms" not in rows[0]:
+        fail(f"--format csv: {len(rows)} rows, columns {list(rows[0]) if rows else []}")
+    doc = json.loads(run(pbd, base + ["--format", "json"]).stdout)
+    if doc.get("schema") != 2 or len(doc["records"]) != 2 * 4:
+        fail("--format json does not print the report")
+    listing = run(pbd, ["list"]).stdout
+    for name in ("balls", "cloth", "inflate", "inflate-mesh", "rope", "cloth100"):
+        if not any(line.split()[0] == name for line in listing.splitlines() if line.strip()):
+            fail(f"pbd list does not list {name}")
+    for args, expected in ((["--solvers", "serial,gauss"], "serial, serial-colored, colored, jacobi, block"),
+                           (["--scene", "no-such-scene"], "cloth100"),
+                           (["--threads", "0"], "out of range"),
+                           (["--budgets", "0"], "out of range"),
+                           (["--reference", "8x1"], "at least 2 iterations"),
+                           (["--reference", "8"], "SUBSTEPSxITERATIONS"),
+                           (["--shard", "4/3"], "1 <= I <= N"),
+                           (["--format", "xml"], "table, csv or json")):
+        bad = subprocess.run([pbd, "study", "--quick"] + args, capture_output=True, text=True)
+        if bad.returncode != 2 or expected not in bad.stderr:
+            fail(f"{args}: status {bad.returncode}, stderr {bad.stderr!r}")
+    bad = subprocess.run([pbd, "study", "merge", "/no/such/report.json"], capture_output=True, text=True)
+    if bad.returncode != 2 or "/no/such/report.json" not in bad.stderr:
+        fail(f"merge of a missing file: status {bad.returncode}, stderr {bad.stderr!r}")
+
+
 def main(pbd, out):
     os.makedirs(out, exist_ok=True)
     report = os.path.join(out, "study.json")
     start = time.time()
-    run = subprocess.run([pbd, "study", "--quick", "--json", report, "--plots", out], capture_output=True, text=True)
-    seconds = time.time() - start
-    if run.returncode != 0:
-        fail(f"pbd study --quick exited with {run.returncode}:\n{run.stderr}")
+    r = run(pbd, ["study", "--quick", "--json", report, "--plots", out])
     # Reported, not asserted: timings belong to benchmarks, and this test also runs under the sanitizers.
-    print(f"pbd study --quick took {seconds:.1f} s")
-    if "left)" not in run.stderr:
-        fail("no progress lines with the time left on stderr")
+    print(f"pbd study --quick took {time.time() - start:.1f} s")
+    if "left)" not in r.stderr or "converged reference" not in r.stderr:
+        fail("no progress lines (with the time left, and for the references) on stderr")
     with open(report) as f:
-        doc = json.load(f)
-    for key in ("command", "date", "machine", "git_commit", "options"):
-        if key not in doc["study"]:
-            fail(f"study has no {key}")
-    records = doc["records"]
-    if not records:
-        fail("no records")
-    scenes = {r["scene"] for r in records}
-    for r in records:
-        for key in REQUIRED + ALSO:
-            if key not in r:
-                fail(f"record {r.get('scene')}/{r.get('solver')} has no {key}")
-        for key in ("ms_per_step", "ms_per_step_min", "ref_error", "rms_violation"):
-            if not (isinstance(r[key], (int, float)) and r[key] >= 0):
-                fail(f"record {r['scene']}/{r['solver']}: {key} = {r[key]!r}")
-        if not r["repeatable"]:
-            fail(f"record {r['scene']}/{r['solver']}/{r['threads']}: runs ended in different states")
-        if r["ms_per_step_min"] > r["ms_per_step"]:
-            fail(f"record {r['scene']}/{r['solver']}: min above median")
-    # Determinism: the colored (and Jacobi) solver ends in the same bits on 1 and 2 threads.
-    for solver in ("colored", "jacobi"):
-        by_key = {}
-        for r in records:
-            if r["solver"] == solver:
-                by_key.setdefault((r["scene"], r["iterations"], r["substeps"]), {})[r["threads"]] = r["state_hash"]
-        if not by_key:
-            fail(f"no {solver} records")
-        for key, hashes in by_key.items():
-            if sorted(hashes) != [1, 2]:
-                fail(f"{solver} {key}: threads {sorted(hashes)}, expected 1 and 2")
-            if len(set(hashes.values())) != 1:
-                fail(f"{solver} {key}: state hashes differ across threads: {hashes}")
-    if len(doc["references"]) != len(scenes):
-        fail("expected one reference per scene")
-    for name in ("speed_error.png", "thread_scaling.png", "ns_per_projection.png"):
-        if not os.path.getsize(os.path.join(out, name)):
-            fail(f"plot {name} missing")
-    # Bad options: status 2 and a message that lists the valid values.
-    for args, expected in ((["--solvers", "serial,gauss"], "serial, serial-colored, colored, jacobi, block"),
-                           (["--scene", "no-such-scene"], "cloth100"),
-                           (["--threads", "0"], "out of range")):
-        bad = subprocess.run([pbd, "study", "--quick"] + args, capture_output=True, text=True)
-        if bad.returncode != 2 or expected not in bad.stderr:
-            fail(f"{args}: status {bad.returncode}, stderr {bad.stderr!r}")
-    print(f"ok: {len(records)} records over {len(scenes)} scenes, every field present, colored/jacobi hashes equal on 1 "
-          "and 2 threads")
+        records = check_report(json.load(f), out)
+    merged = check_shards(pbd, out)
+    check_formats_and_errors(pbd)
+    print(f"ok: {len(records)} records with every field, plots present, 3 merged shards equal one run ({merged} "
+          "records), formats and bad options checked")
 
 
 if __name__ == "__main__":

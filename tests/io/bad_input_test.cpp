@@ -59,6 +59,16 @@ TEST(BadInputScene, SweepOrderIsForwardOrSymmetric) {
                      {"bad.json", "sweep_order"});
 }
 
+TEST(BadInputScene, PrimaryErrorIsAKnownMeasure) {
+  EXPECT_EQ(parse_scene(kScene, "ok.json").primary_error, "");  // not stated: the study picks
+  const std::string volume = replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": \"volume\"");
+  EXPECT_EQ(parse_scene(volume, "ok.json").primary_error, "volume");
+  expect_scene_error(replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": \"energy\""),
+                     {"bad.json", "primary_error", "unknown error measure", "\"energy\"", "penetration"});
+  expect_scene_error(replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": 2"),
+                     {"bad.json", "primary_error"});
+}
+
 TEST(BadInputScene, CutAnywhereIsAnErrorNamingTheFile) {
   for (std::size_t n = 0; n < kScene.size(); ++n) {
     const std::string message = error_of([&] { parse_scene(kScene.substr(0, n), "cut.json"); });

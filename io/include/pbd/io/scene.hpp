@@ -22,6 +22,9 @@ struct Scene {
   std::string source;                            ///< file it came from (or the name given to parse_scene)
   WorldDescription world;                        ///< particles, constraints with rest values, colliders, step parameters
   int steps = 100;                               ///< the scene's suggested number of steps
+  /// The error its results are judged by: "stretch", "bending", "area", "volume", "penetration" or "anchor"
+  /// ("" = not stated: `pbd study` takes volume if it has any, else stretch, else its first type).
+  std::string primary_error;
   std::vector<std::array<Index, 3>> triangles;   ///< surface triangles of its bodies, for output and pictures
 };
 
