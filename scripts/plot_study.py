@@ -6,6 +6,7 @@ Usage: scripts/plot_study.py STUDY.json [OUT_DIR]
 Writes into OUT_DIR (default: the JSON's folder), each figure as .png (150 dpi) and .svg; one without data is skipped:
   speed_error        per scene: primary error against ms per step (median, bars min..max), marker per solver, fill
                      per thread count, busy points hollow with a red edge; grey steps: the Pareto front, labelled SxI
+  headline           the same for the largest cloth<N> measured at several splits alone (the README's figure)
   convergence        per scene: primary error against sweeps per step, each solver at its most threads: all
                      iterations (1xN, solid), all substeps (Nx1, dashed), the best split per budget (big markers)
   thread_scaling     study mode: per scene, speed-up of each parallel solver from 1 thread to its most threads (median
@@ -193,11 +194,15 @@ def solver_handles(solvers, label=str, **kw):
     return [Line2D([], [], color=solver_style(s)[0], marker=solver_style(s)[1], label=label(s), **kw) for s in solvers]
 
 
-def speed_error(st, out):
+def speed_error(st, out, headline=False):
     scenes = st.with_records()
+    if headline:  # the largest cloth<N> measured at more than one split: the README's figure
+        cloths = [s for s in scenes if s.get("family") == "cloth" and
+                  len({(r["substeps"], r["iterations"]) for r in st.by_scene[s["name"]]}) > 1]
+        scenes = sorted(cloths, key=lambda s: s.get("particles", 0))[-1:]
     if not scenes:
         return []
-    fig, axes = panels(len(scenes))
+    fig, axes = panels(len(scenes), *((6.0, 4.2) if headline else ()))
     for ax, sc in zip(axes, scenes):
         rs, skipped, groups = st.by_scene[sc["name"]], 0, {}
         for r in rs:
@@ -235,7 +240,13 @@ def speed_error(st, out):
                        label="busy (CV > 10% or loaded)")] * any(r.get("busy") for r in st.records)
     handles += [Line2D([], [], color="gray", linewidth=0.8, label="Pareto front (labels: substeps x iterations)")]
     fig.suptitle("Speed against error (lower left is better; bars: fastest to slowest timed run)", fontsize=10)
+    if headline:
+        return save(fig, out, "headline", handles, ncol=3)
     return save(fig, out, "speed_error", handles, ncol=min(5, 2 + len(scenes)))
+
+
+def headline(st, out):
+    return speed_error(st, out, headline=True)
 
 
 def convergence(st, out):
@@ -448,7 +459,7 @@ def main(argv):
     out = argv[2] if len(argv) > 2 else (os.path.dirname(argv[1]) or ".")
     os.makedirs(out, exist_ok=True)
     st = Study(doc)
-    for plot in (speed_error, convergence, thread_scaling, ns_per_projection, summary):
+    for plot in (speed_error, headline, convergence, thread_scaling, ns_per_projection, summary):
         print(f"plot_study.py: {plot.__name__}: " + (", ".join(plot(st, out)) or "no data, skipped"), file=sys.stderr)
     return 0
 
