@@ -402,8 +402,9 @@ void print_table(std::ostream& out, const Report& report) {
       out << line;
     }
     bool header = false;
+    const bool one_split = report.study.value("mode", "study") == "scaling";
     for (const BestSplit& b : report.best_splits) {
-      if (b.scene != s.name) continue;
+      if (b.scene != s.name || one_split) continue;
       if (!header) out << "best split per budget (lowest " << s.primary_error << "):";
       header = true;
       std::snprintf(line, sizeof line, "%s %s %dT %d: %dx%d", "", b.solver.c_str(), b.threads, b.budget, b.substeps,

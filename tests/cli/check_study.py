@@ -9,7 +9,9 @@ Usage: check_study.py PBD_EXECUTABLE OUT_DIR
    colored, Jacobi and block end in the same bits on 1 and 2 threads; every plot exists as PNG and SVG.
 2. The same small study as one run and as three shards joined by `pbd study merge`: the same records in the same
    order, with the same state hashes and errors.
-3. `--format csv|json`, `pbd list`, and bad options and bad merges: status 2 and a message naming the problem.
+3. `--scaling` on two small cloths: strong scaling entries (speed-up over the same solver on 1 thread, min <= median
+   <= max) and the shared-nothing reference.
+4. `--format csv|json`, `pbd list`, and bad options and bad merges: status 2 and a message naming the problem.
 """
 import csv
 import io
@@ -160,6 +162,31 @@ def check_shards(pbd, out):
     return len(a["records"])
 
 
+def check_scaling(pbd, out):
+    report = os.path.join(out, "scaling.json")
+    run(pbd, ["study", "--scaling", "--scene", "cloth12,cloth24", "--threads", "1,2", "--steps", "3", "--repeats",
+              "2", "--json", report])
+    with open(report) as f:
+        doc = json.load(f)
+    if doc["study"]["mode"] != "scaling" or "scaling" not in doc:
+        fail("--scaling wrote no scaling section")
+    strong = {(s["scene"], s["solver"], s["threads"]): s for s in doc["scaling"]["strong"]}
+    for scene in ("cloth12", "cloth24"):
+        for solver in ("colored", "jacobi", "block"):
+            for t in (1, 2):
+                s = strong.get((scene, solver, t))
+                if s is None or not s["speedup_min"] <= s["speedup"] <= s["speedup_max"] or s["speedup"] <= 0:
+                    fail(f"--scaling: strong scaling of {scene} {solver} {t}T: {s}")
+            if strong[(scene, solver, 1)]["speedup"] != 1.0:
+                fail(f"--scaling: {scene} {solver} on 1 thread is not a speed-up of 1")
+        if not any(s["scene"] == scene and s["threads"] == 2 for s in doc["shared_nothing"]):
+            fail(f"--scaling: no shared-nothing reference for {scene}")
+    if doc["scaling"]["split"] != {"substeps": 1, "iterations": 10}:
+        fail(f"--scaling: split {doc['scaling']['split']}")
+    if len(doc["scaling"]["size"]) != len(doc["records"]) or any(r["ref_error_mm"] is not None for r in doc["records"]):
+        fail("--scaling: size entries or reference errors wrong")
+
+
 def check_formats_and_errors(pbd):
     base = ["study", "--quick", "--scene", "rope", "--budgets", "2", "--threads", "1"]
     rows = list(csv.DictReader(io.StringIO(run(pbd, base + ["--format", "csv"]).stdout)))
@@ -200,6 +227,7 @@ def main(pbd, out):
     with open(report) as f:
         records = check_report(json.load(f), out)
     merged = check_shards(pbd, out)
+    check_scaling(pbd, out)
     check_formats_and_errors(pbd)
     print(f"ok: {len(records)} records with every field, plots present, 3 merged shards equal one run ({merged} "
           "records), formats and bad options checked")
