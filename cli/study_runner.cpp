@@ -128,7 +128,14 @@ template <class Real> struct Member {
 
 template <class Real>
 std::vector<Record> run_group_typed(const Scene& scene, const SceneInfo& info, const std::vector<Combination>& group,
-                                    const Reference* ref, int repeats, LoadMonitor& load) {
+                                    const Reference* ref, int repeats, LoadMonitor& load,
+                                    const std::function<void(int, int)>& progress) {
+  const int total = int(group.size()) * (repeats + 1);
+  int done = 0;
+  auto report_progress = [&] {
+    ++done;
+    if (progress) progress(done, total);
+  };
   std::vector<Member<Real>> members;
   members.reserve(group.size());
   for (const Combination& c : group) {
@@ -178,6 +185,7 @@ std::vector<Record> run_group_typed(const Scene& scene, const SceneInfo& info, c
         r.ref_error_max_mm = finite_or_inf(1e3 * step_error.max);
       }
     });
+    report_progress();
   }
   // The timed rounds, interleaved: A B C ... A B C ...
   for (Member<Real>& m : members) m.first_sample = load.count();
@@ -197,6 +205,7 @@ std::vector<Record> run_group_typed(const Scene& scene, const SceneInfo& info, c
         }
         m.r.ms.push_back(1e3 * seconds / (double(m.r.steps) * m.loops));
       });
+      report_progress();
     }
   }
   std::vector<Record> out;
@@ -303,10 +312,11 @@ Reference compute_reference(const Scene& scene, const SceneInfo& info, Split spl
 }
 
 std::vector<Record> run_group(const Scene& scene, const SceneInfo& info, const std::vector<Combination>& group,
-                              const Reference* ref, int repeats, LoadMonitor& load) {
+                              const Reference* ref, int repeats, LoadMonitor& load,
+                              const std::function<void(int, int)>& progress) {
   if (group.empty()) return {};
-  return group.front().double_precision ? run_group_typed<double>(scene, info, group, ref, repeats, load)
-                                        : run_group_typed<float>(scene, info, group, ref, repeats, load);
+  return group.front().double_precision ? run_group_typed<double>(scene, info, group, ref, repeats, load, progress)
+                                        : run_group_typed<float>(scene, info, group, ref, repeats, load, progress);
 }
 
 std::vector<double> shared_nothing_speedups(const Scene& part, int steps, Split split, int threads, int rounds) {

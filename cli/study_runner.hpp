@@ -37,8 +37,10 @@ Reference compute_reference(const Scene& scene, const SceneInfo& info, Split spl
 /// scene is too short to time alone). With a reference, each combination also steps once from each
 /// of the reference's sampled states (ref_error_mm) and its final state is compared with the reference's
 /// (trajectory_error_mm). `load` samples the machine before each timed run.
+/// `progress(done, total)` is called after each run (warm-ups and timed samples).
 std::vector<Record> run_group(const Scene& scene, const SceneInfo& info, const std::vector<Combination>& group,
-                              const Reference* ref, int repeats, LoadMonitor& load);
+                              const Reference* ref, int repeats, LoadMonitor& load,
+                              const std::function<void(int, int)>& progress = {});
 
 /// The same-run shared-nothing reference at `threads`: `threads` copies of the world of `part` (serial solver at
 /// `split`; the caller passes 1/threads of the scene's data where it can be split), each stepped on its own thread

@@ -142,7 +142,15 @@ Report run_study(const StudyPlan& plan) {
                     r.time_convergence_mm);
     } else if (task.kind == Task::group) {
       const Reference* ref = plan.scaling ? nullptr : &references[task.scene];
-      std::vector<Record> records = run_group(scene, info, task.combinations, ref, plan.repeats, load);
+      auto last = Clock::now();
+      std::vector<Record> records =
+          run_group(scene, info, task.combinations, ref, plan.repeats, load, [&](int done, int total) {
+            if (std::chrono::duration<double>(Clock::now() - last).count() < 5.0) return;
+            last = Clock::now();
+            std::fprintf(stderr, "pbd study:   %s %dx%d: run %d of %d (elapsed %s, about %s left)\n",
+                         info.name.c_str(), task.split.substeps, task.split.iterations, done, total,
+                         clock_text(elapsed()).c_str(), clock_text(left(task.cost * done / total)).c_str());
+          });
       std::string summary;
       for (const Record& r : records) {
         char s[128];
