@@ -96,7 +96,8 @@ StudyPlan make_plan(const StudyOptions& o) {
   plan.quick = o.quick;
   plan.scaling = o.scaling;
   for (const std::string& s : o.scenes)
-    for (const std::string& name : split_list(s)) plan.scenes.push_back(name);
+    for (const std::string& name : split_list(s))
+      if (std::find(plan.scenes.begin(), plan.scenes.end(), name) == plan.scenes.end()) plan.scenes.push_back(name);
   if (plan.scenes.empty()) plan.scenes = o.scaling ? default_scaling_scenes() : default_study_scenes();
   if (o.scenes.empty() && o.quick && !o.scaling)  // --quick leaves out the 300² cloth
     plan.scenes.erase(std::remove(plan.scenes.begin(), plan.scenes.end(), "cloth300"), plan.scenes.end());

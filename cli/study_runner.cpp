@@ -270,6 +270,7 @@ Reference compute_reference(const Scene& scene, const SceneInfo& info, Split spl
   ref.steps = info.steps;
   World<double> world = prepared_world<double>(scene, Solver::serial, split);
   const std::vector<int> samples = sample_steps(info.steps);
+  const int first_checked = samples[samples.size() - std::min<std::size_t>(kConvergenceSamples, samples.size())];
   Rms iteration_error, time_error;
   for (int s = 0; s < info.steps; ++s) {
     if (progress && s > 0) progress(s);
@@ -278,14 +279,9 @@ Reference compute_reference(const Scene& scene, const SceneInfo& info, Split spl
       continue;
     }
     ReferenceSample sample{s, world.time(), world.positions(), world.velocities(), {}};
-    if (s < samples[samples.size() > kConvergenceSamples ? samples.size() - kConvergenceSamples : 0]) {  // convergence: at the last two samples only
-      world.step();
-      sample.x_after = world.positions();
-      ref.samples.push_back(std::move(sample));
-      continue;
-    }
-    // The same state stepped at half the iterations and at half the substeps: how far the reference is from
-    // converged in each.
+    // At the last samples, the same state stepped at half the iterations and at half the substeps: how far the
+    // reference is from converged in each.
+    const bool check = s >= first_checked;
     auto coarse_step = [&](Split coarse) {
       World<double> w = world;
       StepParams<double> params = w.params();
@@ -295,12 +291,14 @@ Reference compute_reference(const Scene& scene, const SceneInfo& info, Split spl
       w.step();
       return Matrix3X<double>(w.positions());
     };
-    const Matrix3X<double> half_iterations = coarse_step({split.substeps, split.iterations / 2});
-    const Matrix3X<double> half_substeps = coarse_step({split.substeps / 2, split.iterations});
+    const Matrix3X<double> half_iterations = check ? coarse_step({split.substeps, split.iterations / 2}) : Matrix3X<double>();
+    const Matrix3X<double> half_substeps = check ? coarse_step({split.substeps / 2, split.iterations}) : Matrix3X<double>();
     world.step();
     sample.x_after = world.positions();
-    iteration_error.add(distance(half_iterations, sample.x_after));
-    time_error.add(distance(half_substeps, sample.x_after));
+    if (check) {
+      iteration_error.add(distance(half_iterations, sample.x_after));
+      time_error.add(distance(half_substeps, sample.x_after));
+    }
     ref.samples.push_back(std::move(sample));
   }
   ref.positions = world.positions();
