@@ -94,8 +94,8 @@ void add_study_command(CLI::App& app) {
                   "scene JSON file; repeatable or comma-separated (default: the built-in scenes and cloth30, "
                   "cloth100, cloth300 (--quick: not cloth300); --scaling: cloth30, cloth100, cloth300, cloth1000)");
   cmd->add_option("--solvers", o->solvers,
-                  "Comma-separated: " + solver_names() + " (default serial,colored,jacobi,block; --scaling: "
-                  "colored,jacobi,block)");
+                  "Comma-separated: " + solver_names() + ", or any but serial with +chebyshev (splits of 4 or more iterations; default "
+                  "serial,colored,jacobi,block; --scaling: colored,jacobi,block)");
   cmd->add_option("--threads", o->threads,
                   "Comma-separated thread counts; serial solvers run once, on 1 (default 1,2; --scaling: 1 to the "
                   "machine's cores)");

@@ -46,11 +46,19 @@ std::vector<int> int_list(const std::string& flag, const std::string& text, int 
 
 std::vector<StudySolver> solver_list(const std::string& text) {
   std::vector<StudySolver> out;
+  const std::string suffix = "+chebyshev";
   for (const std::string& item : split_list(text)) {
-    const auto s = parse_solver(item);
-    if (!s) throw Error("--solvers: unknown solver \"" + item + "\" (valid: " + solver_names() + ")");
-    if (std::any_of(out.begin(), out.end(), [&](const StudySolver& o) { return o.solver == *s; })) continue;
-    out.push_back({item, *s, is_parallel(*s)});
+    const bool chebyshev = item.size() > suffix.size() && item.compare(item.size() - suffix.size(), suffix.size(),
+                                                                       suffix) == 0;
+    const std::string base = chebyshev ? item.substr(0, item.size() - suffix.size()) : item;
+    const auto s = parse_solver(base);
+    if (!s)
+      throw Error("--solvers: unknown solver \"" + item + "\" (valid: " + solver_names() +
+                  ", and any but serial with +chebyshev)");
+    if (chebyshev && *s == Solver::serial)
+      throw Error("--solvers: \"" + item + "\": the serial reference is never accelerated (serial-colored can be)");
+    if (std::any_of(out.begin(), out.end(), [&](const StudySolver& o) { return o.name == item; })) continue;
+    out.push_back({item, *s, is_parallel(*s), chebyshev});
   }
   if (out.empty()) throw Error("--solvers: the list is empty (valid: " + solver_names() + ")");
   return out;

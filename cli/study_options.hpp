@@ -29,9 +29,11 @@ struct StudyOptions {
 
 /// One solver of the study: its command-line name and the engine's enum.
 struct StudySolver {
-  std::string name;  ///< serial, serial-colored, colored, jacobi or block
-  Solver solver;     ///< the engine's solver
-  bool threaded;     ///< false for the one-thread solvers (serial, serial-colored): run once, at the fewest threads
+  std::string name;        ///< serial, serial-colored, colored, jacobi or block; "+chebyshev" for the accelerated
+  Solver solver;           ///< the engine's solver
+  bool threaded;           ///< false for the one-thread solvers (serial, serial-colored): run once, on 1 thread
+  bool chebyshev = false;  ///< Chebyshev acceleration on (ρ estimated by the engine, which needs 4 iterations or more:
+                           ///< splits with fewer are left out for it)
 };
 
 /// One split of a sweep budget: substeps × iterations.

@@ -375,6 +375,8 @@ void print_table(std::ostream& out, const Report& report) {
                 c.value("load_before", 0.0), c.value("load_during", 0.0), c.value("load_during_max", 0.0),
                 c.value("loadavg_start", "?").c_str());
   out << line;
+  int width = 14;  // the solver column: as wide as the longest name ("serial-colored+chebyshev")
+  for (const Record& r : report.records) width = std::max(width, int(r.solver.size()));
   for (const SceneInfo& s : report.scenes) {
     std::snprintf(line, sizeof line, "\n## %s: %zu particles, %zu constraints, %d steps; primary error %s\n",
                   s.name.c_str(), s.particles, s.constraints, s.steps, s.primary_error.c_str());
@@ -386,15 +388,15 @@ void print_table(std::ostream& out, const Report& report) {
                       fmt(r.iteration_convergence_mm).c_str(), fmt(r.time_convergence_mm).c_str());
         out << line;
       }
-    std::snprintf(line, sizeof line, "%-14s %3s %8s %10s %21s %5s %7s %11s %10s %10s %16s\n", "solver", "thr",
+    std::snprintf(line, sizeof line, "%-*s %3s %8s %10s %21s %5s %7s %11s %10s %10s %16s\n", width, "solver", "thr",
                   "split", "ms/step", "(min-max)", "cv%", "ns/proj", s.primary_error.c_str(), "ref_mm", "traj_mm",
                   "state_hash");
     out << line;
     for (const Record& r : report.records) {
       if (r.scene != s.name) continue;
       const std::string range = "(" + fmt(r.ms_per_step_min, "%.4g") + "-" + fmt(r.ms_per_step_max, "%.4g") + ")";
-      std::snprintf(line, sizeof line, "%-14s %3d %8s %10.4g %21s %5.1f %7.1f %11s %10s %10s %16s%s%s%s\n",
-                    r.solver.c_str(), r.threads, r.split().c_str(), r.ms_per_step, range.c_str(),
+      std::snprintf(line, sizeof line, "%-*s %3d %8s %10.4g %21s %5.1f %7.1f %11s %10s %10s %16s%s%s%s\n",
+                    width, r.solver.c_str(), r.threads, r.split().c_str(), r.ms_per_step, range.c_str(),
                     100 * r.ms_per_step_cv, r.ns_per_projection(), fmt(r.primary_error).c_str(),
                     r.ref_error_mm ? fmt(*r.ref_error_mm).c_str() : "-",
                     r.trajectory_error_mm ? fmt(*r.trajectory_error_mm).c_str() : "-", hex(r.state_hash).c_str(),

@@ -51,10 +51,12 @@ std::optional<double> energy_drift(const World<Real>& world, const Energy& initi
   return (energy(world).total() - initial.total()) / scale;
 }
 
-template <class Real> World<Real> prepared_world(const Scene& scene, Solver solver, Split split) {
+template <class Real>
+World<Real> prepared_world(const Scene& scene, Solver solver, Split split, bool chebyshev = false) {
   World<Real> world = build_world<Real>(scene.world);
   StepParams<Real> params = world.params();
   params.solver = solver;
+  params.chebyshev.enabled = chebyshev;  // ρ = 0: the engine estimates it
   params.iterations = split.iterations;
   params.substeps = split.substeps;
   world.set_params(params);
@@ -140,7 +142,8 @@ std::vector<Record> run_group_typed(const Scene& scene, const SceneInfo& info, c
   members.reserve(group.size());
   for (const Combination& c : group) {
     auto arena = std::make_unique<tbb::task_arena>(c.threads);
-    World<Real> initial = arena->execute([&] { return prepared_world<Real>(scene, c.solver.solver, c.split); });
+    World<Real> initial =
+        arena->execute([&] { return prepared_world<Real>(scene, c.solver.solver, c.split, c.solver.chebyshev); });
     Member<Real> m{c, std::move(arena), std::move(initial), {}, {}, 0, 1};
     Record& r = m.r;
     r.scene = info.name;

@@ -26,6 +26,9 @@ std::string clock_text(double seconds) {
 // Scenes above this many particles get fewer splits per budget: 1 × N, the middle one and N × 1.
 constexpr std::size_t kLargeScene = 50000;
 
+// The engine estimates Chebyshev's ρ only from 4 iterations on (StepParams::chebyshev).
+constexpr int kChebyshevMinIterations = 4;
+
 // One unit of work, in the order they run.
 struct Task {
   enum Kind { reference, group, shared_nothing } kind = group;
@@ -47,6 +50,7 @@ std::vector<Combination> combinations(const StudyPlan& plan, Split split, int st
   for (const StudySolver& solver : plan.solvers)
     for (int t : plan.threads) {
       if (!solver.threaded && t != plan.threads.front()) continue;  // one-thread solvers: once
+      if (solver.chebyshev && split.iterations < kChebyshevMinIterations) continue;
       out.push_back({solver, solver.threaded ? t : 1, split, steps, plan.double_precision});
     }
   return out;

@@ -32,7 +32,7 @@ from matplotlib.ticker import FixedLocator, NullFormatter  # noqa: E402
 plt.rcParams.update({"font.size": 8, "axes.titlesize": 9, "axes.labelsize": 8, "legend.fontsize": 8,
                      "xtick.labelsize": 7, "ytick.labelsize": 7, "svg.fonttype": "none"})
 STYLE = {"serial": ("black", "o"), "colored": ("tab:blue", "s"), "jacobi": ("tab:orange", "^"),
-         "block": ("tab:green", "D")}  # solver -> (color, marker)
+         "block": ("tab:green", "D"), "serial-colored": ("tab:gray", "P")}  # solver -> (color, marker)
 FILLS = ["full", "top", "right", "bottom", "left"]  # by index of the thread count among all thread counts
 DASHES = ["-", "--", ":", "-."]
 SHARED = "shared-nothing split (this machine's ceiling)"
@@ -47,6 +47,8 @@ def measure_label(m):
 
 
 def solver_style(solver):
+    if solver.endswith("+chebyshev"):  # the accelerated variant: the solver's colour, a star
+        return STYLE.get(solver[:-len("+chebyshev")], ("tab:purple", "v"))[0], "*"
     return STYLE.get(solver, ("tab:purple", "v"))
 
 

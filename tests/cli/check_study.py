@@ -195,6 +195,12 @@ def check_formats_and_errors(pbd):
     doc = json.loads(run(pbd, base + ["--format", "json"]).stdout)
     if doc.get("schema") != 2 or len(doc["records"]) != 2 * 4:
         fail("--format json does not print the report")
+    # +chebyshev: the accelerated solver, only at splits of 4 or more iterations (the engine estimates its rho there).
+    doc = json.loads(run(pbd, ["study", "--quick", "--scene", "rope", "--budgets", "4", "--threads", "1", "--solvers",
+                               "serial,jacobi+chebyshev", "--format", "json"]).stdout)
+    splits = sorted((r["substeps"], r["iterations"]) for r in doc["records"] if r["solver"] == "jacobi+chebyshev")
+    if splits != [(1, 4)]:
+        fail(f"jacobi+chebyshev ran at splits {splits}, expected only 1x4")
     listing = run(pbd, ["list"]).stdout
     for name in ("balls", "cloth", "inflate", "inflate-mesh", "rope", "cloth100"):
         if not any(line.split()[0] == name for line in listing.splitlines() if line.strip()):
@@ -206,7 +212,8 @@ def check_formats_and_errors(pbd):
                            (["--reference", "8x1"], "at least 2 iterations"),
                            (["--reference", "8"], "SUBSTEPSxITERATIONS"),
                            (["--shard", "4/3"], "1 <= I <= N"),
-                           (["--format", "xml"], "table, csv or json")):
+                           (["--format", "xml"], "table, csv or json"),
+                           (["--solvers", "serial+chebyshev"], "never accelerated")):
         bad = subprocess.run([pbd, "study", "--quick"] + args, capture_output=True, text=True)
         if bad.returncode != 2 or expected not in bad.stderr:
             fail(f"{args}: status {bad.returncode}, stderr {bad.stderr!r}")
