@@ -341,6 +341,16 @@ Report merge_reports(const std::vector<Report>& parts, const std::vector<std::st
                    [&](const Reference& a, const Reference& b) { return rank(a.scene) < rank(b.scene); });
   std::stable_sort(out.shared_nothing.begin(), out.shared_nothing.end(),
                    [&](const SharedNothing& a, const SharedNothing& b) { return rank(a.scene) < rank(b.scene); });
+  // The context: the first part's, with the highest load any part saw; every part's own under "parts".
+  json contexts = json::array();
+  json& context = out.study["context"];
+  for (const Report& part : parts) {
+    const json& pc = part.study.at("context");
+    contexts.push_back(pc);
+    for (const char* key : {"load_before", "load_during", "load_during_max"})
+      context[key] = std::max(context.value(key, 0.0), pc.value(key, 0.0));
+  }
+  out.study["parts"] = contexts;
   out.study["options"]["shard"] = nullptr;
   out.study["seconds"] = seconds;
   json merged = json::array();
@@ -363,17 +373,20 @@ std::string fmt(double v, const char* f = "%.3g") {
 
 void print_table(std::ostream& out, const Report& report) {
   const json& c = report.study["context"];
+  // A context field as text: "?" when it is missing or could not be found (null).
+  auto text = [&](const char* key) {
+    const auto it = c.find(key);
+    return it == c.end() || it->is_null() ? std::string("?") : it->is_string() ? it->get<std::string>() : it->dump();
+  };
   char line[640];
   std::snprintf(line, sizeof line,
-                "# pbd study (%s mode), %s, commit %s\n# %s; %s %s, %s\n# %s, %d cores; other processes runnable: "
+                "# pbd study (%s mode), %s, commit %s\n# %s; %s %s, %s\n# %s, %s cores; other processes runnable: "
                 "%.2f before, %.2f during (max %.0f); load average %s at the start\n",
-                report.study.value("mode", "study").c_str(), c.value("date", "?").c_str(),
-                c.value("commit", json("?")).is_null() ? "?" : c.value("commit", "?").c_str(),
-                c.value("compiler", "?").c_str(), c.value("build_type", "?").c_str(), c.value("flags", "").c_str(),
-                report.records.empty() ? "no records" : report.records.front().precision.c_str(),
-                c.value("cpu", json("?")).is_null() ? "?" : c.value("cpu", "?").c_str(), c.value("cores", 0),
-                c.value("load_before", 0.0), c.value("load_during", 0.0), c.value("load_during_max", 0.0),
-                c.value("loadavg_start", "?").c_str());
+                report.study.value("mode", "study").c_str(), text("date").c_str(), text("commit").c_str(),
+                text("compiler").c_str(), text("build_type").c_str(), text("flags").c_str(),
+                report.records.empty() ? "no records" : report.records.front().precision.c_str(), text("cpu").c_str(),
+                text("cores").c_str(), c.value("load_before", 0.0), c.value("load_during", 0.0),
+                c.value("load_during_max", 0.0), text("loadavg_start").c_str());
   out << line;
   int width = 14;  // the solver column: as wide as the longest name ("serial-colored+chebyshev")
   for (const Record& r : report.records) width = std::max(width, int(r.solver.size()));

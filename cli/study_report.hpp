@@ -69,7 +69,8 @@ nlohmann::json report_json(const Report& report);
 Report report_from_json(const nlohmann::json& doc, const std::string& source);
 
 /// Joins shards' reports: their records, scenes, references and shared-nothing references; the options must
-/// agree apart from the shard. Throws pbd::Error naming the file that does not fit.
+/// agree apart from the shard. The context is the first part's with the highest load any part saw (each part's own
+/// is kept under study["parts"]). Throws pbd::Error naming the file that does not fit.
 Report merge_reports(const std::vector<Report>& parts, const std::vector<std::string>& sources);
 
 /// The table on stdout: context, one section per scene, the best splits, the dominance check, the warnings.
