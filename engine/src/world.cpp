@@ -5,6 +5,7 @@
 #include "pbd/detail/message.hpp"
 #include "pbd/metrics.hpp"
 #include "solve/integrate.hpp"
+#include "solve/restitution.hpp"
 #include "solve/parallel_range.hpp"
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
@@ -45,6 +46,11 @@ template <class Real> detail::Scratch<Real>& World<Real>::scratch() {
 template <class Real> std::span<const CollisionConstraint<Real>> World<Real>::last_collisions() const {
   if (!scratch_) return {};
   return scratch_->collisions.items;
+}
+
+template <class Real> std::span<const ParticleContact<Real>> World<Real>::last_particle_contacts() const {
+  if (!scratch_) return {};
+  return scratch_->particle_contacts.items;
 }
 
 template <class Real> void World<Real>::step() { advance(nullptr); }
@@ -132,11 +138,19 @@ template <class Real> void World<Real>::advance(const Real* forces) {
                         detail::Predict<Real>(params_, h, model_.inverse_mass.data(), state_.x.data(),
                                               state_.v.data(), f, k.p.data()));
       const auto t2 = clock::now();
-      // 3. collisions
+      // 3. collisions and particle contacts (the velocities after forces are n·v before the solve: restitution)
       k.collisions.clear();
+      k.particle_contacts.clear();
+      if (!model_.contact.empty()) detail::cook_contact_bodies(model_);
+      const ParticleSurfaces<Real> surfaces =
+          model_.contact.empty() ? ParticleSurfaces<Real>{}
+                                 : ParticleSurfaces<Real>{model_.contact.radius.data(), model_.contact.material.data()};
       if (!model_.colliders.empty())
-        generate_collisions(model_.colliders, state_.x, k.p, model_.inverse_mass, params_.collision_margin,
-                            k.collisions.items);
+        generate_collisions(model_.colliders, state_.x, k.p, state_.v, model_.inverse_mass, params_.collision_margin,
+                            surfaces, k.collisions.items);
+      if (model_.contact.particle_contacts())
+        detail::generate_particle_contacts(model_, state_.x, k.p, state_.v, params_.collision_margin, parallel, k.grid,
+                                           k.particle_contacts.items);
       const auto t3 = clock::now();
       // 4. solve (symmetric order: odd sub-steps, numbered from the world's time, sweep backwards)
       const long long substep = std::llround(state_.time / double(params_.dt)) * params_.substeps + s;
@@ -151,7 +165,8 @@ template <class Real> void World<Real>::advance(const Real* forces) {
       const Real* x = state_.x.data();
       const Real* p = k.p.data();
       detail::FreeBodies<Real>& fb = k.free_bodies;
-      const bool despin = detail::measure_solver_spin<Real>(model_, fb, k.collisions.items, x, p, v, h);
+      const bool despin =
+          detail::measure_solver_spin<Real>(model_, fb, k.collisions.items, k.particle_contacts.items, x, p, v, h);
       detail::run_range(0, n, parallel, parallel_, k.particle_partitioners[1], [&](Index b, Index e) {
         detail::update_velocities(h, x, p, v, b, e);
         if (!despin) return;
@@ -164,6 +179,9 @@ template <class Real> void World<Real>::advance(const Real* forces) {
           for (int d = 0; d < 3; ++d) v[3 * std::size_t(i) + d] -= Real(spin[d] + w[6 + d]);
         }
       });
+      // Restitution (Müller et al. 2006 §3.5): the impacts of this sub-step leave at e × their approach speed.
+      detail::apply_restitution<Real>(k.collisions.items, k.collision_lambda, k.particle_contacts.items,
+                                k.particle_contact_lambda, model_.inverse_mass.data(), v, params_.gravity.norm() * h);
       state_.x.swap(k.p);
       using seconds = std::chrono::duration<double>;
       stats_.seconds_integrate += seconds(t2 - t1).count() + seconds_since(t4);
@@ -182,7 +200,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   state_.time += double(params_.dt);
   stats_.substeps = params_.substeps;
   stats_.sweeps = params_.substeps * params_.iterations;
-  stats_.collisions = k.collisions.size();
+  stats_.collisions = k.collisions.size() + k.particle_contacts.size();
   stats_.chebyshev_rho = params_.chebyshev.enabled ? double(params_.chebyshev.rho) : 0.0;
   if (measure_violation_) stats_.violation = constraint_violations(*this);
   stats_.seconds = seconds_since(t0);

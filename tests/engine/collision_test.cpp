@@ -39,6 +39,7 @@ TEST(Collision, GradientMatchesFiniteDifferences) {
 struct Path {
   Matrix3X<double> x, p;
   VectorX<double> w;
+  Matrix3X<double> v = Matrix3X<double>::Zero(3, 1);
 };
 Path one_particle(Vec3<double> from, Vec3<double> to, double w = 1.0) {
   Path s{Matrix3X<double>(3, 1), Matrix3X<double>(3, 1), VectorX<double>::Constant(1, w)};
@@ -52,12 +53,12 @@ TEST(CollisionGeneration, PlaneCatchesAPathEndingBehindIt) {
   c.planes.push_back({{0, 0, 1}, 0});
   std::vector<CollisionConstraint<double>> out;
   auto s = one_particle({0, 0, 1}, {0, 0, -100});
-  generate_collisions(c, s.x, s.p, s.w, 0.0, out);
+  generate_collisions(c, s.x, s.p, s.v, s.w, 0.0, {}, out);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].offset, 0.0);
   s = one_particle({0, 0, 1}, {0, 0, 0.5});
   out.clear();
-  generate_collisions(c, s.x, s.p, s.w, 0.0, out);
+  generate_collisions(c, s.x, s.p, s.v, s.w, 0.0, {}, out);
   EXPECT_TRUE(out.empty());
 }
 
@@ -67,7 +68,7 @@ TEST(CollisionGeneration, SpherePathThatTunnelsThroughIsCaughtAtItsEntry) {
   // Starts above, ends far below: both ends outside the ball, the path crosses it.
   auto s = one_particle({0, 0, 1}, {0, 0, -1});
   std::vector<CollisionConstraint<double>> out;
-  generate_collisions(c, s.x, s.p, s.w, 0.0, out);
+  generate_collisions(c, s.x, s.p, s.v, s.w, 0.0, {}, out);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_NEAR(out[0].normal.z(), 1.0, 1e-12);
   EXPECT_NEAR(out[0].offset, 0.1, 1e-12);  // tangent plane at the top of the ball
@@ -78,16 +79,16 @@ TEST(CollisionGeneration, SphereMissIsIgnoredAndInsideIsPushedOut) {
   c.spheres.push_back({{0, 0, 0}, 0.1});
   auto s = one_particle({1, 0, 1}, {1, 0, -1});  // passes beside the ball
   std::vector<CollisionConstraint<double>> out;
-  generate_collisions(c, s.x, s.p, s.w, 0.0, out);
+  generate_collisions(c, s.x, s.p, s.v, s.w, 0.0, {}, out);
   EXPECT_TRUE(out.empty());
   s = one_particle({0.05, 0, 0}, {0.06, 0, 0});  // starts inside: out along the radius through p
-  generate_collisions(c, s.x, s.p, s.w, 0.0, out);
+  generate_collisions(c, s.x, s.p, s.v, s.w, 0.0, {}, out);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_NEAR(out[0].normal.x(), 1.0, 1e-12);
   EXPECT_NEAR(out[0].offset, 0.1, 1e-12);
   out.clear();
   s = one_particle({0, 0, 0}, {0, 0, 0});  // at the centre: a defined direction (+z), no NaN
-  generate_collisions(c, s.x, s.p, s.w, 0.0, out);
+  generate_collisions(c, s.x, s.p, s.v, s.w, 0.0, {}, out);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_TRUE(out[0].normal.allFinite());
   EXPECT_NEAR(out[0].normal.norm(), 1.0, 1e-12);
@@ -99,9 +100,9 @@ TEST(CollisionGeneration, MarginAddsIdleContactsForParticlesEndingNear) {
   c.spheres.push_back({{0, 0, 5}, 1});
   auto s = one_particle({0, 0, 2.5}, {0, 0, 0.05});  // ends 0.05 above the plane, far from the ball
   std::vector<CollisionConstraint<double>> out;
-  generate_collisions(c, s.x, s.p, s.w, 0.0, out);
+  generate_collisions(c, s.x, s.p, s.v, s.w, 0.0, {}, out);
   EXPECT_TRUE(out.empty());
-  generate_collisions(c, s.x, s.p, s.w, 0.1, out);
+  generate_collisions(c, s.x, s.p, s.v, s.w, 0.1, {}, out);
   ASSERT_EQ(out.size(), 1u);  // the plane only: the sphere is far
   double p[3] = {0, 0, 0.05};
   const double w[1] = {1};
@@ -110,7 +111,7 @@ TEST(CollisionGeneration, MarginAddsIdleContactsForParticlesEndingNear) {
   EXPECT_EQ(p[2], 0.05) << "a speculative contact is idle while it holds";
   s = one_particle({0, 0, 6.2}, {0, 0.5, 5.9});  // ends 0.03 outside the ball, never entering it
   out.clear();
-  generate_collisions(c, s.x, s.p, s.w, 0.1, out);
+  generate_collisions(c, s.x, s.p, s.v, s.w, 0.1, {}, out);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_NEAR(out[0].normal.norm(), 1.0, 1e-12);
   EXPECT_GT(out[0].normal.dot(s.p.col(0)) - out[0].offset, 0.0);
@@ -121,7 +122,7 @@ TEST(CollisionGeneration, PinnedParticlesNeverCollide) {
   c.planes.push_back({{0, 0, 1}, 0});
   auto s = one_particle({0, 0, -1}, {0, 0, -1}, 0.0);
   std::vector<CollisionConstraint<double>> out;
-  generate_collisions(c, s.x, s.p, s.w, 0.0, out);
+  generate_collisions(c, s.x, s.p, s.v, s.w, 0.0, {}, out);
   EXPECT_TRUE(out.empty());
 }
 

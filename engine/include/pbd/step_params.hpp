@@ -42,7 +42,7 @@ template <class Real> struct StepParams {
 struct StepStats {
   double seconds = 0.0;             ///< the whole step
   double seconds_integrate = 0.0;   ///< forces, damping, prediction and velocity update
-  double seconds_collisions = 0.0;  ///< generating (and coloring) collision constraints
+  double seconds_collisions = 0.0;  ///< generating collision constraints and particle contacts (the broad phase)
   double seconds_coloring = 0.0;    ///< coloring persistent constraints (only when they changed)
   double seconds_solve = 0.0;       ///< the sweeps
   double seconds_waiting = 0.0;     ///< of seconds_solve: the time the sweeps' threads waited for one another at
@@ -54,7 +54,7 @@ struct StepStats {
                                     ///< for the block solver every type's blocks and boundary colors
   int chebyshev_fallbacks = 0;      ///< sub-steps whose Chebyshev acceleration the guard stopped (diverging)
   double chebyshev_rho = 0.0;       ///< ρ of the acceleration after the step (given or estimated; 0: none yet)
-  std::size_t collisions = 0;       ///< collision constraints of the last sub-step
+  std::size_t collisions = 0;       ///< collision constraints and particle contacts of the last sub-step
   std::vector<NamedViolation> violation;  ///< per type, at the end of the step (only with measure_violation on)
 };
 

@@ -94,6 +94,7 @@ private:
     for (auto& l : s_.user_lambda) lambda_.emplace_back(l);
     lambda_.emplace_back(s_.volume_lambda);
     lambda_.emplace_back(k_.collision_lambda);
+    lambda_.emplace_back(k_.particle_contact_lambda);
     std::size_t total = 0;
     for (std::span<Real> l : lambda_) total += l.size();
     k_.cheb_lambda_cur.resize(total);

@@ -59,6 +59,7 @@ template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<R
 
 template <class Real>
 bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<const CollisionConstraint<Real>> contacts,
+                         std::span<const ParticleContact<Real>> pairs,
                          const Real* x, const Real* p, const Real* v, Real h) {
   if (f.count == 0) return false;
   constexpr Index kNone = FreeBodies<Real>::kNone;
@@ -66,9 +67,16 @@ bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<co
   // body keeps L·n), or along several (2: the body is left alone).
   f.contact.assign(f.count, 0);
   f.normal.resize(3 * std::size_t(f.count));
+  for (const auto& c : pairs)  // another body's push, or the body's own against itself: left alone
+    for (Index i : c.particles)
+      if (f.body[i] != kNone) f.contact[f.body[i]] = 2;
   for (const auto& c : contacts) {
     const Index b = f.body[c.particles[0]];
     if (b == kNone || f.contact[b] == 2) continue;
+    if (c.material.static_friction != Real(0) || c.material.kinetic_friction != Real(0)) {
+      f.contact[b] = 2;  // friction pushes along the surface: a torque about n
+      continue;
+    }
     double* n = f.normal.data() + 3 * std::size_t(b);
     if (f.contact[b] == 0) {
       f.contact[b] = 1;
@@ -159,9 +167,11 @@ bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<co
 template void update_free_bodies(const Model<float>&, FreeBodies<float>&);
 template void update_free_bodies(const Model<double>&, FreeBodies<double>&);
 template bool measure_solver_spin(const Model<float>&, FreeBodies<float>&, std::span<const CollisionConstraint<float>>,
+                                  std::span<const ParticleContact<float>>,
                                   const float*, const float*, const float*, float);
 template bool measure_solver_spin(const Model<double>&, FreeBodies<double>&,
-                                  std::span<const CollisionConstraint<double>>, const double*, const double*,
+                                  std::span<const CollisionConstraint<double>>, std::span<const ParticleContact<double>>,
+                                  const double*, const double*,
                                   const double*, double);
 
 }  // namespace pbd::detail

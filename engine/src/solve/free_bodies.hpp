@@ -15,6 +15,7 @@
 // the positions. Bodies with pins or anchors are left as they are, and so are bodies with contacts along
 // several normals: a torque from outside is real. A world without free bodies runs none of this.
 #include "pbd/constraints/collision.hpp"
+#include "pbd/constraints/particle_contact.hpp"
 #include "pbd/detail/model.hpp"
 
 #include <cstdint>
@@ -38,9 +39,10 @@ template <class Real> struct FreeBodies {
 template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<Real>& f);
 
 /// Sets f.omega for this sub-step from x, the solved positions p, the predicted velocities v and the sub-step's
-/// contacts; returns false (and computes nothing more) when no body is free.
+/// contacts (a body with a particle contact, or a contact with friction, is left alone); returns false (and computes nothing more) when no body is free.
 template <class Real>
 bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<const CollisionConstraint<Real>> contacts,
+                         std::span<const ParticleContact<Real>> pairs,
                          const Real* x, const Real* p, const Real* v, Real h);
 
 }  // namespace pbd::detail

@@ -245,12 +245,27 @@ template <class Real> void color_collisions(Store<CollisionConstraint<Real>>& s)
   layout_by_color(s, by_index);
 }
 
+template <class Real>
+void color_particle_contacts(Store<ParticleContact<Real>>& s, const std::vector<std::uint8_t>& fixed) {
+  assert(s.slot.empty() && s.color.empty());
+  if (s.empty()) return;
+  const ConstraintGraph g = constraint_graph<ParticleContact<Real>>(s.items, fixed);
+  coloring::Options first_fit;
+  first_fit.algorithm = coloring::Algorithm::greedy_input;  // first fit in generation order
+  first_fit.balance = false;
+  const coloring::Coloring col = coloring::color(g.view(), first_fit);
+  std::vector<ParticleContact<Real>> by_index = std::move(s.items);
+  s.color.assign(col.color.begin(), col.color.end());
+  layout_by_color(s, by_index);
+}
+
 #define PBD_SCHEDULE_INSTANTIATE(Real)                                                  \
   template std::vector<std::uint8_t> pinned_flags(const VectorX<Real>&);                \
   template void color_everything(Model<Real>&);                                         \
   template void update_colors(Model<Real>&, Layout);                                            \
   template void note_layout(Model<Real>&);                                              \
-  template void color_collisions(Store<CollisionConstraint<Real>>&);
+  template void color_collisions(Store<CollisionConstraint<Real>>&);                     \
+  template void color_particle_contacts(Store<ParticleContact<Real>>&, const std::vector<std::uint8_t>&);
 PBD_SCHEDULE_INSTANTIATE(float)
 PBD_SCHEDULE_INSTANTIATE(double)
 #undef PBD_SCHEDULE_INSTANTIATE

@@ -4,6 +4,7 @@
 // mesh, and each sub-step's collisions; the cooked per-color data (Jacobi counts, stretch sets, particle cuts)
 // follows.
 #include "pbd/constraints/collision.hpp"
+#include "pbd/constraints/particle_contact.hpp"
 #include "pbd/detail/model.hpp"
 
 namespace pbd::detail {
@@ -28,5 +29,10 @@ template <class Real> void note_layout(Model<Real>& m);
 /// Colors this sub-step's collisions (each touches one particle: the k-th collision of a particle gets color k) and
 /// lays them out color by color.
 template <class Real> void color_collisions(Store<CollisionConstraint<Real>>& collisions);
+
+/// Colors this sub-step's particle contacts (first fit in generation order; pinned particles, flagged in `fixed`,
+/// never conflict) and lays them out color by color.
+template <class Real>
+void color_particle_contacts(Store<ParticleContact<Real>>& contacts, const std::vector<std::uint8_t>& fixed);
 
 }  // namespace pbd::detail

@@ -6,6 +6,7 @@
 #include "pbd/constraints/volume.hpp"
 #include "pbd/detail/constraint_store.hpp"
 #include "free_bodies.hpp"
+#include "contact/particle_contacts.hpp"
 #include "pbd/stiffness.hpp"
 
 #include <oneapi/tbb/partitioner.h>
@@ -62,7 +63,10 @@ private:
 template <class Real> struct Scratch {
   Matrix3X<Real> p;                                 // predicted positions
   Store<CollisionConstraint<Real>> collisions;      // this sub-step's collisions (color order for colored solvers)
-  std::vector<Real> collision_lambda;               // their λ, stored order
+  std::vector<Real> collision_lambda;               // their λ, stored order (counts the projections that moved one)
+  Store<ParticleContact<Real>> particle_contacts;   // this sub-step's particle contacts (color order likewise)
+  std::vector<Real> particle_contact_lambda;        // their λ likewise
+  ParticleGrid<Real> grid;                          // the particle contacts' broad phase
   std::vector<SolveCoefficients<Real>> coeff;       // per constraint set, for this step's sub-step length
   VolumeScratch<Real> volume;                       // volume targets, gradients, block sums
   std::chrono::microseconds team_wait{20};          // how long the next solve waits for its team (team.hpp)

@@ -19,7 +19,13 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
                                                       : Schedule::colors;
   const Update update = solver == Solver::jacobi ? Update::jacobi : Update::in_place;
   const bool parallel = is_parallel(solver);
-  if (schedule != Schedule::insertion) color_collisions(scratch.collisions);
+  if (schedule != Schedule::insertion) {
+    color_collisions(scratch.collisions);
+    if (!scratch.particle_contacts.empty()) {
+      if (model.fixed.size() != std::size_t(model.num_particles())) model.fixed = pinned_flags(model.inverse_mass);
+      color_particle_contacts(scratch.particle_contacts, model.fixed);
+    }
+  }
   Sweeper<Real> sweeper(model, state, scratch, schedule, update, reverse, parallel, config);
   sweeper.omega = params.jacobi_omega;
   const bool accelerate = params.chebyshev.enabled && schedule != Schedule::insertion && params.iterations > 1;

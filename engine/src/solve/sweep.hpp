@@ -19,9 +19,10 @@
 //                        share no particle, so their own order never matters); a sub-step's number comes from the
 //                        world's time (solver.hpp), so a copy of the world taken at any step sweeps the same way
 // A sweep visits, in this order: the built-in types (constraint_types.hpp), the user-defined types (in the order
-// first added), the volume constraints, then the sub-step's collisions. The volumes and the collisions are projected
-// in place under every update (Jacobi after applying its deltas): a volume is one constraint, parallel within
-// itself, a contact touches one particle; so every sweep ends with the volumes and then the contacts holding. The
+// first added), the volume constraints, then the sub-step's collisions and particle contacts. The volumes and the
+// contacts are projected in place under every update (Jacobi after applying its deltas; the colored ones color by
+// color): a volume is one constraint, parallel within itself, and contacts are inequalities whose friction reads
+// the positions they leave; so every sweep ends with the volumes and then the contacts holding. The
 // SIMD kernels on padded positions (x y z w per particle) are how the colors schedule projects stretch, bending and
 // area colors in place (float: stretch_kernel.hpp, bending_kernel.hpp; double, and area in both, with AVX2:
 // kernels_avx2.hpp); they give the scalar projection's bits. The positions are padded before the first such color and copied back before
@@ -127,7 +128,7 @@ public:
   void begin(double time) {
     k_.volume.set_targets(m_.volume.table, time);
     const std::size_t collisions = k_.collisions.size();
-    bool sized = k_.collision_lambda.size() == collisions && s_.volume_lambda.size() == m_.volume.table.size() &&
+    bool sized = s_.volume_lambda.size() == m_.volume.table.size() &&
                  s_.user_lambda.size() == m_.user.types().size();
     for_each_store(m_.stores, [&](const auto& st, auto i) { sized = sized && s_.lambda[i].size() == st.size(); });
     for (std::size_t t = 0; sized && t < m_.user.types().size(); ++t)
@@ -143,8 +144,10 @@ public:
       s_.user_lambda.resize(m_.user.types().size());
       for (std::size_t t = 0; t < m_.user.types().size(); ++t) s_.user_lambda[t].assign(m_.user.types()[t]->size(), Real(0));
       s_.volume_lambda.assign(m_.volume.table.size(), Real(0));
-      k_.collision_lambda.assign(collisions, Real(0));
     }
+    // Contacts' λ count the projections that moved them (collision.hpp, particle_contact.hpp): reset every sub-step.
+    k_.collision_lambda.assign(collisions, Real(0));
+    k_.particle_contact_lambda.assign(k_.particle_contacts.size(), Real(0));
     s_.lambda_dirty = std::ranges::any_of(k_.coeff, [](const auto& c) { return c.alpha_tilde != Real(0); });
     if (update_ == Update::jacobi) {
       const Index n = m_.num_particles();
@@ -171,7 +174,8 @@ public:
       using C = typename std::remove_cvref_t<decltype(st)>::value_type;
       stay_padded_ = stay_padded_ && (st.empty() || padded_kernel<C>());
     });
-    stay_padded_ = stay_padded_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0 && keep_padded;
+    stay_padded_ = stay_padded_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0 &&
+                   k_.particle_contacts.empty() && keep_padded;
     interior_items_ = count_interior_items();
     bool any_padded = false;  // sized here, never by a team's members
     for_each_store(m_.stores, [&](const auto& st, auto) {
@@ -302,6 +306,8 @@ private:
     // parallel within itself; each contact touches one particle), so they have the last word in every sweep.
     project_volumes<kReverse>(p, m_.inverse_mass.data(), p);
     project_store<true, false>(k_.collisions, k_.collision_lambda.data(), p, m_.inverse_mass.data(), coeff, Real(1), p);
+    project_store<true, false>(k_.particle_contacts, k_.particle_contact_lambda.data(), p, m_.inverse_mass.data(), coeff,
+                               Real(1), p);
     if (padded_ && !stay_padded_) unpad(p);
   }
 

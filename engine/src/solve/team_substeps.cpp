@@ -18,7 +18,7 @@ TeamSubstepsReport run_substeps_on_team(Model<Real>& m, State<Real>& state, Scra
   TeamSubstepsReport report;
   const Solver solver = params.solver;
   const int threads = tbb::this_task_arena::max_concurrency();
-  if (!is_parallel(solver) || solver == Solver::jacobi || has_callback || !m.colliders.empty() ||
+  if (!is_parallel(solver) || solver == Solver::jacobi || has_callback || !m.colliders.empty() || !m.contact.empty() ||
       !m.user.empty() || !m.volume.table.empty() || k.free_bodies.count != 0 || threads < 2 || k.team_skip != 0 ||
       (params.chebyshev.enabled && params.iterations > 1))
     return report;

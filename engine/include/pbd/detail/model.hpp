@@ -6,6 +6,7 @@
 /// one store per constraint type with its colors, volumes, colliders) plus what is cooked from it for the solvers;
 /// the State is what a step advances (x, v, time, λ); per-step scratch lives in engine/src/solve/scratch.hpp.
 #include "pbd/colliders.hpp"
+#include "pbd/contacts.hpp"
 #include "pbd/constraint_types.hpp"
 #include "pbd/constraints/volume.hpp"
 #include "pbd/custom_constraints.hpp"
@@ -52,6 +53,7 @@ template <class Real> struct Model {
   UserTypes<Real> user;                                          ///< one store per user-defined type
   VolumeStore<Real> volume;                                      ///< volume constraints
   Colliders<Real> colliders;                                     ///< static colliders
+  ContactBodies<Real> contact;                                   ///< contact bodies (radii, materials)
   coloring::Options coloring;                                    ///< how the colored and Jacobi solvers color
   BlockOptions blocking;                                         ///< how the block solver splits the particles
   std::uint64_t edits = 0;  ///< particles or constraints added, removed or (un)pinned so far: keys what is cooked

