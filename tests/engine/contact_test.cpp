@@ -146,5 +146,72 @@ TYPED_TEST(Contact, FastParticlesDoNotPassThroughEachOther) {
   }
 }
 
+// 1000 particles of radius r dropped into a box as a loose lattice (one self-colliding body: nothing joins them).
+template <class Real> World<Real> pile(Solver s, double r, int side) {
+  World<Real> w;
+  std::uint32_t seed = 12345;
+  auto jitter = [&] {  // deterministic, in [-0.1, 0.1] r
+    seed = seed * 1664525u + 1013904223u;
+    return (double(seed >> 8) / double(1u << 24) - 0.5) * 0.2 * r;
+  };
+  const double spacing = 2.3 * r, half = 0.5 * side * spacing + r;
+  for (int k = 0; k < side; ++k)
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i)
+        w.add_particle(Vec3<Real>(Real((i + 0.5) * spacing - 0.5 * side * spacing + jitter()),
+                                  Real((j + 0.5) * spacing - 0.5 * side * spacing + jitter()),
+                                  Real(r + 0.5 * spacing + k * spacing * 1.5 + jitter())),
+                       Real(0.01));
+  const ContactMaterial<Real> rough{Real(0.4), Real(0.3), Real(0)};
+  w.add_contact_body({0, w.num_particles(), Real(r), rough, true});
+  w.add_plane(Vec3<Real>(0, 0, 1), Real(0), rough);
+  w.add_plane(Vec3<Real>(1, 0, 0), Real(-half), rough);
+  w.add_plane(Vec3<Real>(-1, 0, 0), Real(-half), rough);
+  w.add_plane(Vec3<Real>(0, 1, 0), Real(-half), rough);
+  w.add_plane(Vec3<Real>(0, -1, 0), Real(-half), rough);
+  // Ten layers deep: the floor's support climbs the pile one contact per sweep, and the impacts of the upper layers
+  // are the worst moments. 16 sub-steps of 5 sweeps keep every overlap under 1% (at 4 × 10: 1.3% serial, 2.9%
+  // colored; at 8 × 10: 0.45% and 0.85%).
+  StepParams<Real> p = params<Real>(s, 16, 5);
+  p.collision_margin = Real(0.2 * r);
+  w.set_params(p);
+  return w;
+}
+
+// Largest overlap of any two particles' spheres, as a fraction of their radii sum (all pairs: a check independent
+// of the engine's grid).
+template <class Real> double worst_overlap(const World<Real>& w, double r) {
+  const auto x = w.positions();
+  std::vector<Index> order(w.num_particles());
+  for (Index i = 0; i < w.num_particles(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](Index a, Index b) { return x(0, a) < x(0, b); });
+  double worst = 0;
+  for (std::size_t a = 0; a < order.size(); ++a)  // sweep along x: a pair closer than 2r is closer along x too
+    for (std::size_t b = a + 1; b < order.size() && double(x(0, order[b]) - x(0, order[a])) < 2 * r; ++b) {
+      const double d = (x.col(order[a]) - x.col(order[b])).template cast<double>().norm();
+      worst = std::max(worst, (2 * r - d) / (2 * r));
+    }
+  return worst;
+}
+
+TYPED_TEST(Contact, FallingPileNeverOverlapsMoreThanOnePercent) {
+  using Real = TypeParam;
+  const double r = 0.02;
+  for (Solver s : kSolvers) {
+    World<Real> w = pile<Real>(s, r, 10);
+    ASSERT_GE(w.num_particles(), 1000u);
+    double worst = 0, lowest = 1e9;
+    for (int step = 0; step < 60; ++step) {  // 1 s: every layer lands and the pile settles
+      w.step();
+      worst = std::max(worst, worst_overlap(w, r));
+    }
+    for (Index i = 0; i < w.num_particles(); ++i) lowest = std::min(lowest, double(w.positions()(2, i)));
+    std::printf("CONTACT check=pile solver=%s real=%s worst_overlap=%.4g lowest_z=%.4g\n", std::string(name(s)).c_str(),
+                real_name<Real>(), worst, lowest);
+    EXPECT_LE(worst, 0.01) << name(s);
+    EXPECT_GE(lowest, r * (1 - 0.01)) << name(s);  // and none sinks into the floor
+  }
+}
+
 }  // namespace
 }  // namespace pbd

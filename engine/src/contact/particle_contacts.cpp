@@ -34,13 +34,16 @@ template <class Real> void cook_contact_bodies(Model<Real>& m) {
 
 namespace {
 
-using Cell = std::array<std::int64_t, 3>;
+using Cell = std::array<std::int32_t, 3>;
 
 template <class Real> Cell cell_of(const Vec3<Real>& q, Real inv) {
-  return {std::int64_t(std::floor(q.x() * inv)), std::int64_t(std::floor(q.y() * inv)), std::int64_t(std::floor(q.z() * inv))};
+  auto axis = [&](Real u) {  // clamped so that a far particle cannot overflow (it only shares a cell more often)
+    return std::int32_t(std::clamp(std::floor(u * inv), Real(-1e9), Real(1e9)));
+  };
+  return {axis(q.x()), axis(q.y()), axis(q.z())};
 }
 
-std::uint32_t hash_cell(std::int64_t x, std::int64_t y, std::int64_t z, std::uint32_t mask) {
+std::uint32_t hash_cell(std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t mask) {
   const std::uint64_t h = std::uint64_t(x) * 73856093ull ^ std::uint64_t(y) * 19349663ull ^ std::uint64_t(z) * 83492791ull;
   return std::uint32_t((h ^ (h >> 29)) & mask);
 }
@@ -111,19 +114,22 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   for (Index i = 0; i < n; ++i)
     if (c.radius[i] > Real(0)) g.active.push_back(i);
   const Index count = Index(g.active.size());
-  // 2. the grid over p
+  // 2. the grid over p: two particles whose paths come within r_i + r_j + margin end within 2·r_max + margin +
+  // 2·s_max of each other, so with cells that wide they end in the same or neighbouring cells
   Real s_max2 = 0;
   for (Index i : g.active) s_max2 = std::max(s_max2, Real((p.col(i) - x.col(i)).squaredNorm()));
-  const Real s_max = std::sqrt(s_max2);
-  const Real cell = Real(2) * c.max_radius + margin;
+  const Real cell = Real(2) * c.max_radius + margin + Real(2) * std::sqrt(s_max2);
   const Real inv = Real(1) / cell;
   std::uint32_t buckets = 1;
   while (buckets < 2 * std::uint32_t(count)) buckets <<= 1;
   const std::uint32_t mask = buckets - 1;
   g.bucket_start.assign(std::size_t(buckets) + 1, 0);
   g.bucket_of.resize(count);
+  g.cell.resize(n);
   for (Index k = 0; k < count; ++k) {
-    const Cell q = cell_of<Real>(p.col(g.active[k]), inv);
+    const Index i = g.active[k];
+    const Cell q = cell_of<Real>(p.col(i), inv);
+    g.cell[i] = q;
     g.bucket_of[k] = hash_cell(q[0], q[1], q[2], mask);
     ++g.bucket_start[g.bucket_of[k] + 1];
   }
@@ -133,57 +139,50 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     std::vector<Index> fill(g.bucket_start.begin(), g.bucket_start.end() - 1);
     for (Index k = 0; k < count; ++k) g.bucket_items[fill[g.bucket_of[k]]++] = g.active[k];
   }
-  // 3. pairs, chunk by chunk of the active particles
+  // 3. pairs: particle i takes the particles j > i of its own cell and every particle of the 13 cells after it
+  // (a pair in two cells is found once, from the earlier cell), checked against their exact cells (hash
+  // collisions would find a pair twice)
   const Index chunks = std::min<Index>(kChunks, std::max<Index>(1, count));
   g.chunks.resize(chunks);
-  const bool self_any = any_self;
   auto chunk = [&](Index ch) {
     std::vector<ParticleContact<Real>>& mine = g.chunks[ch];
     mine.clear();
-    std::vector<Index> candidates;
     const Index kb = Index(std::uint64_t(ch) * count / chunks), ke = Index(std::uint64_t(ch + 1) * count / chunks);
     for (Index k = kb; k < ke; ++k) {
       const Index i = g.active[k];
+      const Cell ci = g.cell[i];
       const Vec3<Real> xi = x.col(i), pi = p.col(i);
       const Real ri = c.radius[i];
-      const Real reach = ri + c.max_radius + margin + s_max;
-      const Cell lo = cell_of<Real>(Vec3<Real>(xi.cwiseMin(pi).array() - reach), inv);
-      const Cell hi = cell_of<Real>(Vec3<Real>(xi.cwiseMax(pi).array() + reach), inv);
-      candidates.clear();
-      const std::uint64_t cells = std::uint64_t(hi[0] - lo[0] + 1) * std::uint64_t(hi[1] - lo[1] + 1) * std::uint64_t(hi[2] - lo[2] + 1);
-      auto take = [&](std::uint32_t b) {
-        for (Index s = g.bucket_start[b]; s < g.bucket_start[b + 1]; ++s)
-          if (g.bucket_items[s] > i) candidates.push_back(g.bucket_items[s]);
-      };
-      if (cells >= buckets) {
-        for (std::uint32_t b = 0; b < buckets; ++b) take(b);
-      } else {
-        for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx)
-          for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy)
-            for (std::int64_t cz = lo[2]; cz <= hi[2]; ++cz) take(hash_cell(cx, cy, cz, mask));
-      }
-      std::sort(candidates.begin(), candidates.end());
-      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
       const Index bi = c.body_of[i];
-      for (Index j : candidates) {
-        if (m.inverse_mass[i] == Real(0) && m.inverse_mass[j] == Real(0)) continue;
-        if (c.body_of[j] == bi) {
-          if (!self_any || !c.bodies[bi].self_collision) continue;
-          const Index* row = g.joined.data() + g.joined_offsets[i];
-          const Index* end = g.joined.data() + g.joined_offsets[i + 1];
-          if (std::binary_search(row, end, j)) continue;
-        }
-        const Real R = ri + c.radius[j];
-        const Vec3<Real> d0 = xi - x.col(j), d1 = pi - p.col(j);
-        const Vec3<Real> e = d1 - d0;
-        const Real ee = e.squaredNorm();
-        const Real t = ee > Real(0) ? std::clamp(-d0.dot(e) / ee, Real(0), Real(1)) : Real(0);
-        const Real reach_pair = R + margin;
-        if ((d0 + t * e).squaredNorm() >= reach_pair * reach_pair) continue;
-        const Vec3<Real> nrm = first_contact_normal(d0, d1, R);
-        const Vec3<Real> dv = v.col(i) - v.col(j);
-        mine.push_back({{i, j}, nrm, R, d0, nrm.dot(dv), mix_materials(c.material[i], c.material[j])});
-      }
+      for (int dx = 0; dx <= 1; ++dx)
+        for (int dy = dx ? -1 : 0; dy <= 1; ++dy)
+          for (int dz = (dx || dy) ? -1 : 0; dz <= 1; ++dz) {
+            const Cell cj = {ci[0] + dx, ci[1] + dy, ci[2] + dz};
+            const bool same = dx == 0 && dy == 0 && dz == 0;
+            const std::uint32_t b = hash_cell(cj[0], cj[1], cj[2], mask);
+            for (Index s = g.bucket_start[b]; s < g.bucket_start[b + 1]; ++s) {
+              const Index j = g.bucket_items[s];
+              const Cell& cell_j = g.cell[j];
+              if ((same && j <= i) || cell_j[0] != cj[0] || cell_j[1] != cj[1] || cell_j[2] != cj[2]) continue;
+              if (m.inverse_mass[i] == Real(0) && m.inverse_mass[j] == Real(0)) continue;
+              if (c.body_of[j] == bi) {
+                if (!c.bodies[bi].self_collision) continue;
+                const Index* row = g.joined.data() + g.joined_offsets[i];
+                const Index* row_end = g.joined.data() + g.joined_offsets[i + 1];
+                if (std::binary_search(row, row_end, j)) continue;
+              }
+              const Real R = ri + c.radius[j];
+              const Vec3<Real> d0 = xi - x.col(j), d1 = pi - p.col(j);
+              const Vec3<Real> e = d1 - d0;
+              const Real ee = e.squaredNorm();
+              const Real t = ee > Real(0) ? std::clamp(-d0.dot(e) / ee, Real(0), Real(1)) : Real(0);
+              if ((d0 + t * e).squaredNorm() >= (R + margin) * (R + margin)) continue;
+              const Vec3<Real> nrm = first_contact_normal(d0, d1, R);
+              const ContactMaterial<Real> mat = mix_materials(c.material[i], c.material[j]);
+              if (i < j) mine.push_back({{i, j}, nrm, R, d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))), mat});
+              else mine.push_back({{j, i}, -nrm, R, -d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))), mat});
+            }
+          }
     }
   };
   if (parallel && count >= 2048) {

@@ -3,18 +3,20 @@
 // between the particles of contact bodies (contacts.hpp), once per sub-step, after the prediction.
 //   1. cook      per particle: body, radius, material (when bodies or particles changed); for self-colliding
 //                bodies, the particles each one is joined to by a built-in constraint (when the model changed)
-//   2. grid      a spatial hash of the predicted positions p: cells of 2·r_max + margin, hashed into a table of
-//                about twice as many buckets as particles, filled by a counting sort in particle order
-//   3. pairs     each particle i looks at the cells its path's box reaches, grown by the radii, the margin and the
-//                longest path s_max of this sub-step (so a pair whose paths meet is found however fast either
-//                moved), and keeps the particles j > i whose relative path (x_i − x_j) → (p_i − p_j) comes within
-//                r_i + r_j + margin: continuous, so nothing passes through anything within a sub-step
+//   2. grid      a spatial hash of the predicted positions p: cells of 2·r_max + margin + 2·s_max (s_max the
+//                longest path x → p of this sub-step, so two particles whose paths meet end in neighbouring cells
+//                however fast they moved), hashed into a table of about twice as many buckets as particles, filled
+//                by a counting sort in particle order
+//   3. pairs     each particle i looks at its own cell (particles j > i) and the 13 cells after it (all), and keeps
+//                the pairs whose relative path (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous,
+//                so nothing passes through anything within a sub-step
 //   4. output    in particle order of i, then j: the same list for any thread count (fixed chunks of i, joined in
 //                chunk order)
 // A world without contact bodies of non-zero radius runs none of this.
 #include "pbd/constraints/particle_contact.hpp"
 #include "pbd/detail/model.hpp"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -27,6 +29,7 @@ template <class Real> struct ParticleGrid {
   std::vector<Index> joined_offsets;               // CSR per particle: particles joined to it by a constraint
   std::vector<Index> joined;                       //   (sorted; only particles of self-colliding bodies)
   std::vector<Index> active;                       // particles with a radius, ascending
+  std::vector<std::array<std::int32_t, 3>> cell;   // per particle with a radius: the cell of p
   std::vector<Index> bucket_start;                 // per bucket + 1: where its particles start in bucket_items
   std::vector<Index> bucket_items;                 // active particles, bucket by bucket, ascending within one
   std::vector<std::uint32_t> bucket_of;            // per active particle (by position in `active`)
