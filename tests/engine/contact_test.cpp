@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -211,6 +212,153 @@ TYPED_TEST(Contact, FallingPileNeverOverlapsMoreThanOnePercent) {
     EXPECT_LE(worst, 0.01) << name(s);
     EXPECT_GE(lowest, r * (1 - 0.01)) << name(s);  // and none sinks into the floor
   }
+}
+
+// A cloth of nx × ny particles (rest edge `edge`) folded over on the ground: along x it lies flat, turns through a
+// half circle of radius 1.5 edges and comes back flat above itself, the upper layer falling at 2 m/s. Stretch on
+// rows, columns and one diagonal per quad (rest lengths the flat cloth's); particles of radius half the rest edge,
+// self-colliding. Returns its triangles; `upper` gets the particles of the upper layer's flat part.
+template <class Real>
+std::vector<std::array<Index, 3>> folded_cloth(World<Real>& w, int nx, int ny, double edge, Solver s,
+                                               std::vector<Index>& upper, bool self_collision = true) {
+  const double r = 0.5 * edge, rho = 1.5 * edge, arc = kPi * rho;
+  const double length = (nx - 1) * edge, s1 = 0.5 * (length - arc);
+  for (int k = 0; k < ny; ++k)
+    for (int i = 0; i < nx; ++i) {
+      const double sx = i * edge;
+      Vec3<Real> x, v = Vec3<Real>::Zero();
+      if (sx <= s1) {
+        x = Vec3<Real>(Real(sx), Real(k * edge), Real(r));
+      } else if (sx <= s1 + arc) {
+        const double phi = (sx - s1) / rho;
+        x = Vec3<Real>(Real(s1 + rho * std::sin(phi)), Real(k * edge), Real(r + rho * (1 - std::cos(phi))));
+      } else {
+        x = Vec3<Real>(Real(s1 - (sx - s1 - arc)), Real(k * edge), Real(r + 2 * rho));
+        v.z() = Real(-2);
+        upper.push_back(Index(w.num_particles()));
+      }
+      w.add_particle(x, Real(0.01), v);
+    }
+  const Index set = w.add_constraint_set(Stiffness::pbd_k(1.0));
+  std::vector<std::array<Index, 3>> triangles;
+  auto id = [&](int i, int k) { return Index(k * nx + i); };
+  for (int k = 0; k < ny; ++k)
+    for (int i = 0; i < nx; ++i) {
+      if (i + 1 < nx) w.add_stretch(id(i, k), id(i + 1, k), set, Real(edge));
+      if (k + 1 < ny) w.add_stretch(id(i, k), id(i, k + 1), set, Real(edge));
+      if (i + 1 < nx && k + 1 < ny) {
+        w.add_stretch(id(i, k), id(i + 1, k + 1), set, Real(edge * std::sqrt(2.0)));
+        triangles.push_back({id(i, k), id(i + 1, k), id(i + 1, k + 1)});
+        triangles.push_back({id(i, k), id(i + 1, k + 1), id(i, k + 1)});
+      }
+    }
+  const ContactMaterial<Real> cloth{Real(0.3), Real(0.2), Real(0)};
+  w.add_contact_body({0, w.num_particles(), Real(r), cloth, self_collision});
+  w.add_plane(Vec3<Real>(0, 0, 1), Real(0), ContactMaterial<Real>{Real(0.5), Real(0.4), Real(0)});
+  StepParams<Real> p = params<Real>(s, 4, 10);
+  p.collision_margin = Real(0.2 * edge);
+  w.set_params(p);
+  return triangles;
+}
+
+// Whether point q crosses triangle (a, b, c) while all four move linearly from their `0` to their `1` positions:
+// the roots in [0, 1] of the cubic f(t) = (q − a)·((b − a) × (c − a)) (the point in the triangle's plane), each
+// checked for the point inside the triangle then.
+bool crosses(const Eigen::Vector3d (&from)[4], const Eigen::Vector3d (&to)[4]) {
+  using V = Eigen::Vector3d;
+  const V u0 = from[0] - from[1], v0 = from[2] - from[1], w0 = from[3] - from[1];
+  const V u1 = (to[0] - to[1]) - u0, v1 = (to[2] - to[1]) - v0, w1 = (to[3] - to[1]) - w0;
+  const double c0 = u0.dot(v0.cross(w0));
+  const double c1 = u1.dot(v0.cross(w0)) + u0.dot(v0.cross(w1) + v1.cross(w0));
+  const double c2 = u1.dot(v0.cross(w1) + v1.cross(w0)) + u0.dot(v1.cross(w1));
+  const double c3 = u1.dot(v1.cross(w1));
+  auto f = [&](double t) { return ((c3 * t + c2) * t + c1) * t + c0; };
+  std::vector<double> cuts = {0.0, 1.0};  // f is monotone between the roots of f'
+  const double a = 3 * c3, b = 2 * c2, c = c1;
+  if (std::abs(a) > 1e-300) {
+    const double disc = b * b - 4 * a * c;
+    if (disc >= 0)
+      for (double t : {(-b - std::sqrt(disc)) / (2 * a), (-b + std::sqrt(disc)) / (2 * a)})
+        if (t > 0 && t < 1) cuts.push_back(t);
+  } else if (std::abs(b) > 1e-300 && -c / b > 0 && -c / b < 1) {
+    cuts.push_back(-c / b);
+  }
+  std::sort(cuts.begin(), cuts.end());
+  for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+    double lo = cuts[k], hi = cuts[k + 1];
+    if ((f(lo) > 0) == (f(hi) > 0) && f(lo) != 0 && f(hi) != 0) continue;
+    for (int it = 0; it < 60; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      ((f(lo) > 0) == (f(mid) > 0) ? lo : hi) = mid;
+    }
+    const double t = 0.5 * (lo + hi);
+    V at[4];
+    for (int j = 0; j < 4; ++j) at[j] = from[j] + t * (to[j] - from[j]);
+    const V n = (at[2] - at[1]).cross(at[3] - at[1]);
+    const double area2 = n.squaredNorm();
+    if (!(area2 > 0)) continue;
+    // barycentric coordinates of the point in the triangle's plane
+    const double l1 = (at[3] - at[2]).cross(at[0] - at[2]).dot(n) / area2;
+    const double l2 = (at[1] - at[3]).cross(at[0] - at[3]).dot(n) / area2;
+    const double l3 = 1 - l1 - l2;
+    if (l1 >= 0 && l2 >= 0 && l3 >= 0) return true;
+  }
+  return false;
+}
+
+// Steps the world `steps` times and counts (point, triangle) crossings over every step, continuously.
+template <class Real> int count_crossings(World<Real>& w, const std::vector<std::array<Index, 3>>& triangles, int steps) {
+  Matrix3X<double> before = w.positions().template cast<double>();
+  int crossings = 0;
+  for (int step = 0; step < steps; ++step) {
+    w.step();
+    const Matrix3X<double> after = w.positions().template cast<double>();
+    for (const auto& tri : triangles) {  // every point against every triangle whose swept boxes meet
+      Eigen::Vector3d lo = before.col(tri[0]).cwiseMin(after.col(tri[0])), hi = before.col(tri[0]).cwiseMax(after.col(tri[0]));
+      for (int j = 1; j < 3; ++j) {
+        lo = lo.cwiseMin(before.col(tri[j])).cwiseMin(after.col(tri[j]));
+        hi = hi.cwiseMax(before.col(tri[j])).cwiseMax(after.col(tri[j]));
+      }
+      for (Index q = 0; q < w.num_particles(); ++q) {
+        if (q == tri[0] || q == tri[1] || q == tri[2]) continue;
+        const Eigen::Vector3d ql = before.col(q).cwiseMin(after.col(q)), qh = before.col(q).cwiseMax(after.col(q));
+        if ((ql.array() > hi.array()).any() || (qh.array() < lo.array()).any()) continue;
+        const Eigen::Vector3d from[4] = {before.col(q), before.col(tri[0]), before.col(tri[1]), before.col(tri[2])};
+        const Eigen::Vector3d to[4] = {after.col(q), after.col(tri[0]), after.col(tri[1]), after.col(tri[2])};
+        crossings += crosses(from, to) ? 1 : 0;
+      }
+    }
+    before = after;
+  }
+  return crossings;
+}
+
+TYPED_TEST(Contact, FoldedClothNeverCrossesItself) {
+  using Real = TypeParam;
+  const double edge = 0.05;
+  for (Solver s : kSolvers) {
+    World<Real> w;
+    std::vector<Index> upper;
+    const auto triangles = folded_cloth<Real>(w, 24, 12, edge, s, upper);
+    const int crossings = count_crossings(w, triangles, 300);
+    // At rest the upper layer lies on the lower one: its centres one particle diameter (the cloth's thickness)
+    // above the lower layer's, which lie one radius above the ground.
+    double lowest = 1e9;
+    for (Index q : upper) lowest = std::min(lowest, double(w.positions()(2, q)));
+    std::printf("CONTACT check=cloth_fold solver=%s real=%s crossings=%d upper_layer_z=%.5g thickness_z=%.5g\n",
+                std::string(name(s)).c_str(), real_name<Real>(), crossings, lowest, 1.5 * edge);
+    EXPECT_EQ(crossings, 0) << name(s);
+    EXPECT_GE(lowest, 1.5 * edge * 0.99) << name(s);
+    EXPECT_LE(lowest, 1.5 * edge * 1.2) << name(s);  // it fell onto the lower layer (from 3.5 edges)
+  }
+}
+
+TYPED_TEST(Contact, FoldedClothWithoutSelfCollisionFallsThroughItself) {  // the crossing check can fail
+  using Real = TypeParam;
+  World<Real> w;
+  std::vector<Index> upper;
+  const auto triangles = folded_cloth<Real>(w, 24, 12, 0.05, Solver::colored, upper, false);
+  EXPECT_GT(count_crossings(w, triangles, 100), 0);
 }
 
 }  // namespace
