@@ -5,6 +5,7 @@
 #include "pbd/world.hpp"
 
 #include <gtest/gtest.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -359,6 +360,45 @@ TYPED_TEST(Contact, FoldedClothWithoutSelfCollisionFallsThroughItself) {  // the
   std::vector<Index> upper;
   const auto triangles = folded_cloth<Real>(w, 24, 12, 0.05, Solver::colored, upper, false);
   EXPECT_GT(count_crossings(w, triangles, 100), 0);
+}
+
+// Final positions and velocities of `world` stepped `steps` times with `solver` in an arena of `threads` threads.
+template <class Real> std::vector<Real> run_on(const World<Real>& world, Solver solver, int threads, int steps) {
+  World<Real> w = world;
+  StepParams<Real> p = w.params();
+  p.solver = solver;
+  w.set_params(p);
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    for (int i = 0; i < steps; ++i) w.step();
+  });
+  std::vector<Real> out(w.positions().data(), w.positions().data() + 3 * w.num_particles());
+  out.insert(out.end(), w.velocities().data(), w.velocities().data() + 3 * w.num_particles());
+  return out;
+}
+
+TYPED_TEST(Contact, ContactsGiveTheSameBitsOnOneToFourThreads) {
+  using Real = TypeParam;
+  std::vector<std::pair<const char*, World<Real>>> scenes;
+  {
+    World<Real> w = pile<Real>(Solver::colored, 0.02, 16);  // large enough to generate its contacts in parallel
+    StepParams<Real> p = w.params();
+    p.substeps = 2;
+    w.set_params(p);
+    scenes.emplace_back("pile of 4096", std::move(w));
+  }
+  {
+    World<Real> w;
+    std::vector<Index> upper;
+    folded_cloth<Real>(w, 24, 12, 0.05, Solver::colored, upper);
+    scenes.emplace_back("folded cloth", std::move(w));
+  }
+  for (const auto& [label, world] : scenes)
+    for (Solver s : kSolvers) {
+      const std::vector<Real> reference = run_on(world, s, 1, 12);
+      for (int threads : {2, 3, 4})
+        EXPECT_TRUE(reference == run_on(world, s, threads, 12)) << label << ", " << name(s) << ", " << threads << " threads";
+    }
 }
 
 }  // namespace
