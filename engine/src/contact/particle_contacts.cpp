@@ -114,10 +114,15 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   for (Index i = 0; i < n; ++i)
     if (c.radius[i] > Real(0)) g.active.push_back(i);
   const Index count = Index(g.active.size());
-  // 2. the grid over p: two particles whose paths come within r_i + r_j + margin end within 2·r_max + margin +
-  // 2·s_max of each other, so with cells that wide they end in the same or neighbouring cells
+  // 2. the grid over p: two particles whose paths come within r_i + r_j + margin end within r_i + r_j + margin +
+  // |Δ_i − Δ_j| of each other (Δ = p − x), and |Δ_i − Δ_j| ≤ 2·s_max, s_max the largest |Δ − Δ̄| about the mean
+  // path Δ̄; with cells 2·r_max + margin + 2·s_max wide they end in the same or neighbouring cells. (About the mean:
+  // a falling cloth moves far in a sub-step, but its particles move nearly alike.)
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();  // one thread, particle order: the same bits on any thread count
+  for (Index i : g.active) mean += (p.col(i) - x.col(i)).template cast<double>();
+  const Vec3<Real> shared = (mean / double(std::max<Index>(1, count))).template cast<Real>();
   Real s_max2 = 0;
-  for (Index i : g.active) s_max2 = std::max(s_max2, Real((p.col(i) - x.col(i)).squaredNorm()));
+  for (Index i : g.active) s_max2 = std::max(s_max2, Real((p.col(i) - x.col(i) - shared).squaredNorm()));
   const Real cell = Real(2) * c.max_radius + margin + Real(2) * std::sqrt(s_max2);
   const Real inv = Real(1) / cell;
   std::uint32_t buckets = 1;

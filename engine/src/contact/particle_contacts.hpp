@@ -4,8 +4,8 @@
 //   1. cook      per particle: body, radius, material (when bodies or particles changed); for self-colliding
 //                bodies, the particles each one is joined to by a built-in constraint (when the model changed)
 //   2. grid      a spatial hash of the predicted positions p: cells of 2·r_max + margin + 2·s_max (s_max the
-//                longest path x → p of this sub-step, so two particles whose paths meet end in neighbouring cells
-//                however fast they moved), hashed into a table of about twice as many buckets as particles, filled
+//                largest departure of a path x → p from the mean path of this sub-step, so two particles whose paths
+//                meet end in neighbouring cells however fast they moved), hashed into a table of about twice as many buckets as particles, filled
 //                by a counting sort in particle order
 //   3. pairs     each particle i looks at its own cell (particles j > i) and the 13 cells after it (all), and keeps
 //                the pairs whose relative path (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous,
