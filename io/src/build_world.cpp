@@ -13,7 +13,8 @@ template <class Real> constexpr const char* precision() { return sizeof(Real) ==
 std::string shown(const Eigen::Vector3d& v) { return detail::message("(", v[0], ", ", v[1], ", ", v[2], ")"); }
 
 // Throws naming the first value of `d` that is finite in double but not in Real (1e300 as float), in the order
-// particles (position, velocity, inverse mass), stretch, anchors, area, volumes, planes, spheres, step parameters.
+// particles (position, velocity, inverse mass), stretch, anchors, area, volumes, planes, spheres (each with its
+// material), contact bodies (radius, material), step parameters.
 template <class Real> void check_range(const WorldDescription& d) {
   auto fits = [](double v) { return std::isfinite(Real(v)); };
   auto fits3 = [](const Eigen::Vector3d& v) { return v.cast<Real>().allFinite(); };
@@ -38,16 +39,38 @@ template <class Real> void check_range(const WorldDescription& d) {
   for (std::size_t i = 0; i < d.volumes.size(); ++i)
     if (!fits(d.volumes[i].rest))
       bad(detail::message("the rest volume of volume constraint ", i), detail::message(d.volumes[i].rest));
-  for (std::size_t i = 0; i < d.planes.size(); ++i)
+  // Restitution lies in [0, 1] and always fits; friction coefficients may be any finite value.
+  auto fits_material = [&](const ContactMaterial<double>& m) {
+    return fits(m.static_friction) && fits(m.kinetic_friction);
+  };
+  auto friction = [](const ContactMaterial<double>& m) {
+    return detail::message("static ", m.static_friction, ", kinetic ", m.kinetic_friction);
+  };
+  for (std::size_t i = 0; i < d.planes.size(); ++i) {
     if (!fits(d.planes[i].offset)) bad(detail::message("the offset of plane ", i), detail::message(d.planes[i].offset));
-  for (std::size_t i = 0; i < d.spheres.size(); ++i)
+    if (!fits_material(d.planes[i].material))
+      bad(detail::message("the friction of plane ", i), friction(d.planes[i].material));
+  }
+  for (std::size_t i = 0; i < d.spheres.size(); ++i) {
     if (!fits3(d.spheres[i].center) || !fits(d.spheres[i].radius))
       bad(detail::message("sphere ", i),
           detail::message("centre ", shown(d.spheres[i].center), ", radius ", d.spheres[i].radius));
+    if (!fits_material(d.spheres[i].material))
+      bad(detail::message("the friction of sphere ", i), friction(d.spheres[i].material));
+  }
+  for (std::size_t i = 0; i < d.contact_bodies.size(); ++i) {
+    const ContactBody<double>& b = d.contact_bodies[i];
+    if (!fits(b.radius)) bad(detail::message("the radius of contact body ", i), detail::message(b.radius));
+    if (!fits_material(b.material)) bad(detail::message("the friction of contact body ", i), friction(b.material));
+  }
   const StepParams<double>& p = d.params;
   if (!fits3(p.gravity) || !fits(p.dt) || !fits(p.damping))
     bad("a step parameter (dt, gravity or damping)",
         detail::message("dt ", p.dt, ", gravity ", shown(p.gravity), ", damping ", p.damping));
+}
+
+template <class Real> ContactMaterial<Real> cast_material(const ContactMaterial<double>& m) {
+  return {Real(m.static_friction), Real(m.kinetic_friction), Real(m.restitution)};
 }
 
 }  // namespace
@@ -72,8 +95,12 @@ template <class Real> World<Real> build_world(const WorldDescription& d) {
     w.add_bending(c.particles[0], c.particles[1], c.particles[2], c.particles[3], c.set, Real(c.rest));
   for (const AreaDescription& c : d.area) w.add_area(c.particles[0], c.particles[1], c.particles[2], c.set, Real(c.rest));
   for (const VolumeDescription& v : d.volumes) w.add_volume(v.triangles, v.set, v.pressure, Real(v.rest));
-  for (const PlaneDescription& p : d.planes) w.add_plane(Vec3<Real>(p.normal.cast<Real>()), Real(p.offset));
-  for (const SphereDescription& s : d.spheres) w.add_sphere(Vec3<Real>(s.center.cast<Real>()), Real(s.radius));
+  for (const PlaneDescription& p : d.planes)
+    w.add_plane(Vec3<Real>(p.normal.cast<Real>()), Real(p.offset), cast_material<Real>(p.material));
+  for (const SphereDescription& s : d.spheres)
+    w.add_sphere(Vec3<Real>(s.center.cast<Real>()), Real(s.radius), cast_material<Real>(s.material));
+  for (const ContactBody<double>& b : d.contact_bodies)
+    w.add_contact_body({b.first, b.count, Real(b.radius), cast_material<Real>(b.material), b.self_collision});
   const StepParams<double>& p = d.params;
   const Chebyshev<double>& c = p.chebyshev;
   w.set_params({Real(p.dt), p.substeps, p.iterations, Vec3<Real>(p.gravity.cast<Real>()), Real(p.damping),

@@ -1,6 +1,13 @@
 #include "pbd/io/describe_world.hpp"
 
 namespace pbd {
+namespace {
+
+template <class Real> ContactMaterial<double> to_double(const ContactMaterial<Real>& m) {
+  return {double(m.static_friction), double(m.kinetic_friction), double(m.restitution)};
+}
+
+}  // namespace
 
 template <class Real> WorldDescription describe_world(const World<Real>& w) {
   WorldDescription d;
@@ -24,8 +31,12 @@ template <class Real> WorldDescription describe_world(const World<Real>& w) {
   for (const auto& c : volumes.items)
     d.volumes.push_back({{volumes.triangles.begin() + c.triangle_begin, volumes.triangles.begin() + c.triangle_end},
                          c.set, double(c.rest), c.pressure});
-  for (const auto& p : w.colliders().planes) d.planes.push_back({p.normal.template cast<double>(), double(p.offset)});
-  for (const auto& s : w.colliders().spheres) d.spheres.push_back({s.center.template cast<double>(), double(s.radius)});
+  for (const auto& p : w.colliders().planes)
+    d.planes.push_back({p.normal.template cast<double>(), double(p.offset), to_double(p.material)});
+  for (const auto& s : w.colliders().spheres)
+    d.spheres.push_back({s.center.template cast<double>(), double(s.radius), to_double(s.material)});
+  for (const auto& b : w.contact_bodies())
+    d.contact_bodies.push_back({b.first, b.count, double(b.radius), to_double(b.material), b.self_collision});
   const StepParams<Real>& p = w.params();
   const Chebyshev<Real>& c = p.chebyshev;
   d.params = {double(p.dt), p.substeps, p.iterations, p.gravity.template cast<double>(), double(p.damping),

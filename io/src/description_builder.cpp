@@ -8,6 +8,7 @@
 #include "pbd/solver.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 // Every check, message and expression below is World<double>'s (engine/src/world.cpp), applied to the description's
@@ -33,6 +34,16 @@ void check_stiffness(const Stiffness& s, const std::string& what) {
   } else if (!(s.k >= 0.0 && s.k <= 1.0)) {
     throw Error(detail::message(what, ": stiffness k must be in [0, 1], got ", s.k));
   }
+}
+
+// Throws "<what>: ... friction must be ..." unless both frictions are finite and >= 0 and restitution is in [0, 1].
+void check_material(const ContactMaterial<double>& m, const std::string& what) {
+  if (!std::isfinite(m.static_friction) || m.static_friction < 0.0)
+    throw Error(detail::message(what, ": static friction must be finite and >= 0, got ", m.static_friction));
+  if (!std::isfinite(m.kinetic_friction) || m.kinetic_friction < 0.0)
+    throw Error(detail::message(what, ": kinetic friction must be finite and >= 0, got ", m.kinetic_friction));
+  if (!(m.restitution >= 0.0 && m.restitution <= 1.0))
+    throw Error(detail::message(what, ": restitution must be in [0, 1], got ", m.restitution));
 }
 
 }  // namespace
@@ -153,20 +164,40 @@ Index DescriptionBuilder::add_volume(std::span<const std::array<Index, 3>> trian
   return Index(index);
 }
 
-void DescriptionBuilder::add_plane(const Vec& normal, double offset) {
+void DescriptionBuilder::add_plane(const Vec& normal, double offset, const ContactMaterial<double>& material) {
   const std::string what = detail::message("add_plane: plane ", d_.planes.size());
   if (!finite(normal) || !std::isfinite(offset)) throw Error(what + ": normal and offset must be finite");
   const double len = normal.norm();
   if (!(len > 0.0)) throw Error(what + ": normal has zero length");
-  d_.planes.push_back({normal / len, offset / len});
+  check_material(material, what);
+  d_.planes.push_back({normal / len, offset / len, material});
 }
 
-void DescriptionBuilder::add_sphere(const Vec& center, double radius) {
+void DescriptionBuilder::add_sphere(const Vec& center, double radius, const ContactMaterial<double>& material) {
   const std::string what = detail::message("add_sphere: sphere ", d_.spheres.size());
   if (!finite(center)) throw Error(what + ": center is not finite");
   if (!std::isfinite(radius) || !(radius > 0.0))
     throw Error(detail::message(what, ": radius must be finite and > 0, got ", radius));
-  d_.spheres.push_back({center, radius});
+  check_material(material, what);
+  d_.spheres.push_back({center, radius, material});
+}
+
+Index DescriptionBuilder::add_contact_body(const ContactBody<double>& body) {
+  auto& bodies = d_.contact_bodies;
+  const std::string what = detail::message("add_contact_body: body ", bodies.size());
+  const Index n = num_particles();
+  if (body.count == 0 || body.first >= n || body.count > n - body.first)
+    throw Error(detail::message(what, ": particles [", body.first, ", ", std::uint64_t(body.first) + body.count,
+                                ") are not a non-empty range of the ", n, " particles"));
+  if (!std::isfinite(body.radius) || body.radius < 0.0)
+    throw Error(detail::message(what, ": radius must be finite and >= 0, got ", body.radius));
+  check_material(body.material, what);
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if (body.first < bodies[b].first + bodies[b].count && bodies[b].first < body.first + body.count)
+      throw Error(detail::message(what, ": particles [", body.first, ", ", body.first + body.count,
+                                  ") overlap those of contact body ", b));
+  bodies.push_back(body);
+  return Index(bodies.size() - 1);
 }
 
 void DescriptionBuilder::set_params(const StepParams<double>& p) {

@@ -62,16 +62,18 @@ public:
     std::string what = e.what();
     if (const auto end = what.find("] "); what.rfind("[json.exception.", 0) == 0 && end != std::string::npos)
       what.erase(0, end + 2);
+    std::string where;  // the key, for a value the lexer read but cannot hold
     if (what.rfind("parse error", 0) != 0) {  // e.g. "number overflow parsing '1e400'": add where it is
       const std::size_t at = std::min(position, text_.size());
       const std::size_t line = 1 + std::size_t(std::count(text_.begin(), text_.begin() + std::ptrdiff_t(at), '\n'));
       const std::size_t line_start = text_.rfind('\n', at == 0 ? 0 : at - 1);
       const std::size_t column = line_start == std::string::npos || at == 0 ? at : at - line_start - 1;
       what = message("parse error at line ", line, ", column ", column, ": ", what);
+      if (!open_.empty()) where = reading() + ": ";
     }
     bool cut = false;
     what = head(what, 240, cut) + (cut ? "..." : "");
-    throw Error(message(file_, ": ", what));
+    throw Error(message(file_, ": ", where, what));
   }
 
 private:
@@ -104,6 +106,14 @@ private:
     std::string p;
     for (const auto& token : path_) p += "/" + token;
     return p;
+  }
+  // Pointer of the value being read (open_ not empty): the next element of an array, or the value of the key just
+  // read in an object.
+  std::string reading() const {
+    std::string p;
+    for (std::size_t i = 0; i + 1 < path_.size(); ++i) p += "/" + path_[i];
+    const json& innermost = *open_.back();
+    return p + "/" + (innermost.is_array() ? std::to_string(innermost.size()) : path_.back());
   }
 
   json& root_;

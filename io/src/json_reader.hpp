@@ -41,6 +41,8 @@ public:
   std::array<double, 3> vec3(const std::string& key) const;
   std::array<double, 3> vec3(const std::string& key, std::array<double, 3> fallback) const;
   JsonObject object(const std::string& key) const;
+  /// The value under `key` (required) as it is, for a key that takes more than one type (a number or an object).
+  const nlohmann::json& value(const std::string& key) const { return at(key); }
   /// Elements of an array under `key` (required), each with its own path.
   std::vector<std::pair<const nlohmann::json*, std::string>> array(const std::string& key) const;
 

@@ -1,6 +1,7 @@
 #include "pbd/io/scene.hpp"
 
 #include "json_reader.hpp"
+#include "scene_contact.hpp"
 #include "pbd/detail/message.hpp"
 #include "pbd/io/description_builder.hpp"
 #include "pbd/io/generators.hpp"
@@ -263,6 +264,8 @@ Body read_particles(const JsonObject& o, DescriptionBuilder& world) {
   return b;
 }
 
+// {"type": "plane", "normal", "offset"} or {"type": "sphere", "center", "radius"}, each with the optional surface
+// keys "friction" and "restitution" (scene_contact.hpp).
 void read_collider(const nlohmann::json& v, const std::string& file, const std::string& path, DescriptionBuilder& world) {
   const JsonObject c(v, file, path);
   const std::string type = c.string("type");
@@ -270,9 +273,11 @@ void read_collider(const nlohmann::json& v, const std::string& file, const std::
     const Eigen::Vector3d n = direction(c, "normal", c.vec3("normal"));
     const double offset = c.number("offset", -kInf, kInf, 0.0) * n.norm();  // n·x >= d with n not yet normalized
     if (!std::isfinite(offset)) c.fail("offset", "offset × |normal| overflows");
-    world.add_plane(n, offset);
+    world.add_plane(n, offset, detail::read_contact_material(c));
   } else if (type == "sphere") {
-    world.add_sphere(vec(c.vec3("center")), c.number("radius", 1e-9, kInf));
+    const Eigen::Vector3d center = vec(c.vec3("center"));
+    const double radius = c.number("radius", 1e-9, kInf);
+    world.add_sphere(center, radius, detail::read_contact_material(c));
   } else {
     c.fail("type", message("unknown collider type ", detail::quoted(type), " (expected \"plane\" or \"sphere\")"));
   }
@@ -339,6 +344,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
       else b.fail("type", message("unknown body type ", detail::quoted(type),
                                   " (expected \"cloth\", \"rope\", \"particles\" or \"mesh\")"));
       read_anchors(b, world, body);
+      detail::read_contact_body(b, body, world);
       b.reject_unknown_keys();
       if (scene.triangles.empty()) scene.triangles = std::move(body.triangles);
       else scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());

@@ -13,6 +13,14 @@
 namespace pbd {
 namespace {
 
+// Expects the material `m` to be the cast of `d`, coefficient by coefficient.
+template <class Real>
+void expect_material_cast(const ContactMaterial<double>& d, const ContactMaterial<Real>& m, const std::string& what) {
+  EXPECT_EQ(m.static_friction, Real(d.static_friction)) << what;
+  EXPECT_EQ(m.kinetic_friction, Real(d.kinetic_friction)) << what;
+  EXPECT_EQ(m.restitution, Real(d.restitution)) << what;
+}
+
 // Expects every value of `w` to be Real(value of d), bit for bit, and the constraints in the description's order.
 template <class Real> void expect_cast_of(const WorldDescription& d, const World<Real>& w, const std::string& what) {
   ASSERT_EQ(w.num_particles(), d.num_particles()) << what;
@@ -50,11 +58,24 @@ template <class Real> void expect_cast_of(const WorldDescription& d, const World
   for (std::size_t i = 0; i < d.planes.size(); ++i) {
     EXPECT_EQ(w.colliders().planes[i].normal, d.planes[i].normal.cast<Real>()) << what << " plane " << i;
     EXPECT_EQ(w.colliders().planes[i].offset, Real(d.planes[i].offset)) << what << " plane " << i;
+    expect_material_cast(d.planes[i].material, w.colliders().planes[i].material, what + " plane " + std::to_string(i));
   }
   ASSERT_EQ(w.colliders().spheres.size(), d.spheres.size()) << what;
   for (std::size_t i = 0; i < d.spheres.size(); ++i) {
     EXPECT_EQ(w.colliders().spheres[i].center, d.spheres[i].center.cast<Real>()) << what << " sphere " << i;
     EXPECT_EQ(w.colliders().spheres[i].radius, Real(d.spheres[i].radius)) << what << " sphere " << i;
+    expect_material_cast(d.spheres[i].material, w.colliders().spheres[i].material,
+                         what + " sphere " + std::to_string(i));
+  }
+  ASSERT_EQ(w.contact_bodies().size(), d.contact_bodies.size()) << what;
+  for (std::size_t i = 0; i < d.contact_bodies.size(); ++i) {
+    const ContactBody<Real>& b = w.contact_bodies()[i];
+    const std::string body = what + " contact body " + std::to_string(i);
+    EXPECT_EQ(b.first, d.contact_bodies[i].first) << body;
+    EXPECT_EQ(b.count, d.contact_bodies[i].count) << body;
+    EXPECT_EQ(b.radius, Real(d.contact_bodies[i].radius)) << body;
+    EXPECT_EQ(b.self_collision, d.contact_bodies[i].self_collision) << body;
+    expect_material_cast(d.contact_bodies[i].material, b.material, body);
   }
   EXPECT_EQ(w.params().dt, Real(d.params.dt)) << what;
   EXPECT_EQ(w.params().gravity, d.params.gravity.cast<Real>()) << what;
@@ -176,6 +197,26 @@ TEST(BuildWorld, RefusesValuesOutOfFloatRangeNamingThem) {
     World<double> w = small_world();
     w.add_sphere({0, 0, 0}, 1e100);
     expect_throws(w, {"sphere 0", "1e+100"});
+  }
+  {
+    World<double> w = small_world();
+    w.add_plane({0, 0, 1}, 0, {0.5, 1e200, 0});
+    expect_throws(w, {"the friction of plane 1", "kinetic 1e+200"});
+  }
+  {
+    World<double> w = small_world();
+    w.add_sphere({0, 0, 0}, 1, {1e200, 0, 0});
+    expect_throws(w, {"the friction of sphere 0", "static 1e+200"});
+  }
+  {
+    World<double> w = small_world();
+    w.add_contact_body({0, 2, 1e100, {}, false});
+    expect_throws(w, {"the radius of contact body 0", "1e+100"});
+  }
+  {
+    World<double> w = small_world();
+    w.add_contact_body({0, 3, 0.1, {1e300, 1e300, 0.5}, true});
+    expect_throws(w, {"the friction of contact body 0", "1e+300"});
   }
 }
 

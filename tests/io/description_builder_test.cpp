@@ -18,6 +18,13 @@
 namespace pbd {
 namespace {
 
+// Expects two contact materials to be equal, coefficient by coefficient.
+void expect_same_material(const ContactMaterial<double>& a, const ContactMaterial<double>& b, const std::string& what) {
+  EXPECT_EQ(a.static_friction, b.static_friction) << what;
+  EXPECT_EQ(a.kinetic_friction, b.kinetic_friction) << what;
+  EXPECT_EQ(a.restitution, b.restitution) << what;
+}
+
 // Expects `a` and `b` to hold the same values, each compared exactly.
 void expect_same(const WorldDescription& a, const WorldDescription& b) {
   EXPECT_EQ(a.positions, b.positions);
@@ -56,11 +63,22 @@ void expect_same(const WorldDescription& a, const WorldDescription& b) {
   for (std::size_t i = 0; i < a.planes.size(); ++i) {
     EXPECT_EQ(a.planes[i].normal, b.planes[i].normal) << "plane " << i;
     EXPECT_EQ(a.planes[i].offset, b.planes[i].offset) << "plane " << i;
+    expect_same_material(a.planes[i].material, b.planes[i].material, "plane " + std::to_string(i));
   }
   ASSERT_EQ(a.spheres.size(), b.spheres.size());
   for (std::size_t i = 0; i < a.spheres.size(); ++i) {
     EXPECT_EQ(a.spheres[i].center, b.spheres[i].center) << "sphere " << i;
     EXPECT_EQ(a.spheres[i].radius, b.spheres[i].radius) << "sphere " << i;
+    expect_same_material(a.spheres[i].material, b.spheres[i].material, "sphere " + std::to_string(i));
+  }
+  ASSERT_EQ(a.contact_bodies.size(), b.contact_bodies.size());
+  for (std::size_t i = 0; i < a.contact_bodies.size(); ++i) {
+    const std::string what = "contact body " + std::to_string(i);
+    EXPECT_EQ(a.contact_bodies[i].first, b.contact_bodies[i].first) << what;
+    EXPECT_EQ(a.contact_bodies[i].count, b.contact_bodies[i].count) << what;
+    EXPECT_EQ(a.contact_bodies[i].radius, b.contact_bodies[i].radius) << what;
+    EXPECT_EQ(a.contact_bodies[i].self_collision, b.contact_bodies[i].self_collision) << what;
+    expect_same_material(a.contact_bodies[i].material, b.contact_bodies[i].material, what);
   }
   EXPECT_EQ(a.params.dt, b.params.dt);
   EXPECT_EQ(a.params.gravity, b.params.gravity);
@@ -81,7 +99,9 @@ template <class Target> void build_everything(Target& w) {
   rope.particles = 12;
   rope.direction = {1.0, 2.0, -0.5};
   rope.end_mass = 1000.0;
-  add_rope(w, rope, w.add_constraint_set(Stiffness::iteration_independent(0.5)));
+  const Body r = add_rope(w, rope, w.add_constraint_set(Stiffness::iteration_independent(0.5)));
+  w.add_contact_body({c.first_particle, c.num_particles, 0.02, {0.6, 0.4, 0.1}, true});
+  w.add_contact_body({r.first_particle, r.num_particles, 0.0, {}, false});
   MeshConstraintSets all;
   all.stretch = w.add_constraint_set(Stiffness::pbd_k(1.0));
   all.bending = w.add_constraint_set(Stiffness::pbd_k(0.3));
@@ -108,8 +128,9 @@ template <class Target> void build_everything(Target& w) {
   w.add_bending(0, 1, 10, 9, s, 2.5);
   w.add_area(0, 1, 10, s, 0.125);
   w.add_plane({0.3, -0.2, 1.1}, 0.7);
-  w.add_plane({0, 0, 2}, -1);
+  w.add_plane({0, 0, 2}, -1, {0.8, 0.5, 0.25});
   w.add_sphere({0.5, 0.5, 0.2}, 0.3);
+  w.add_sphere({-0.5, 0.5, 0.2}, 0.1, {0.0, 1e3, 1.0});
   StepParams<double> p;
   p.dt = 1.0 / 240;
   p.substeps = 3;
@@ -194,6 +215,22 @@ TEST(DescriptionBuilder, TheSameBadCallsGiveWorldDoublesErrors) {
   expect_same_error([&](auto& w) { w.add_plane({0, 0, 1}, inf); });
   expect_same_error([](auto& w) { w.add_sphere({0, 0, 0}, 0.0); });
   expect_same_error([&](auto& w) { w.add_sphere({nan, 0, 0}, 1.0); });
+  expect_same_error([](auto& w) { w.add_plane({0, 0, 1}, 0.0, {-0.1, 0.0, 0.0}); });
+  expect_same_error([&](auto& w) { w.add_plane({0, 0, 1}, 0.0, {0.0, nan, 0.0}); });
+  expect_same_error([&](auto& w) { w.add_sphere({0, 0, 0}, 1.0, {inf, 0.0, 0.0}); });
+  expect_same_error([](auto& w) { w.add_sphere({0, 0, 0}, 1.0, {0.0, 0.0, 1.5}); });
+  expect_same_error([&](auto& w) { w.add_sphere({0, 0, 0}, 1.0, {0.0, 0.0, nan}); });
+  expect_same_error([](auto& w) { w.add_contact_body({0, 0, 0.1, {}, false}); });           // empty
+  expect_same_error([](auto& w) { w.add_contact_body({0, 1u << 30, 0.1, {}, false}); });    // past the end
+  expect_same_error([](auto& w) { w.add_contact_body({0xffffffffu, 2, 0.1, {}, false}); });  // first + count wraps
+  expect_same_error([](auto& w) { w.add_contact_body({90, 5, 0.1, {}, false}); });          // overlaps body 1 (rope)
+  expect_same_error([&](auto& w) {
+    const Index last = w.num_particles() - 1;  // the explicit particles: in no contact body yet
+    w.add_contact_body({last, 1, -0.01, {}, false});
+  });
+  expect_same_error([&](auto& w) { w.add_contact_body({w.num_particles() - 1, 1, inf, {}, false}); });
+  expect_same_error([&](auto& w) { w.add_contact_body({w.num_particles() - 1, 1, 0.0, {0.0, -2.0, 0.0}, false}); });
+  expect_same_error([&](auto& w) { w.add_contact_body({w.num_particles() - 1, 1, 0.0, {0.0, 0.0, -0.5}, true}); });
   expect_same_error([](auto& w) {
     StepParams<double> p;
     p.dt = 0;

@@ -6,8 +6,9 @@
 
 namespace pbd {
 
-/// The description of `world` as it is now (current positions and velocities; time, user-defined constraint types
-/// and solver settings are not described): build_world<double>(describe_world(w)) is w in double.
+/// The description of `world` as it is now (current positions and velocities; colliders with their materials and
+/// contact bodies included; time, user-defined constraint types and solver settings are not described):
+/// build_world<double>(describe_world(w)) is w in double.
 template <class Real> WorldDescription describe_world(const World<Real>& world);
 
 }  // namespace pbd

@@ -35,10 +35,14 @@ public:
   /// As World::add_volume: a closed, consistently oriented mesh; rest in the 6V unit, by default the current one.
   Index add_volume(std::span<const std::array<Index, 3>> triangles, Index set, const PressureSchedule& pressure = {},
                    std::optional<double> rest = std::nullopt);
-  /// As World::add_plane: n·x ≥ offset, stored with the unit normal.
-  void add_plane(const Vec& normal, double offset);
-  /// As World::add_sphere.
-  void add_sphere(const Vec& center, double radius);
+  /// As World::add_plane: n·x ≥ offset (m), stored with the unit normal; its surface's friction (μs, μk ≥ 0) and
+  /// restitution (in [0, 1]).
+  void add_plane(const Vec& normal, double offset, const ContactMaterial<double>& material = {});
+  /// As World::add_sphere: centre and radius in m (radius > 0), and its surface's material.
+  void add_sphere(const Vec& center, double radius, const ContactMaterial<double>& material = {});
+  /// As World::add_contact_body: particles [body.first, body.first + body.count), existing and in no other contact
+  /// body, with a radius in m (≥ 0) and a material. Returns the body's index.
+  Index add_contact_body(const ContactBody<double>& body);
   /// As World::set_params.
   void set_params(const StepParams<double>& params);
 

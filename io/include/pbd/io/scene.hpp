@@ -1,11 +1,12 @@
 #pragma once
 /// \file scene.hpp
-/// Scenes: JSON files naming particles or generators, constraint sets, colliders and step parameters.
-/// The format is documented in docs/scenes.md; any unknown key, wrong type or out-of-range value is a pbd::Error
-/// naming the file and the key (as a JSON Pointer, e.g. "cloth.json: /bodies/0/resolution: ..."), and so is a key
-/// given twice in one object or arrays and objects nested more than 64 deep. Malformed JSON (also a number beyond
-/// double range such as 1e400) names the line and column. Limits, checked before anything is allocated: a scene text
-/// of at most 64 MiB and 50 million particles in all (a body that would pass it is refused by its size key).
+/// Scenes: JSON files naming particles or generators, constraint sets, contact bodies, colliders (with their
+/// materials) and step parameters. The format is documented in docs/scenes.md; any unknown key, wrong type or
+/// out-of-range value is a pbd::Error naming the file and the key (as a JSON Pointer, e.g.
+/// "cloth.json: /bodies/0/resolution: ..."), and so is a key given twice in one object or arrays and objects nested
+/// more than 64 deep. Malformed JSON names the line and column (a number beyond double range such as 1e400 also its
+/// key). Limits, checked before anything is allocated: a scene text of at most 64 MiB and 50 million particles in all
+/// (a body that would pass it is refused by its size key).
 #include "pbd/io/world_description.hpp"
 
 #include <filesystem>

@@ -1,9 +1,11 @@
 #pragma once
 /// \file world_description.hpp
 /// A world described without a precision: every particle, constraint (with its rest value already computed),
-/// collider and step parameter in double. build_world<Real>() (build_world.hpp) makes a World<Real> of it that holds
-/// exactly Real(value) for each value here, as a World<double> cast to Real would.
+/// collider, contact body and step parameter in double. build_world<Real>() (build_world.hpp) makes a World<Real> of
+/// it that holds exactly Real(value) for each value here, as a World<double> cast to Real would.
+#include "pbd/constraints/contact_material.hpp"
 #include "pbd/constraints/volume.hpp"
+#include "pbd/contacts.hpp"
 #include "pbd/stiffness.hpp"
 #include "pbd/types.hpp"
 #include "pbd/world.hpp"
@@ -41,14 +43,16 @@ struct VolumeDescription {
 
 /// A half-space n·x ≥ offset.
 struct PlaneDescription {
-  Eigen::Vector3d normal;  ///< unit normal, pointing out of the solid
-  double offset = 0.0;     ///< n·x of any point x on the plane, in m
+  Eigen::Vector3d normal;              ///< unit normal, pointing out of the solid
+  double offset = 0.0;                 ///< n·x of any point x on the plane, in m
+  ContactMaterial<double> material{};  ///< its surface's friction (μs, μk ≥ 0) and restitution (in [0, 1])
 };
 
 /// A solid ball.
 struct SphereDescription {
-  Eigen::Vector3d center;  ///< centre in m
-  double radius = 0.0;     ///< radius in m, > 0
+  Eigen::Vector3d center;              ///< centre in m
+  double radius = 0.0;                 ///< radius in m, > 0
+  ContactMaterial<double> material{};  ///< its surface's friction (μs, μk ≥ 0) and restitution (in [0, 1])
 };
 
 /// Everything a World<Real> is built from, in double precision, in the order the world holds it.
@@ -64,6 +68,9 @@ struct WorldDescription {
   std::vector<VolumeDescription> volumes;      ///< volume constraints, in insertion order
   std::vector<PlaneDescription> planes;        ///< plane colliders
   std::vector<SphereDescription> spheres;      ///< sphere colliders
+  /// Contact bodies (contacts.hpp: particle runs with a radius in m, a material and self-collision), in the order
+  /// added; disjoint.
+  std::vector<ContactBody<double>> contact_bodies;
   StepParams<double> params;                   ///< step parameters
   BlockOptions blocking;                       ///< how the block solver splits the particles
 

@@ -1,0 +1,50 @@
+#include "scene_contact.hpp"
+
+#include "pbd/detail/message.hpp"
+
+namespace pbd::detail {
+
+ContactMaterial<double> read_contact_material(const JsonObject& o) {
+  ContactMaterial<double> m;
+  if (o.has("friction")) {
+    const nlohmann::json& f = o.value("friction");
+    if (f.is_number()) {
+      m.static_friction = m.kinetic_friction = o.number("friction", 0.0, kInf);
+    } else if (f.is_object()) {
+      const JsonObject fo = o.object("friction");
+      const bool has_static = fo.has("static"), has_kinetic = fo.has("kinetic");
+      if (!has_static && !has_kinetic)
+        o.fail("friction", "give \"static\", \"kinetic\" or both (or one number for both)");
+      // An omitted coefficient takes the other's value: {"static": μ} and {"kinetic": μ} both mean μs = μk = μ.
+      if (has_static) m.static_friction = fo.number("static", 0.0, kInf);
+      if (has_kinetic) m.kinetic_friction = fo.number("kinetic", 0.0, kInf);
+      if (!has_static) m.static_friction = m.kinetic_friction;
+      if (!has_kinetic) m.kinetic_friction = m.static_friction;
+      fo.reject_unknown_keys();
+    } else {
+      o.fail("friction", message("expected a number or an object {\"static\": ..., \"kinetic\": ...}, got ",
+                                 describe(f)));
+    }
+  }
+  m.restitution = o.number("restitution", 0.0, 1.0, 0.0);
+  return m;
+}
+
+void read_contact_body(const JsonObject& o, const Body& body, DescriptionBuilder& world) {
+  if (!o.has("contact")) return;
+  const JsonObject c = o.object("contact");
+  ContactBody<double> b;
+  b.first = body.first_particle;  // exactly the body's particles: a scene body is one contiguous run
+  b.count = body.num_particles;
+  b.radius = c.number("radius", 0.0, kMaxContactRadius, 0.0);
+  b.material = read_contact_material(c);
+  b.self_collision = c.boolean("self_collision", false);
+  c.reject_unknown_keys();
+  try {
+    world.add_contact_body(b);  // every value is checked above; this refuses only an empty or overlapping run
+  } catch (const Error& e) {
+    o.fail("contact", e.what());
+  }
+}
+
+}  // namespace pbd::detail

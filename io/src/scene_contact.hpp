@@ -1,0 +1,24 @@
+#pragma once
+// Scene keys of contacts (docs/scenes.md): the "friction" and "restitution" of a collider or of a body's "contact"
+// object, and a body's "contact" object, which makes the body a contact body. Private to pbd::io.
+#include "json_reader.hpp"
+#include "pbd/constraints/contact_material.hpp"
+#include "pbd/io/description_builder.hpp"
+#include "pbd/io/generators.hpp"
+
+namespace pbd::detail {
+
+/// Largest contact radius a scene may give, m: the largest length any scene key takes.
+inline constexpr double kMaxContactRadius = 1e6;
+
+/// The material under `o`'s optional keys "friction" and "restitution" (each absent: 0). "friction" is a number μ ≥ 0
+/// (μs = μk = μ) or {"static": μs, "kinetic": μk} with at least one of the two, an omitted one taking the other's
+/// value; "restitution" is in [0, 1]. Errors name the file and the key.
+ContactMaterial<double> read_contact_material(const JsonObject& o);
+
+/// The optional "contact" object of the body object `o`: {"radius": m ≥ 0 (0), "friction", "restitution",
+/// "self_collision": bool (false)}. When present, `body`'s particles become a contact body of `world`; absent,
+/// nothing is added.
+void read_contact_body(const JsonObject& o, const Body& body, DescriptionBuilder& world);
+
+}  // namespace pbd::detail
