@@ -36,11 +36,11 @@ namespace {
 
 using Cell = std::array<std::int32_t, 3>;
 
-template <class Real> Cell cell_of(const Vec3<Real>& q, Real inv) {
-  auto axis = [&](Real u) {  // clamped so that a far particle cannot overflow (it only shares a cell more often)
-    return std::int32_t(std::clamp(std::floor(u * inv), Real(-1e9), Real(1e9)));
+template <class Real> Cell cell_of(const Vec3<Real>& q, const Vec3<Real>& inv) {
+  auto axis = [&](int d) {  // clamped so that a far particle cannot overflow (it only shares a cell more often)
+    return std::int32_t(std::clamp(std::floor(q[d] * inv[d]), Real(-1e9), Real(1e9)));
   };
-  return {axis(q.x()), axis(q.y()), axis(q.z())};
+  return {axis(0), axis(1), axis(2)};
 }
 
 std::uint32_t hash_cell(std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t mask) {
@@ -95,6 +95,7 @@ template <class Real> Vec3<Real> first_contact_normal(const Vec3<Real>& d0, cons
 }
 
 constexpr Index kChunks = 64;  // fixed, so the output never depends on the thread count
+constexpr std::uint64_t kMaxCells = 4096;  // a swept box over more cells is tested against every particle
 
 }  // namespace
 
@@ -114,89 +115,122 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   for (Index i = 0; i < n; ++i)
     if (c.radius[i] > Real(0)) g.active.push_back(i);
   const Index count = Index(g.active.size());
-  // 2. the grid over p: two particles whose paths come within r_i + r_j + margin end within r_i + r_j + margin +
-  // |Δ_i − Δ_j| of each other (Δ = p − x), and |Δ_i − Δ_j| ≤ 2·s_max, s_max the largest |Δ − Δ̄| about the mean
-  // path Δ̄; with cells 2·r_max + margin + 2·s_max wide they end in the same or neighbouring cells. (About the mean:
-  // a falling cloth moves far in a sub-step, but its particles move nearly alike.)
+  // 2. swept boxes in the frame that moves with the mean path Δ̄ (relative paths, all a pair test reads, are the
+  // same there; a falling cloth's boxes stay short)
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();  // one thread, particle order: the same bits on any thread count
   for (Index i : g.active) mean += (p.col(i) - x.col(i)).template cast<double>();
   const Vec3<Real> shared = (mean / double(std::max<Index>(1, count))).template cast<Real>();
-  Real s_max2 = 0;
-  for (Index i : g.active) s_max2 = std::max(s_max2, Real((p.col(i) - x.col(i) - shared).squaredNorm()));
-  const Real cell = Real(2) * c.max_radius + margin + Real(2) * std::sqrt(s_max2);
-  const Real inv = Real(1) / cell;
+  // Cells 2·r_max + margin wide, stretched along each axis by twice the mean departure from Δ̄ along it: boxes then
+  // cover a few cells each whichever way the bodies move (the boxes alone decide which pairs are tested, so the
+  // cells' shape changes only the cost).
+  Eigen::Vector3d spread = Eigen::Vector3d::Zero();
+  for (Index i : g.active) spread += (p.col(i) - x.col(i) - shared).template cast<double>().cwiseAbs();
+  const Vec3<Real> inv = (Real(2) * c.max_radius + margin +
+                          Real(2) * (spread / double(std::max<Index>(1, count))).template cast<Real>().array())
+                             .cwiseInverse()
+                             .matrix();
+  g.lo.resize(n);
+  g.hi.resize(n);
+  g.huge.clear();
+  std::size_t entries = 0;
+  for (Index i : g.active) {
+    const Vec3<Real> a = x.col(i), b = p.col(i) - shared;
+    const Real grow = c.radius[i] + Real(0.5) * margin;
+    g.lo[i] = cell_of<Real>(Vec3<Real>(a.cwiseMin(b).array() - grow), inv);
+    g.hi[i] = cell_of<Real>(Vec3<Real>(a.cwiseMax(b).array() + grow), inv);
+    std::uint64_t cells = 1;
+    for (int d = 0; d < 3; ++d) cells *= std::uint64_t(std::int64_t(g.hi[i][d]) - g.lo[i][d] + 1);
+    if (cells > kMaxCells) g.huge.push_back(i);  // tested against every particle instead (below)
+    else entries += cells;
+  }
   std::uint32_t buckets = 1;
-  while (buckets < 2 * std::uint32_t(count)) buckets <<= 1;
+  while (buckets < 2 * entries) buckets <<= 1;
   const std::uint32_t mask = buckets - 1;
   g.bucket_start.assign(std::size_t(buckets) + 1, 0);
-  g.bucket_of.resize(count);
-  g.cell.resize(n);
-  for (Index k = 0; k < count; ++k) {
-    const Index i = g.active[k];
-    const Cell q = cell_of<Real>(p.col(i), inv);
-    g.cell[i] = q;
-    g.bucket_of[k] = hash_cell(q[0], q[1], q[2], mask);
-    ++g.bucket_start[g.bucket_of[k] + 1];
+  auto for_each_cell = [&](Index i, const auto& f) {
+    for (std::int32_t cx = g.lo[i][0]; cx <= g.hi[i][0]; ++cx)
+      for (std::int32_t cy = g.lo[i][1]; cy <= g.hi[i][1]; ++cy)
+        for (std::int32_t cz = g.lo[i][2]; cz <= g.hi[i][2]; ++cz) f(Cell{cx, cy, cz});
+  };
+  const std::size_t huge_begin = 0;
+  std::size_t h = huge_begin;
+  for (Index i : g.active) {
+    if (h < g.huge.size() && g.huge[h] == i) {
+      ++h;
+      continue;
+    }
+    for_each_cell(i, [&](const Cell& q) { ++g.bucket_start[hash_cell(q[0], q[1], q[2], mask) + 1]; });
   }
   for (std::uint32_t b = 0; b < buckets; ++b) g.bucket_start[b + 1] += g.bucket_start[b];
-  g.bucket_items.resize(count);
+  g.entries.resize(entries);
   {
     std::vector<Index> fill(g.bucket_start.begin(), g.bucket_start.end() - 1);
-    for (Index k = 0; k < count; ++k) g.bucket_items[fill[g.bucket_of[k]]++] = g.active[k];
+    h = huge_begin;
+    for (Index i : g.active) {  // particle order within each bucket
+      if (h < g.huge.size() && g.huge[h] == i) {
+        ++h;
+        continue;
+      }
+      for_each_cell(i, [&](const Cell& q) { g.entries[fill[hash_cell(q[0], q[1], q[2], mask)]++] = {i, q}; });
+    }
   }
-  // 3. pairs: particle i takes the particles j > i of its own cell and every particle of the 13 cells after it
-  // (a pair in two cells is found once, from the earlier cell), checked against their exact cells (hash
-  // collisions would find a pair twice)
-  const Index chunks = std::min<Index>(kChunks, std::max<Index>(1, count));
-  g.chunks.resize(chunks);
+  // 3. pairs: in each bucket, two entries of the same cell are a candidate pair when that cell is the first their
+  // boxes share (the larger of their lower corners), so a pair is found once whichever cells they share
+  auto test_pair = [&](Index i, Index j, std::vector<ParticleContact<Real>>& mine) {  // i < j
+    if (m.inverse_mass[i] == Real(0) && m.inverse_mass[j] == Real(0)) return;
+    const Index bi = c.body_of[i];
+    if (c.body_of[j] == bi) {
+      if (!c.bodies[bi].self_collision) return;
+      const Index* row = g.joined.data() + g.joined_offsets[i];
+      const Index* row_end = g.joined.data() + g.joined_offsets[i + 1];
+      if (std::binary_search(row, row_end, j)) return;
+    }
+    const Real R = c.radius[i] + c.radius[j];
+    const Vec3<Real> d0 = x.col(i) - x.col(j), d1 = p.col(i) - p.col(j);
+    const Vec3<Real> e = d1 - d0;
+    const Real ee = e.squaredNorm();
+    const Real t = ee > Real(0) ? std::clamp(-d0.dot(e) / ee, Real(0), Real(1)) : Real(0);
+    if ((d0 + t * e).squaredNorm() >= (R + margin) * (R + margin)) return;
+    const Vec3<Real> nrm = first_contact_normal(d0, d1, R);
+    mine.push_back({{i, j}, nrm, R, d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))),
+                    mix_materials(c.material[i], c.material[j])});
+  };
+  const Index chunks = Index(std::min<std::uint32_t>(kChunks, buckets));
+  g.chunks.resize(chunks + 1);
   auto chunk = [&](Index ch) {
     std::vector<ParticleContact<Real>>& mine = g.chunks[ch];
     mine.clear();
-    const Index kb = Index(std::uint64_t(ch) * count / chunks), ke = Index(std::uint64_t(ch + 1) * count / chunks);
-    for (Index k = kb; k < ke; ++k) {
-      const Index i = g.active[k];
-      const Cell ci = g.cell[i];
-      const Vec3<Real> xi = x.col(i), pi = p.col(i);
-      const Real ri = c.radius[i];
-      const Index bi = c.body_of[i];
-      for (int dx = 0; dx <= 1; ++dx)
-        for (int dy = dx ? -1 : 0; dy <= 1; ++dy)
-          for (int dz = (dx || dy) ? -1 : 0; dz <= 1; ++dz) {
-            const Cell cj = {ci[0] + dx, ci[1] + dy, ci[2] + dz};
-            const bool same = dx == 0 && dy == 0 && dz == 0;
-            const std::uint32_t b = hash_cell(cj[0], cj[1], cj[2], mask);
-            for (Index s = g.bucket_start[b]; s < g.bucket_start[b + 1]; ++s) {
-              const Index j = g.bucket_items[s];
-              const Cell& cell_j = g.cell[j];
-              if ((same && j <= i) || cell_j[0] != cj[0] || cell_j[1] != cj[1] || cell_j[2] != cj[2]) continue;
-              if (m.inverse_mass[i] == Real(0) && m.inverse_mass[j] == Real(0)) continue;
-              if (c.body_of[j] == bi) {
-                if (!c.bodies[bi].self_collision) continue;
-                const Index* row = g.joined.data() + g.joined_offsets[i];
-                const Index* row_end = g.joined.data() + g.joined_offsets[i + 1];
-                if (std::binary_search(row, row_end, j)) continue;
-              }
-              const Real R = ri + c.radius[j];
-              const Vec3<Real> d0 = xi - x.col(j), d1 = pi - p.col(j);
-              const Vec3<Real> e = d1 - d0;
-              const Real ee = e.squaredNorm();
-              const Real t = ee > Real(0) ? std::clamp(-d0.dot(e) / ee, Real(0), Real(1)) : Real(0);
-              if ((d0 + t * e).squaredNorm() >= (R + margin) * (R + margin)) continue;
-              const Vec3<Real> nrm = first_contact_normal(d0, d1, R);
-              const ContactMaterial<Real> mat = mix_materials(c.material[i], c.material[j]);
-              if (i < j) mine.push_back({{i, j}, nrm, R, d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))), mat});
-              else mine.push_back({{j, i}, -nrm, R, -d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))), mat});
-            }
-          }
-    }
+    const std::uint32_t bb = std::uint32_t(std::uint64_t(ch) * buckets / chunks);
+    const std::uint32_t be = std::uint32_t(std::uint64_t(ch + 1) * buckets / chunks);
+    for (std::uint32_t b = bb; b < be; ++b)
+      for (Index s = g.bucket_start[b]; s < g.bucket_start[b + 1]; ++s)
+        for (Index u = s + 1; u < g.bucket_start[b + 1]; ++u) {
+          const auto& ea = g.entries[s];
+          const auto& eb = g.entries[u];
+          if (ea.cell[0] != eb.cell[0] || ea.cell[1] != eb.cell[1] || ea.cell[2] != eb.cell[2]) continue;
+          const Index i = ea.particle, j = eb.particle;  // i < j: particle order within a bucket
+          bool first = true;
+          for (int d = 0; d < 3; ++d) first = first && ea.cell[d] == std::max(g.lo[i][d], g.lo[j][d]);
+          if (first) test_pair(i, j, mine);
+        }
   };
-  if (parallel && count >= 2048) {
+  if (parallel && entries >= 4096) {
     tbb::parallel_for(tbb::blocked_range<Index>(0, chunks, 1), [&](const tbb::blocked_range<Index>& r) {
       for (Index ch = r.begin(); ch < r.end(); ++ch) chunk(ch);
     });
   } else {
     for (Index ch = 0; ch < chunks; ++ch) chunk(ch);
   }
+  // particles whose boxes span too many cells (far faster than the rest): against every other particle, by box
+  std::vector<ParticleContact<Real>>& rest = g.chunks[chunks];
+  rest.clear();
+  for (Index i : g.huge)
+    for (Index j : g.active) {
+      if (j == i || (j < i && std::binary_search(g.huge.begin(), g.huge.end(), j))) continue;  // huge pairs once
+      bool overlap = true;
+      for (int d = 0; d < 3; ++d) overlap = overlap && g.lo[i][d] <= g.hi[j][d] && g.lo[j][d] <= g.hi[i][d];
+      if (overlap) test_pair(std::min(i, j), std::max(i, j), rest);
+    }
   // 4. joined in chunk order
   std::size_t total = out.size();
   for (const auto& ch : g.chunks) total += ch.size();

@@ -3,15 +3,17 @@
 // between the particles of contact bodies (contacts.hpp), once per sub-step, after the prediction.
 //   1. cook      per particle: body, radius, material (when bodies or particles changed); for self-colliding
 //                bodies, the particles each one is joined to by a built-in constraint (when the model changed)
-//   2. grid      a spatial hash of the predicted positions p: cells of 2·r_max + margin + 2·s_max (s_max the
-//                largest departure of a path x → p from the mean path of this sub-step, so two particles whose paths
-//                meet end in neighbouring cells however fast they moved), hashed into a table of about twice as many buckets as particles, filled
-//                by a counting sort in particle order
-//   3. pairs     each particle i looks at its own cell (particles j > i) and the 13 cells after it (all), and keeps
-//                the pairs whose relative path (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous,
-//                so nothing passes through anything within a sub-step
-//   4. output    in particle order of i, then j: the same list for any thread count (fixed chunks of i, joined in
-//                chunk order)
+//   2. grid      each particle's swept box: its path x → p − Δ̄ (Δ̄ the mean path of this sub-step: relative paths,
+//                all a pair test reads, are the same in the frame that moves with it, where a falling cloth's boxes
+//                stay short) grown by its radius and half the margin, entered into every cell it covers (cells of
+//                2·r_max + margin, hashed into about twice as many buckets as entries, filled by a counting sort in
+//                particle order). A box over more than kMaxCells cells (a particle far faster than the rest) is
+//                tested against every particle instead
+//   3. pairs     two entries of one cell whose boxes share no earlier cell (the cell is the larger of their lower
+//                corners) are a candidate pair, so each pair is found once; it is kept when the relative path
+//                (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous, so nothing passes through
+//                anything within a sub-step (if it does, the two boxes meet)
+//   4. output    bucket by bucket, in fixed chunks joined in chunk order: the same list for any thread count
 // A world without contact bodies of non-zero radius runs none of this.
 #include "pbd/constraints/particle_contact.hpp"
 #include "pbd/detail/model.hpp"
@@ -29,11 +31,15 @@ template <class Real> struct ParticleGrid {
   std::vector<Index> joined_offsets;               // CSR per particle: particles joined to it by a constraint
   std::vector<Index> joined;                       //   (sorted; only particles of self-colliding bodies)
   std::vector<Index> active;                       // particles with a radius, ascending
-  std::vector<std::array<std::int32_t, 3>> cell;   // per particle with a radius: the cell of p
-  std::vector<Index> bucket_start;                 // per bucket + 1: where its particles start in bucket_items
-  std::vector<Index> bucket_items;                 // active particles, bucket by bucket, ascending within one
-  std::vector<std::uint32_t> bucket_of;            // per active particle (by position in `active`)
-  std::vector<std::vector<ParticleContact<Real>>> chunks;  // per chunk of particles: its contacts
+  std::vector<std::array<std::int32_t, 3>> lo, hi; // per particle with a radius: its swept box's cell range
+  std::vector<Index> huge;                         // particles whose boxes cover too many cells, ascending
+  struct Entry {
+    Index particle;
+    std::array<std::int32_t, 3> cell;
+  };
+  std::vector<Index> bucket_start;                 // per bucket + 1: where its entries start in `entries`
+  std::vector<Entry> entries;                      // (particle, cell), bucket by bucket, particle order within one
+  std::vector<std::vector<ParticleContact<Real>>> chunks;  // per chunk of buckets: its contacts (last: the huge ones)
 };
 
 /// Brings m.contact's per-particle arrays up to date (after bodies or particles were added).
