@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace pbd::detail {
@@ -143,9 +144,43 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     if (cells > kMaxCells) g.huge.push_back(i);  // tested against every particle instead (below)
     else entries += cells;
   }
+  // Buckets: the cells of the boxes' bounding grid in x-fastest order when it has at most 8 cells per entry (cells
+  // near in space are near in memory, and so are a cloth's neighbouring particles' lookups), else a hash table of
+  // about twice as many buckets as entries.
+  Cell base{0, 0, 0};
+  std::array<std::int64_t, 3> dims{0, 0, 0};
+  {
+    Cell lo{std::numeric_limits<std::int32_t>::max(), std::numeric_limits<std::int32_t>::max(), std::numeric_limits<std::int32_t>::max()};
+    Cell hi{std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::min()};
+    std::size_t h = 0;
+    for (Index i : g.active) {
+      if (h < g.huge.size() && g.huge[h] == i) {
+        ++h;
+        continue;
+      }
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = std::min(lo[d], g.lo[i][d]);
+        hi[d] = std::max(hi[d], g.hi[i][d]);
+      }
+    }
+    base = lo;
+    for (int d = 0; d < 3; ++d) dims[d] = std::max<std::int64_t>(0, std::int64_t(hi[d]) - lo[d] + 1);
+  }
+  const std::uint64_t dense_cells = std::uint64_t(dims[0]) * std::uint64_t(dims[1]) * std::uint64_t(dims[2]);
+  const bool dense = entries > 0 && dense_cells <= 8 * std::uint64_t(entries) && dense_cells < (1ull << 31);
   std::uint32_t buckets = 1;
-  while (buckets < 2 * entries) buckets <<= 1;
+  if (dense) {
+    buckets = std::uint32_t(dense_cells);
+  } else {
+    while (buckets < 2 * entries) buckets <<= 1;
+  }
   const std::uint32_t mask = buckets - 1;
+  auto bucket_of = [&](const Cell& q) -> std::uint32_t {
+    if (dense)
+      return std::uint32_t(((std::int64_t(q[2]) - base[2]) * dims[1] + (std::int64_t(q[1]) - base[1])) * dims[0] +
+                           (std::int64_t(q[0]) - base[0]));
+    return hash_cell(q[0], q[1], q[2], mask);
+  };
   g.bucket_start.assign(std::size_t(buckets) + 1, 0);
   auto for_each_cell = [&](Index i, const auto& f) {
     for (std::int32_t cx = g.lo[i][0]; cx <= g.hi[i][0]; ++cx)
@@ -159,60 +194,69 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       ++h;
       continue;
     }
-    for_each_cell(i, [&](const Cell& q) { ++g.bucket_start[hash_cell(q[0], q[1], q[2], mask) + 1]; });
+    for_each_cell(i, [&](const Cell& q) { ++g.bucket_start[bucket_of(q) + 1]; });
   }
   for (std::uint32_t b = 0; b < buckets; ++b) g.bucket_start[b + 1] += g.bucket_start[b];
   g.entries.resize(entries);
   {
-    std::vector<Index> fill(g.bucket_start.begin(), g.bucket_start.end() - 1);
+    std::vector<Index>& fill = g.fill;
+    fill.assign(g.bucket_start.begin(), g.bucket_start.end() - 1);
     h = huge_begin;
     for (Index i : g.active) {  // particle order within each bucket
       if (h < g.huge.size() && g.huge[h] == i) {
         ++h;
         continue;
       }
-      for_each_cell(i, [&](const Cell& q) { g.entries[fill[hash_cell(q[0], q[1], q[2], mask)]++] = {i, q}; });
+      for_each_cell(i, [&](const Cell& q) { g.entries[fill[bucket_of(q)]++] = {i, q}; });
     }
   }
-  // 3. pairs: in each bucket, two entries of the same cell are a candidate pair when that cell is the first their
-  // boxes share (the larger of their lower corners), so a pair is found once whichever cells they share
+  // 3. pairs: particle i looks up each cell its box covers and takes the particles j > i entered there for which
+  // that cell is the first their boxes share (the larger of their lower corners), so each pair is found once
   auto test_pair = [&](Index i, Index j, std::vector<ParticleContact<Real>>& mine) {  // i < j
     if (m.inverse_mass[i] == Real(0) && m.inverse_mass[j] == Real(0)) return;
-    const Index bi = c.body_of[i];
-    if (c.body_of[j] == bi) {
-      if (!c.bodies[bi].self_collision) return;
-      const Index* row = g.joined.data() + g.joined_offsets[i];
-      const Index* row_end = g.joined.data() + g.joined_offsets[i + 1];
-      if (std::binary_search(row, row_end, j)) return;
-    }
     const Real R = c.radius[i] + c.radius[j];
     const Vec3<Real> d0 = x.col(i) - x.col(j), d1 = p.col(i) - p.col(j);
     const Vec3<Real> e = d1 - d0;
     const Real ee = e.squaredNorm();
     const Real t = ee > Real(0) ? std::clamp(-d0.dot(e) / ee, Real(0), Real(1)) : Real(0);
     if ((d0 + t * e).squaredNorm() >= (R + margin) * (R + margin)) return;
+    const Index bi = c.body_of[i];
+    if (c.body_of[j] == bi) {  // within a body: only if it self-collides and no constraint joins the two
+      if (!c.bodies[bi].self_collision) return;
+      for (Index k = g.joined_offsets[i]; k < g.joined_offsets[i + 1]; ++k)
+        if (g.joined[k] == j) return;
+    }
     const Vec3<Real> nrm = first_contact_normal(d0, d1, R);
     mine.push_back({{i, j}, nrm, R, d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))),
                     mix_materials(c.material[i], c.material[j])});
   };
-  const Index chunks = Index(std::min<std::uint32_t>(kChunks, buckets));
+  const Index chunks = std::min<Index>(kChunks, std::max<Index>(1, count));
   g.chunks.resize(chunks + 1);
   auto chunk = [&](Index ch) {
     std::vector<ParticleContact<Real>>& mine = g.chunks[ch];
     mine.clear();
-    const std::uint32_t bb = std::uint32_t(std::uint64_t(ch) * buckets / chunks);
-    const std::uint32_t be = std::uint32_t(std::uint64_t(ch + 1) * buckets / chunks);
-    for (std::uint32_t b = bb; b < be; ++b)
-      for (Index s = g.bucket_start[b]; s < g.bucket_start[b + 1]; ++s)
-        for (Index u = s + 1; u < g.bucket_start[b + 1]; ++u) {
-          const auto& ea = g.entries[s];
-          const auto& eb = g.entries[u];
-          if (ea.cell[0] != eb.cell[0] || ea.cell[1] != eb.cell[1] || ea.cell[2] != eb.cell[2]) continue;
-          const Index i = ea.particle, j = eb.particle;  // i < j: particle order within a bucket
-          bool first = true;
-          for (int d = 0; d < 3; ++d) first = first && ea.cell[d] == std::max(g.lo[i][d], g.lo[j][d]);
-          if (first) test_pair(i, j, mine);
+    const Index kb = Index(std::uint64_t(ch) * count / chunks), ke = Index(std::uint64_t(ch + 1) * count / chunks);
+    std::size_t h = std::size_t(std::lower_bound(g.huge.begin(), g.huge.end(), kb < count ? g.active[kb] : n) - g.huge.begin());
+    for (Index k = kb; k < ke; ++k) {
+      const Index i = g.active[k];
+      if (h < g.huge.size() && g.huge[h] == i) {  // its pairs are found below
+        ++h;
+        continue;
+      }
+      const Cell lo = g.lo[i];
+      for_each_cell(i, [&](const Cell& q) {
+        const std::uint32_t b = bucket_of(q);
+        // a bucket's entries are in particle order: the particles j > i are its tail
+        for (Index s = g.bucket_start[b + 1]; s-- > g.bucket_start[b] && g.entries[s].particle > i;) {
+          const auto& en = g.entries[s];
+          const Index j = en.particle;
+          if (en.cell[0] != q[0] || en.cell[1] != q[1] || en.cell[2] != q[2]) continue;
+          const Cell& lj = g.lo[j];
+          if (q[0] == std::max(lo[0], lj[0]) && q[1] == std::max(lo[1], lj[1]) && q[2] == std::max(lo[2], lj[2]))
+            test_pair(i, j, mine);
         }
+      });
+    }
   };
   if (parallel && entries >= 4096) {
     tbb::parallel_for(tbb::blocked_range<Index>(0, chunks, 1), [&](const tbb::blocked_range<Index>& r) {

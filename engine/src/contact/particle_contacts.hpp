@@ -6,14 +6,16 @@
 //   2. grid      each particle's swept box: its path x → p − Δ̄ (Δ̄ the mean path of this sub-step: relative paths,
 //                all a pair test reads, are the same in the frame that moves with it, where a falling cloth's boxes
 //                stay short) grown by its radius and half the margin, entered into every cell it covers (cells of
-//                2·r_max + margin, hashed into about twice as many buckets as entries, filled by a counting sort in
-//                particle order). A box over more than kMaxCells cells (a particle far faster than the rest) is
+//                2·r_max + margin, stretched along an axis by the paths' mean departure along it; one bucket per
+//                cell of the boxes' bounding grid, x fastest, or when that grid is sparse a hash table of about twice
+//                as many buckets as entries; filled by a counting sort in particle order). A box over more than kMaxCells cells (a particle far faster than the rest) is
 //                tested against every particle instead
-//   3. pairs     two entries of one cell whose boxes share no earlier cell (the cell is the larger of their lower
-//                corners) are a candidate pair, so each pair is found once; it is kept when the relative path
+//   3. pairs     particle i looks up every cell its box covers and takes the particles j > i entered there whose
+//                boxes share no earlier cell with i's (the cell is the larger of their lower corners), so each pair
+//                is found once; it is kept when the relative path
 //                (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous, so nothing passes through
 //                anything within a sub-step (if it does, the two boxes meet)
-//   4. output    bucket by bucket, in fixed chunks joined in chunk order: the same list for any thread count
+//   4. output    in particle order of i, in fixed chunks joined in chunk order: the same list for any thread count
 // A world without contact bodies of non-zero radius runs none of this.
 #include "pbd/constraints/particle_contact.hpp"
 #include "pbd/detail/model.hpp"
@@ -39,6 +41,7 @@ template <class Real> struct ParticleGrid {
   };
   std::vector<Index> bucket_start;                 // per bucket + 1: where its entries start in `entries`
   std::vector<Entry> entries;                      // (particle, cell), bucket by bucket, particle order within one
+  std::vector<Index> fill;                         // the counting sort's cursor per bucket
   std::vector<std::vector<ParticleContact<Real>>> chunks;  // per chunk of buckets: its contacts (last: the huge ones)
 };
 
