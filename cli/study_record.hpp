@@ -18,7 +18,8 @@ struct ErrorValue {
 };
 
 /// Error measures by name, in physical units: stretch_pct (relative stretch, %), bending_rad (rad), area_pct (%),
-/// volume_pct (%), penetration_mm (mm), anchor_mm (mm); a user-defined type keeps its own name and unit.
+/// volume_pct (%), penetration_mm (mm), overlap_pct (% of the radii sum), anchor_mm (mm); a user-defined type keeps
+/// its own name and unit.
 using Errors = std::map<std::string, ErrorValue>;
 
 /// The measure name and unit scale of an engine violation type ("stretch" → {"stretch_pct", 100}).

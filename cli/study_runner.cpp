@@ -23,6 +23,7 @@ std::pair<std::string, double> measure_of(const std::string& type) {
   if (type == "area") return {"area_pct", 100.0};
   if (type == "volume") return {"volume_pct", 100.0};
   if (type == "collision") return {"penetration_mm", 1000.0};
+  if (type == "particle contact") return {"overlap_pct", 100.0};
   if (type == "anchor") return {"anchor_mm", 1000.0};
   return {type, 1.0};
 }
@@ -250,14 +251,19 @@ SceneInfo scene_info(const Scene& scene, int steps) {
     types.push_back(v.type);
     info.measures.push_back(measure_of(v.type).first);
   }
-  std::string primary = scene.primary_error == "penetration" ? "collision" : scene.primary_error;
+  std::string primary = scene.primary_error == "penetration" ? "collision"
+                        : scene.primary_error == "overlap"   ? "particle contact"
+                                                             : scene.primary_error;
   if (primary.empty()) {
     for (const char* t : {"volume", "stretch"})
       if (primary.empty() && std::find(types.begin(), types.end(), t) != types.end()) primary = t;
     if (primary.empty() && !types.empty()) primary = types.front();
   } else if (std::find(types.begin(), types.end(), primary) == types.end()) {
     throw Error(scene.source + ": primary_error: the scene has no " +
-                (primary == "collision" ? std::string("collider") : primary + " constraint") + " to measure");
+                (primary == "collision"          ? std::string("collider")
+                 : primary == "particle contact" ? std::string("contact body with a radius")
+                                                 : primary + " constraint") +
+                " to measure");
   }
   info.primary_error = primary.empty() ? "" : measure_of(primary).first;
   return info;

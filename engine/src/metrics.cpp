@@ -47,14 +47,27 @@ template <class Real> Violation stretch_violation(const World<Real>& world) {
 template <class Real> Violation penetration(const World<Real>& world) {
   const auto x = world.positions();
   const auto w = world.inverse_masses();
+  std::vector<double> radius(world.num_particles(), 0.0);  // a particle of a contact body keeps r from the surface
+  for (const auto& b : world.contact_bodies())
+    for (Index i = b.first; i < b.first + b.count; ++i) radius[i] = double(b.radius);
   Accumulator acc;
   for (Index i = 0; i < world.num_particles(); ++i) {
     if (w[i] == Real(0)) continue;
     const Eigen::Vector3d p = x.col(i).template cast<double>();
     for (const auto& pl : world.colliders().planes)
-      acc.add(std::max(0.0, double(pl.offset) - pl.normal.template cast<double>().dot(p)));
+      acc.add(std::max(0.0, double(pl.offset) + radius[i] - pl.normal.template cast<double>().dot(p)));
     for (const auto& s : world.colliders().spheres)
-      acc.add(std::max(0.0, double(s.radius) - (p - s.center.template cast<double>()).norm()));
+      acc.add(std::max(0.0, double(s.radius) + radius[i] - (p - s.center.template cast<double>()).norm()));
+  }
+  return acc.result();
+}
+
+template <class Real> Violation particle_overlap(const World<Real>& world) {
+  const auto x = world.positions();
+  Accumulator acc;
+  for (const auto& c : world.last_particle_contacts()) {
+    const double d = (x.col(c.particles[0]) - x.col(c.particles[1])).template cast<double>().norm();
+    acc.add(std::max(0.0, 1.0 - d / double(c.distance)));
   }
   return acc.result();
 }
@@ -87,6 +100,9 @@ template <class Real> std::vector<NamedViolation> constraint_violations(const Wo
   });
   if (!world.volumes().empty()) out.push_back({"volume", volume_violation(world)});
   if (!world.colliders().empty()) out.push_back({CollisionConstraint<Real>::kName, penetration(world)});
+  bool radii = false;
+  for (const auto& b : world.contact_bodies()) radii = radii || b.radius > Real(0);
+  if (radii) out.push_back({ParticleContact<Real>::kName, particle_overlap(world)});
   return out;
 }
 
@@ -153,6 +169,7 @@ template <class Real> std::uint64_t position_hash(const World<Real>& world) {
   template double violation(const AreaConstraint<Real>&, const PositionsView<Real>&);             \
   template Violation stretch_violation(const World<Real>&);                                       \
   template Violation penetration(const World<Real>&);                                             \
+  template Violation particle_overlap(const World<Real>&);                                             \
   template Violation volume_violation(const World<Real>&);                                        \
   template std::vector<NamedViolation> constraint_violations(const World<Real>&);                 \
   template Energy energy(const World<Real>&);                                                     \

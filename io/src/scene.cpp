@@ -313,10 +313,10 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   scene.steps = int(o.integer("steps", 1, 100'000'000, 100));
   if (o.has("primary_error")) {
     scene.primary_error = o.string("primary_error");
-    const std::array<const char*, 6> measures{"stretch", "bending", "area", "volume", "penetration", "anchor"};
+    const std::array<const char*, 7> measures{"stretch", "bending", "area", "volume", "penetration", "overlap", "anchor"};
     if (std::find(measures.begin(), measures.end(), scene.primary_error) == measures.end())
       o.fail("primary_error", message("unknown error measure ", detail::quoted(scene.primary_error),
-                                      " (expected stretch, bending, area, volume, penetration or anchor)"));
+                                      " (expected stretch, bending, area, volume, penetration, overlap or anchor)"));
   }
   StepParams<double> p;
   p.dt = o.number("dt", 1e-9, 10.0);

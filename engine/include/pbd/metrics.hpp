@@ -9,7 +9,10 @@
 ///   bending    |φ − φ0|                           radians (a degenerate triangle is not measured)
 ///   area       |A − A0| / A0                      relative area error (absolute area in m² where A0 = 0)
 ///   volume     |V − V_target(t)| / V_target(t)    relative volume error against the target at world.time()
-///   collision  max(0, depth)                      penetration in metres, per (movable particle, collider)
+///   collision  max(0, depth)                      penetration in metres, per (movable particle, collider), the
+///                                                 particle's contact radius included
+///   particle contact  max(0, 1 − |x_a − x_b| / (r_a + r_b))  overlap as a fraction of the radii sum, per particle
+///                                                 contact of the last sub-step (pairs that came that close)
 #include "pbd/violation.hpp"
 #include "pbd/world.hpp"
 
@@ -36,8 +39,11 @@ template <class Real> double violation(const AreaConstraint<Real>& c, const Posi
 /// Relative stretch of every stretch constraint.
 template <class Real> Violation stretch_violation(const World<Real>& world);
 
-/// Penetration depth max(0, −C) of every collider for every movable particle at the current positions.
+/// Penetration depth max(0, −C) of every collider for every movable particle at the current positions (m).
 template <class Real> Violation penetration(const World<Real>& world);
+
+/// Overlap of every particle contact of the last sub-step at the current positions, as a fraction of its radii sum.
+template <class Real> Violation particle_overlap(const World<Real>& world);
 
 /// Relative error |V − V_target| / V_target of every volume constraint, target taken at world.time().
 template <class Real> Violation volume_violation(const World<Real>& world);
