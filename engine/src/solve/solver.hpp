@@ -9,11 +9,15 @@
 //   1. damping and forces   v ← v·max(0, 1 − damping·h), then v += h·(g + w·f); pinned particles keep v = 0
 //                           (damping first: a body at rest under gravity then sags by the whole of g)
 //   2. predict              p = x + h·v
-//   3. collisions           one inequality per (movable particle, collider) whose path x → p enters the collider or
-//                           ends within the margin (colliders.hpp); colored for the colored solvers
+//   3. contacts             one inequality per (movable particle, collider) whose path x → p enters the collider or
+//                           ends within the margin (colliders.hpp; a contact body's particle by its radius), and,
+//                           when a contact body has a radius, one per pair of particles whose relative path comes
+//                           within their radii and the margin (contact/particle_contacts.hpp: a grid of swept
+//                           boxes); each records its material and approach speed; colored for the colored solvers
 //   4. solve                `iterations` sweeps (sweep.hpp): each visits the built-in types in solver order
-//                           (constraint_types.hpp), the user-defined types, the volume constraints, the collisions
-//                           (the block solver: every type's block interiors first, then the rest as colored);
+//                           (constraint_types.hpp), the user-defined types, the volume constraints, the contacts
+//                           (the block solver: every type's block interiors first, then the rest as colored); a
+//                           contact's projection ends with its friction (Macklin et al. 2014 §6.1);
 //                           with Chebyshev acceleration, each sweep's result is extrapolated (chebyshev.hpp);
 //                           with SweepOrder::symmetric, odd sub-steps visit each type backwards (the sub-step's
 //                           number is round(time / dt) · substeps + s: a function of the world's time, so a copy
@@ -24,7 +28,8 @@
 //                           stops). A free body (no pin, anchor or contact, or contacts along one normal only) gets
 //                           back the momentum and angular momentum the solve changed (free_bodies.hpp): internal
 //                           forces exert none, but Gauss-Seidel over constraints that cannot all hold spun such a
-//                           body up.
+//                           body up (a body with a particle contact or friction is not free). Last, restitution:
+//                           a touched contact of e > 0 leaves at e × its approach speed (restitution.hpp).
 // Steps 1, 2 and 5 are per particle and run as parallel loops for the parallel solvers (the free bodies' sums in
 // step 5 are taken on one thread, in particle order, so they give the same bits on any thread count). In step 4 the
 // colored solver runs each color as a parallel loop: a color's constraints write no particle twice, so the result is
