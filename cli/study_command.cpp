@@ -91,7 +91,7 @@ void add_study_command(CLI::App& app) {
                "into substeps x iterations) x solvers x threads; table/CSV/JSON on stdout, JSON report, plots");
   cmd->add_option("--scene", o->scenes,
                   "Built-in scene (pbd list), cloth<N> (generated hanging cloth, e.g. cloth30 .. cloth1000) or a "
-                  "scene JSON file; repeatable or comma-separated (default: the built-in scenes and cloth30, "
+                  "scene JSON file; repeatable or comma-separated (default: the built-in scenes but pile, and cloth30, "
                   "cloth100, cloth300 (--quick: not cloth300); --scaling: cloth30, cloth100, cloth300, cloth1000)");
   cmd->add_option("--solvers", o->solvers,
                   "Comma-separated: " + solver_names() + ", or any but serial with +chebyshev (splits of 4 or more iterations; default "
