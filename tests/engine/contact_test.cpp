@@ -314,16 +314,17 @@ template <class Real> int count_crossings(World<Real>& w, const std::vector<std:
   for (int step = 0; step < steps; ++step) {
     w.step();
     const Matrix3X<double> after = w.positions().template cast<double>();
+    const Matrix3X<double> low = before.cwiseMin(after), high = before.cwiseMax(after);  // each path's box
     for (const auto& tri : triangles) {  // every point against every triangle whose swept boxes meet
-      Eigen::Vector3d lo = before.col(tri[0]).cwiseMin(after.col(tri[0])), hi = before.col(tri[0]).cwiseMax(after.col(tri[0]));
+      Eigen::Vector3d lo = low.col(tri[0]), hi = high.col(tri[0]);
       for (int j = 1; j < 3; ++j) {
-        lo = lo.cwiseMin(before.col(tri[j])).cwiseMin(after.col(tri[j]));
-        hi = hi.cwiseMax(before.col(tri[j])).cwiseMax(after.col(tri[j]));
+        lo = lo.cwiseMin(low.col(tri[j]));
+        hi = hi.cwiseMax(high.col(tri[j]));
       }
       for (Index q = 0; q < w.num_particles(); ++q) {
-        if (q == tri[0] || q == tri[1] || q == tri[2]) continue;
-        const Eigen::Vector3d ql = before.col(q).cwiseMin(after.col(q)), qh = before.col(q).cwiseMax(after.col(q));
-        if ((ql.array() > hi.array()).any() || (qh.array() < lo.array()).any()) continue;
+        if (low(0, q) > hi.x() || high(0, q) < lo.x() || low(1, q) > hi.y() || high(1, q) < lo.y() ||
+            low(2, q) > hi.z() || high(2, q) < lo.z() || q == tri[0] || q == tri[1] || q == tri[2])
+          continue;
         const Eigen::Vector3d from[4] = {before.col(q), before.col(tri[0]), before.col(tri[1]), before.col(tri[2])};
         const Eigen::Vector3d to[4] = {after.col(q), after.col(tri[0]), after.col(tri[1]), after.col(tri[2])};
         crossings += crosses(from, to) ? 1 : 0;
