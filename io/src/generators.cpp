@@ -4,6 +4,7 @@
 #include "pbd/io/description_builder.hpp"
 
 #include <cmath>
+#include <cstdint>
 
 namespace pbd {
 
@@ -77,11 +78,66 @@ template <class Target> Body add_rope(Target& world, const RopeOptions& o, std::
   return body;
 }
 
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+template <class Target> Body add_grains(Target& world, const GrainsOptions& o) {
+  using Real = typename Target::Positions::Scalar;
+  for (int axis = 0; axis < 3; ++axis)
+    if (o.count[axis] < 1)
+      throw Error(detail::message("add_grains: count[", axis, "] must be >= 1, got ", o.count[axis]));
+  // Checked one factor at a time, so the product cannot overflow before it is compared.
+  const std::uint64_t max_index = std::uint64_t(Index(-1));
+  const std::uint64_t nxy = std::uint64_t(o.count[0]) * std::uint64_t(o.count[1]);
+  if (nxy > max_index || nxy * std::uint64_t(o.count[2]) > max_index)
+    throw Error(detail::message("add_grains: ", o.count[0], " x ", o.count[1], " x ", o.count[2],
+                                " particles are more than a world can index"));
+  if (!(o.spacing > 0.0) || !std::isfinite(o.spacing))
+    throw Error(detail::message("add_grains: spacing must be finite and > 0, got ", o.spacing));
+  if (!(o.jitter >= 0.0 && o.jitter < 0.5))
+    throw Error(detail::message("add_grains: jitter must be in [0, 0.5), got ", o.jitter));
+  if (!(o.mass > 0.0) || !std::isfinite(o.mass))
+    throw Error(detail::message("add_grains: mass must be finite and > 0, got ", o.mass));
+  const Eigen::Vector3d origin(o.origin[0], o.origin[1], o.origin[2]);
+  const Eigen::Vector3d velocity(o.velocity[0], o.velocity[1], o.velocity[2]);
+  if (!origin.allFinite()) throw Error("add_grains: origin is not finite");
+  if (!velocity.allFinite()) throw Error("add_grains: velocity is not finite");
+  const Index nx = Index(o.count[0]), ny = Index(o.count[1]), nz = Index(o.count[2]);
+  const Index n = nx * ny * nz;
+  const double amplitude = o.jitter * o.spacing;
+  std::uint64_t state = o.seed;
+  // u in [−1, 1) from the top 53 bits: k·2^-52 − 1 is exact in double, so the jitter is the same everywhere.
+  auto draw = [&] { return (double(splitmix64(state) >> 11) * 0x1p-52 - 1.0) * amplitude; };
+  Matrix3X<Real> x(3, Eigen::Index(n));
+  for (Index k = 0; k < nz; ++k)
+    for (Index j = 0; j < ny; ++j)
+      for (Index i = 0; i < nx; ++i) {
+        const double lx = (double(i) - 0.5 * double(nx - 1)) * o.spacing;
+        const double ly = (double(j) - 0.5 * double(ny - 1)) * o.spacing;
+        const double lz = double(k) * o.spacing;
+        const double dx = draw(), dy = draw(), dz = draw();
+        x.col((Eigen::Index(k) * ny + j) * nx + i) =
+            Vec3<Real>(Real(origin.x() + lx + dx), Real(origin.y() + ly + dy), Real(origin.z() + lz + dz));
+      }
+  Body body;
+  body.first_particle = world.add_particles(x, VectorX<Real>::Constant(Eigen::Index(n), Real(o.mass)));
+  body.num_particles = n;
+  world.velocities().rightCols(Eigen::Index(n)) = velocity.cast<Real>().replicate(1, Eigen::Index(n));
+  return body;
+}
+
 template Body add_cloth(World<float>&, const ClothOptions&, std::optional<Index>);
 template Body add_cloth(World<double>&, const ClothOptions&, std::optional<Index>);
 template Body add_rope(World<float>&, const RopeOptions&, std::optional<Index>);
 template Body add_rope(World<double>&, const RopeOptions&, std::optional<Index>);
 template Body add_cloth(DescriptionBuilder&, const ClothOptions&, std::optional<Index>);
 template Body add_rope(DescriptionBuilder&, const RopeOptions&, std::optional<Index>);
+template Body add_grains(World<float>&, const GrainsOptions&);
+template Body add_grains(World<double>&, const GrainsOptions&);
+template Body add_grains(DescriptionBuilder&, const GrainsOptions&);
 
 }  // namespace pbd

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string_view>
 
@@ -219,6 +220,28 @@ Body read_rope(const JsonObject& o, DescriptionBuilder& world) {
   return add_rope(world, r, read_stretch_set(o, world));
 }
 
+// "grains": "count" [nx, ny, nz] (required), "spacing" (required), "origin", "jitter", "seed", "mass", "velocity";
+// the count is checked against the particles the scene has left before anything is made.
+Body read_grains(const JsonObject& o, DescriptionBuilder& world) {
+  GrainsOptions g;
+  const auto count = o.array("count");
+  if (count.size() != 3) o.fail("count", message("expected [nx, ny, nz] (3 integers), got ", count.size(), " values"));
+  for (int axis = 0; axis < 3; ++axis)
+    g.count[axis] = int(detail::json_integer(*count[axis].first, o.file(), count[axis].second, 1, kMaxParticles));
+  const std::uint64_t nxy = std::uint64_t(g.count[0]) * std::uint64_t(g.count[1]);  // ≤ kMaxParticles²: no overflow
+  if (nxy > std::uint64_t(kMaxParticles))
+    o.fail("count", message("nx × ny alone is ", nxy, " particles, more than the scene's limit of ", kMaxParticles));
+  check_particle_budget(o, "count", world, nxy * std::uint64_t(g.count[2]));
+  g.spacing = o.number("spacing", 1e-9, 1e6);
+  g.origin = o.vec3("origin", g.origin);
+  g.jitter = o.number("jitter", 0.0, 0.5, g.jitter);
+  if (g.jitter >= 0.5) o.fail("jitter", "must be below 0.5 (a fraction of the spacing, in [0, 0.5))");
+  g.seed = std::uint64_t(o.integer("seed", 0, std::numeric_limits<long>::max(), long(g.seed)));
+  g.mass = o.number("mass", 1e-12, 1e15, g.mass);
+  g.velocity = o.vec3("velocity", g.velocity);
+  return add_grains(world, g);
+}
+
 // Explicit particles: "positions" (required), "masses" or "mass", optional "velocities", "pinned",
 // "stretch": {"pairs": [[a, b], ...], stiffness...}.
 Body read_particles(const JsonObject& o, DescriptionBuilder& world) {
@@ -341,8 +364,9 @@ Scene parse_scene(const std::string& text, const std::string& source) {
       else if (type == "rope") body = read_rope(b, world);
       else if (type == "particles") body = read_particles(b, world);
       else if (type == "mesh") body = read_mesh(b, world);
+      else if (type == "grains") body = read_grains(b, world);
       else b.fail("type", message("unknown body type ", detail::quoted(type),
-                                  " (expected \"cloth\", \"rope\", \"particles\" or \"mesh\")"));
+                                  " (expected \"cloth\", \"rope\", \"particles\", \"mesh\" or \"grains\")"));
       read_anchors(b, world, body);
       detail::read_contact_body(b, body, world);
       b.reject_unknown_keys();

@@ -13,7 +13,7 @@ namespace {
 
 TEST(Scene, EveryBuiltInSceneLoadsAndStepsUnderEverySolver) {
   const auto names = scene_names(PBD_TEST_SCENE_DIR);
-  for (const char* expected : {"balls", "cloth", "inflate", "inflate-mesh", "rope"})
+  for (const char* expected : {"balls", "cloth", "cloth-fold", "inflate", "inflate-mesh", "pile", "rope"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   for (const auto& name : names) {
     const Scene s = load_scene_by_name(name, PBD_TEST_SCENE_DIR);
@@ -57,6 +57,43 @@ TEST(Scene, MeshScenesHaveTheirVolumesAndTriangles) {
   const Scene rope = load_scene_by_name("rope", PBD_TEST_SCENE_DIR);
   const auto& w = rope.world.inverse_masses;
   EXPECT_NEAR(w[1] / w[rope.world.num_particles() - 1], 1000.0, 1e-9) << "the rope keeps its 1000:1 end mass";
+}
+
+// Longest rest length of the stretch constraints on particles [first, first + count).
+double longest_edge(const WorldDescription& d, Index first, Index count) {
+  double longest = 0.0;
+  for (const auto& s : d.stretch)
+    if (s.particles[0] >= first && s.particles[0] < first + count) longest = std::max(longest, s.rest);
+  return longest;
+}
+
+TEST(Scene, ContactScenesHaveRadiiThatLeaveNoGapsAndTheirColliders) {
+  const Scene balls = load_scene_by_name("balls", PBD_TEST_SCENE_DIR);
+  ASSERT_EQ(balls.world.contact_bodies.size(), 5u);
+  for (const auto& b : balls.world.contact_bodies) {
+    EXPECT_EQ(b.count, 162u);
+    EXPECT_GE(2 * b.radius, longest_edge(balls.world, b.first, b.count)) << "no ball passes between another's particles";
+    EXPECT_GT(b.material.static_friction, 0.0);
+  }
+  const Scene fold = load_scene_by_name("cloth-fold", PBD_TEST_SCENE_DIR);
+  ASSERT_EQ(fold.world.contact_bodies.size(), 1u);
+  const auto& cloth = fold.world.contact_bodies[0];
+  EXPECT_EQ(cloth.count, 1600u);
+  EXPECT_TRUE(cloth.self_collision);
+  EXPECT_GE(2 * cloth.radius, 1.0 / 39.0) << "radius at least half the rest edge";
+  EXPECT_EQ(fold.primary_error, "stretch");
+  const Scene pile = load_scene_by_name("pile", PBD_TEST_SCENE_DIR);
+  EXPECT_GE(pile.world.num_particles(), 10000u);
+  EXPECT_EQ(pile.world.num_constraints(), 0u);
+  ASSERT_EQ(pile.world.contact_bodies.size(), 1u);
+  EXPECT_TRUE(pile.world.contact_bodies[0].self_collision);
+  EXPECT_EQ(pile.world.contact_bodies[0].count, pile.world.num_particles());
+  EXPECT_EQ(pile.world.planes.size(), 5u);  // floor and four walls
+  EXPECT_EQ(pile.primary_error, "overlap");
+  for (const Scene* s : {&balls, &fold, &pile}) {
+    for (const auto& p : s->world.planes) EXPECT_GT(p.material.static_friction, 0.0) << s->name;
+    for (const auto& p : s->world.spheres) EXPECT_GT(p.material.static_friction, 0.0) << s->name;
+  }
 }
 
 const char* kMesh = R"({"name": "m", "dt": 0.01, "bodies": [

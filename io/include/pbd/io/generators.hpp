@@ -1,10 +1,12 @@
 #pragma once
 /// \file generators.hpp
-/// Procedural bodies added to a world: the hanging cloth and the rope. Each generator takes the world as `Target`:
+/// Procedural bodies added to a world: the hanging cloth, the rope and a lattice of loose grains. Each generator takes
+/// the world as `Target`:
 /// World<float>, World<double> or DescriptionBuilder (a scene's description; it computes as World<double>).
 #include "pbd/world.hpp"
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -46,5 +48,28 @@ struct RopeOptions {
 
 /// Adds a rope; with `stretch_set`, a stretch constraint between consecutive particles.
 template <class Target> Body add_rope(Target& world, const RopeOptions& options, std::optional<Index> stretch_set);
+
+/// nx × ny × nz loose particles (grains: no constraints) on a cubic lattice, each moved off its lattice point by a
+/// jitter drawn from a fixed integer generator (splitmix64 of `seed`): the same options give the same positions,
+/// bit for bit, on every platform and in either precision's cast. Lattice point (i, j, k) is
+/// origin + ((i − (nx − 1)/2)·spacing, (j − (ny − 1)/2)·spacing, k·spacing): `origin` is the centre of the bottom
+/// layer, before the jitter. Each coordinate is then moved by u·jitter·spacing with u uniform in [−1, 1), three
+/// draws per particle in the order x, y, z. Particle (i, j, k) is first_particle + (k·ny + j)·nx + i.
+struct GrainsOptions {
+  std::array<int, 3> count{1, 1, 1};            ///< nx, ny, nz ≥ 1 particles along x, y, z
+  double spacing = 0.1;                         ///< lattice spacing in metres, > 0
+  std::array<double, 3> origin{0.0, 0.0, 0.0};  ///< centre of the bottom layer's lattice points, m
+  double jitter = 0.1;                          ///< largest move per coordinate as a fraction of spacing, in [0, 0.5)
+  std::uint64_t seed = 1;                       ///< seed of the jitter
+  double mass = 1.0;                            ///< mass of each particle, kg, > 0
+  std::array<double, 3> velocity{0.0, 0.0, 0.0};  ///< initial velocity of every particle, m/s
+};
+
+/// Adds the grains (particles only: give them a contact body to make them touch). A jitter under half the spacing
+/// keeps every particle inside its own lattice cell's neighbourhood, so no two particles coincide.
+template <class Target> Body add_grains(Target& world, const GrainsOptions& options);
+
+/// The jitter generator of add_grains: splitmix64 (Steele, Lea & Flood 2014), advancing `state`.
+std::uint64_t splitmix64(std::uint64_t& state);
 
 }  // namespace pbd
