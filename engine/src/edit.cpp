@@ -258,26 +258,13 @@ template <class Real> std::size_t World<Real>::num_constraints() const {
 
 // ---- colliders ----
 
-namespace {
-
-template <class Real> void check_material(const ContactMaterial<Real>& m, const std::string& what) {
-  if (!std::isfinite(m.static_friction) || m.static_friction < Real(0))
-    throw Error(detail::message(what, ": static friction must be finite and >= 0, got ", m.static_friction));
-  if (!std::isfinite(m.kinetic_friction) || m.kinetic_friction < Real(0))
-    throw Error(detail::message(what, ": kinetic friction must be finite and >= 0, got ", m.kinetic_friction));
-  if (!(m.restitution >= Real(0) && m.restitution <= Real(1)))
-    throw Error(detail::message(what, ": restitution must be in [0, 1], got ", m.restitution));
-}
-
-}  // namespace
-
 template <class Real> void World<Real>::add_plane(const Vec& normal, Real offset, const ContactMaterial<Real>& material) {
   auto& planes = model_.colliders.planes;
   const std::string what = detail::message("add_plane: plane ", planes.size());
   if (!finite(normal) || !std::isfinite(offset)) throw Error(what + ": normal and offset must be finite");
   const Real len = normal.norm();
   if (!(len > Real(0))) throw Error(what + ": normal has zero length");
-  check_material(material, what);
+  check_contact_material(material, what);
   planes.push_back({normal / len, offset / len, material});
 }
 
@@ -287,24 +274,14 @@ template <class Real> void World<Real>::add_sphere(const Vec& center, Real radiu
   if (!finite(center)) throw Error(what + ": center is not finite");
   if (!std::isfinite(radius) || !(radius > Real(0)))
     throw Error(detail::message(what, ": radius must be finite and > 0, got ", radius));
-  check_material(material, what);
+  check_contact_material(material, what);
   spheres.push_back({center, radius, material});
 }
 
 template <class Real> Index World<Real>::add_contact_body(const ContactBody<Real>& body) {
   auto& bodies = model_.contact.bodies;
   const std::string what = detail::message("add_contact_body: body ", bodies.size());
-  const Index n = num_particles();
-  if (body.count == 0 || body.first >= n || body.count > n - body.first)
-    throw Error(detail::message(what, ": particles [", body.first, ", ", std::uint64_t(body.first) + body.count,
-                                ") are not a non-empty range of the ", n, " particles"));
-  if (!std::isfinite(body.radius) || body.radius < Real(0))
-    throw Error(detail::message(what, ": radius must be finite and >= 0, got ", body.radius));
-  check_material(body.material, what);
-  for (std::size_t b = 0; b < bodies.size(); ++b)
-    if (body.first < bodies[b].first + bodies[b].count && bodies[b].first < body.first + body.count)
-      throw Error(detail::message(what, ": particles [", body.first, ", ", body.first + body.count,
-                                  ") overlap those of contact body ", b));
+  check_contact_body<Real>(body, num_particles(), bodies, what);
   bodies.push_back(body);
   model_.contact.cooked = false;
   return Index(bodies.size() - 1);

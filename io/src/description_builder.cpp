@@ -36,16 +36,6 @@ void check_stiffness(const Stiffness& s, const std::string& what) {
   }
 }
 
-// Throws "<what>: ... friction must be ..." unless both frictions are finite and >= 0 and restitution is in [0, 1].
-void check_material(const ContactMaterial<double>& m, const std::string& what) {
-  if (!std::isfinite(m.static_friction) || m.static_friction < 0.0)
-    throw Error(detail::message(what, ": static friction must be finite and >= 0, got ", m.static_friction));
-  if (!std::isfinite(m.kinetic_friction) || m.kinetic_friction < 0.0)
-    throw Error(detail::message(what, ": kinetic friction must be finite and >= 0, got ", m.kinetic_friction));
-  if (!(m.restitution >= 0.0 && m.restitution <= 1.0))
-    throw Error(detail::message(what, ": restitution must be in [0, 1], got ", m.restitution));
-}
-
 }  // namespace
 
 void DescriptionBuilder::check_particle(Index i, const char* item, std::size_t index) const {
@@ -169,7 +159,7 @@ void DescriptionBuilder::add_plane(const Vec& normal, double offset, const Conta
   if (!finite(normal) || !std::isfinite(offset)) throw Error(what + ": normal and offset must be finite");
   const double len = normal.norm();
   if (!(len > 0.0)) throw Error(what + ": normal has zero length");
-  check_material(material, what);
+  check_contact_material(material, what);
   d_.planes.push_back({normal / len, offset / len, material});
 }
 
@@ -178,24 +168,14 @@ void DescriptionBuilder::add_sphere(const Vec& center, double radius, const Cont
   if (!finite(center)) throw Error(what + ": center is not finite");
   if (!std::isfinite(radius) || !(radius > 0.0))
     throw Error(detail::message(what, ": radius must be finite and > 0, got ", radius));
-  check_material(material, what);
+  check_contact_material(material, what);
   d_.spheres.push_back({center, radius, material});
 }
 
 Index DescriptionBuilder::add_contact_body(const ContactBody<double>& body) {
   auto& bodies = d_.contact_bodies;
   const std::string what = detail::message("add_contact_body: body ", bodies.size());
-  const Index n = num_particles();
-  if (body.count == 0 || body.first >= n || body.count > n - body.first)
-    throw Error(detail::message(what, ": particles [", body.first, ", ", std::uint64_t(body.first) + body.count,
-                                ") are not a non-empty range of the ", n, " particles"));
-  if (!std::isfinite(body.radius) || body.radius < 0.0)
-    throw Error(detail::message(what, ": radius must be finite and >= 0, got ", body.radius));
-  check_material(body.material, what);
-  for (std::size_t b = 0; b < bodies.size(); ++b)
-    if (body.first < bodies[b].first + bodies[b].count && bodies[b].first < body.first + body.count)
-      throw Error(detail::message(what, ": particles [", body.first, ", ", body.first + body.count,
-                                  ") overlap those of contact body ", b));
+  check_contact_body<double>(body, num_particles(), bodies, what);
   bodies.push_back(body);
   return Index(bodies.size() - 1);
 }

@@ -4,8 +4,14 @@
 /// spheres (particle contacts, constraints/particle_contact.hpp). A world without contact bodies builds no grid
 /// and runs no particle-contact pass.
 #include "pbd/constraints/contact_material.hpp"
+#include "pbd/detail/message.hpp"
+#include "pbd/error.hpp"
 #include "pbd/types.hpp"
 
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <string>
 #include <vector>
 
 namespace pbd {
@@ -20,6 +26,34 @@ template <class Real> struct ContactBody {
   /// least half the rest edge leaves no gap a particle could pass through).
   bool self_collision = false;
 };
+
+/// Throws pbd::Error, its message starting with `what`, unless both frictions are finite and ≥ 0 and the
+/// restitution is in [0, 1].
+template <class Real> void check_contact_material(const ContactMaterial<Real>& m, const std::string& what) {
+  if (!std::isfinite(m.static_friction) || m.static_friction < Real(0))
+    throw Error(detail::message(what, ": static friction must be finite and >= 0, got ", m.static_friction));
+  if (!std::isfinite(m.kinetic_friction) || m.kinetic_friction < Real(0))
+    throw Error(detail::message(what, ": kinetic friction must be finite and >= 0, got ", m.kinetic_friction));
+  if (!(m.restitution >= Real(0) && m.restitution <= Real(1)))
+    throw Error(detail::message(what, ": restitution must be in [0, 1], got ", m.restitution));
+}
+
+/// Throws pbd::Error, its message starting with `what`, unless `body` is a non-empty run of the n particles with a
+/// finite radius ≥ 0 and a valid material, sharing no particle with `others`.
+template <class Real>
+void check_contact_body(const ContactBody<Real>& body, Index n, std::span<const ContactBody<Real>> others,
+                        const std::string& what) {
+  if (body.count == 0 || body.first >= n || body.count > n - body.first)
+    throw Error(detail::message(what, ": particles [", body.first, ", ", std::uint64_t(body.first) + body.count,
+                                ") are not a non-empty range of the ", n, " particles"));
+  if (!std::isfinite(body.radius) || body.radius < Real(0))
+    throw Error(detail::message(what, ": radius must be finite and >= 0, got ", body.radius));
+  check_contact_material(body.material, what);
+  for (std::size_t b = 0; b < others.size(); ++b)
+    if (body.first < others[b].first + others[b].count && others[b].first < body.first + body.count)
+      throw Error(detail::message(what, ": particles [", body.first, ", ", body.first + body.count,
+                                  ") overlap those of contact body ", b));
+}
 
 /// Every contact body of a world, and what is cooked from them per particle.
 template <class Real> struct ContactBodies {

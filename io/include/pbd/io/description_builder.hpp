@@ -1,7 +1,7 @@
 #pragma once
 /// \file description_builder.hpp
 /// A WorldDescription built item by item through World's own calls: the scene reader and the generators (add_cloth,
-/// add_rope, add_mesh) fill one without building a World<double>.
+/// add_rope, add_grains, add_mesh) fill one without building a World<double>.
 #include "pbd/io/world_description.hpp"
 
 #include <limits>
