@@ -303,7 +303,8 @@ private:
     project_user_types<kReverse>(p, w, coeff, relax, out);
     if constexpr (!kInPlace) apply_deltas(p);
     // Volumes and contacts, in place with the true masses whatever the update (each volume is one constraint,
-    // parallel within itself; each contact touches one particle), so they have the last word in every sweep.
+    // parallel within itself; contacts color by color, their friction reading the positions they leave), so they
+    // have the last word in every sweep.
     project_volumes<kReverse>(p, m_.inverse_mass.data(), p);
     project_store<true, false>(k_.collisions, k_.collision_lambda.data(), p, m_.inverse_mass.data(), coeff, Real(1), p);
     project_store<true, false>(k_.particle_contacts, k_.particle_contact_lambda.data(), p, m_.inverse_mass.data(), coeff,
