@@ -62,8 +62,9 @@ template <class Real> struct ContactBodies {
   std::vector<Index> body_of;                    ///< per particle: its body or kNone (empty when there are none)
   VectorX<Real> radius;                          ///< per particle, m (empty when there are no bodies)
   std::vector<ContactMaterial<Real>> material;   ///< per particle (empty when there are no bodies)
+  std::vector<Index> active;                     ///< the particles with a radius > 0, ascending
   Real max_radius = 0;                           ///< largest radius, m (0: no particle contacts)
-  bool cooked = false;                           ///< body_of, radius and material match the bodies (and particles)
+  bool cooked = false;                           ///< body_of, radius, material and active match the bodies (and particles)
   bool empty() const { return bodies.empty(); }  ///< true when no particle belongs to a contact body
   /// True when particles touch one another (some body has a radius): a grid is built every sub-step.
   bool particle_contacts() const { return max_radius > Real(0); }

@@ -30,6 +30,9 @@ template <class Real> void cook_contact_bodies(Model<Real>& m) {
     }
     c.max_radius = std::max(c.max_radius, body.radius);
   }
+  c.active.clear();
+  for (Index i = 0; i < n; ++i)
+    if (c.radius[i] > Real(0)) c.active.push_back(i);
   c.cooked = true;
 }
 
@@ -112,57 +115,96 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   if (any_self && (g.joined_edits != m.edits || g.joined_bodies != c.bodies.size() ||
                    g.joined_offsets.size() != std::size_t(n) + 1))
     build_exclusions(m, g);
-  g.active.clear();
-  for (Index i = 0; i < n; ++i)
-    if (c.radius[i] > Real(0)) g.active.push_back(i);
-  const Index count = Index(g.active.size());
+  const std::vector<Index>& active = c.active;
+  const Index count = Index(active.size());
+  if (count == 0) return;
+  // Loops over the active particles in kChunks fixed chunks, in parallel when asked: whatever a chunk computes
+  // depends on its particles only, and chunk results are joined in chunk order, so nothing depends on threads.
+  const Index chunks = std::min<Index>(kChunks, count);
+  const bool fork = parallel && count >= 4096;
+  auto over_chunks = [&](const auto& f) {
+    if (fork)
+      tbb::parallel_for(tbb::blocked_range<Index>(0, chunks, 1), [&](const tbb::blocked_range<Index>& r) {
+        for (Index ch = r.begin(); ch < r.end(); ++ch) f(ch);
+      });
+    else
+      for (Index ch = 0; ch < chunks; ++ch) f(ch);
+  };
+  auto first_of = [&](Index ch) { return Index(std::uint64_t(ch) * count / chunks); };
   // 2. swept boxes in the frame that moves with the mean path Δ̄ (relative paths, all a pair test reads, are the
   // same there; a falling cloth's boxes stay short)
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();  // one thread, particle order: the same bits on any thread count
-  for (Index i : g.active) mean += (p.col(i) - x.col(i)).template cast<double>();
-  const Vec3<Real> shared = (mean / double(std::max<Index>(1, count))).template cast<Real>();
-  // Cells 2·r_max + margin wide, stretched along each axis by twice the mean departure from Δ̄ along it: boxes then
-  // cover a few cells each whichever way the bodies move (the boxes alone decide which pairs are tested, so the
-  // cells' shape changes only the cost).
+  g.partial.resize(2 * std::size_t(chunks));
+  over_chunks([&](Index ch) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (Index k = first_of(ch); k < first_of(ch + 1); ++k) sum += (p.col(active[k]) - x.col(active[k])).template cast<double>();
+    g.partial[ch] = sum;
+  });
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (Index ch = 0; ch < chunks; ++ch) mean += g.partial[ch];
+  const Vec3<Real> shared = (mean / double(count)).template cast<Real>();
+  over_chunks([&](Index ch) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (Index k = first_of(ch); k < first_of(ch + 1); ++k)
+      sum += (p.col(active[k]) - x.col(active[k]) - shared).template cast<double>().cwiseAbs();
+    g.partial[ch] = sum;
+  });
   Eigen::Vector3d spread = Eigen::Vector3d::Zero();
-  for (Index i : g.active) spread += (p.col(i) - x.col(i) - shared).template cast<double>().cwiseAbs();
-  const Vec3<Real> inv = (Real(2) * c.max_radius + margin +
-                          Real(2) * (spread / double(std::max<Index>(1, count))).template cast<Real>().array())
+  for (Index ch = 0; ch < chunks; ++ch) spread += g.partial[ch];
+  // Cells 1.5·(2·r_max + margin) wide, stretched along each axis by three times the paths' mean departure from Δ̄
+  // along it, whichever way the bodies move (chosen by measurement on bench_contacts' draped cloth: cells as wide as
+  // a box give each box more entries to sort, cells twice as wide more pairs per cell to check). The boxes alone
+  // decide which pairs are tested, and the test alone which are kept, so the cells change only the cost and the
+  // order of the list.
+  const Vec3<Real> inv = (Real(1.5) * (Real(2) * c.max_radius + margin +
+                                       Real(2) * (spread / double(count)).template cast<Real>().array()))
                              .cwiseInverse()
                              .matrix();
+  // each box's cell range, the cells it covers (0: too many, tested against every particle instead) and, per
+  // chunk, the range of cells its boxes cover
   g.lo.resize(n);
   g.hi.resize(n);
-  g.huge.clear();
-  std::size_t entries = 0;
-  for (Index i : g.active) {
-    const Vec3<Real> a = x.col(i), b = p.col(i) - shared;
-    const Real grow = c.radius[i] + Real(0.5) * margin;
-    g.lo[i] = cell_of<Real>(Vec3<Real>(a.cwiseMin(b).array() - grow), inv);
-    g.hi[i] = cell_of<Real>(Vec3<Real>(a.cwiseMax(b).array() + grow), inv);
-    std::uint64_t cells = 1;
-    for (int d = 0; d < 3; ++d) cells *= std::uint64_t(std::int64_t(g.hi[i][d]) - g.lo[i][d] + 1);
-    if (cells > kMaxCells) g.huge.push_back(i);  // tested against every particle instead (below)
-    else entries += cells;
-  }
-  // Buckets: the cells of the boxes' bounding grid in x-fastest order when it has at most 8 cells per entry (cells
-  // near in space are near in memory, and so are a cloth's neighbouring particles' lookups), else a hash table of
-  // about twice as many buckets as entries.
-  Cell base{0, 0, 0};
-  std::array<std::int64_t, 3> dims{0, 0, 0};
-  {
+  g.cells.resize(count);
+  g.movers.resize(n);
+  g.chunk_bounds.resize(chunks);
+  over_chunks([&](Index ch) {
     Cell lo{std::numeric_limits<std::int32_t>::max(), std::numeric_limits<std::int32_t>::max(), std::numeric_limits<std::int32_t>::max()};
     Cell hi{std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::min()};
-    std::size_t h = 0;
-    for (Index i : g.active) {
-      if (h < g.huge.size() && g.huge[h] == i) {
-        ++h;
-        continue;
-      }
+    for (Index k = first_of(ch); k < first_of(ch + 1); ++k) {
+      const Index i = active[k];
+      const Vec3<Real> a = x.col(i), b = p.col(i) - shared;
+      const Real grow = c.radius[i] + Real(0.5) * margin;
+      g.movers[i] = {x.col(i), p.col(i), c.radius[i], m.inverse_mass[i] == Real(0),
+                     Vec3<Real>(a.cwiseMin(b).array() - grow), Vec3<Real>(a.cwiseMax(b).array() + grow)};
+      g.lo[i] = cell_of<Real>(Vec3<Real>(a.cwiseMin(b).array() - grow), inv);
+      g.hi[i] = cell_of<Real>(Vec3<Real>(a.cwiseMax(b).array() + grow), inv);
+      std::uint64_t cells = 1;
+      for (int d = 0; d < 3; ++d) cells *= std::uint64_t(std::int64_t(g.hi[i][d]) - g.lo[i][d] + 1);
+      g.cells[k] = cells > kMaxCells ? 0 : std::uint32_t(cells);
+      if (cells > kMaxCells) continue;
       for (int d = 0; d < 3; ++d) {
         lo[d] = std::min(lo[d], g.lo[i][d]);
         hi[d] = std::max(hi[d], g.hi[i][d]);
       }
     }
+    g.chunk_bounds[ch] = {lo, hi};
+  });
+  g.huge.clear();
+  std::size_t entries = 0;
+  for (Index k = 0; k < count; ++k) {
+    if (g.cells[k] == 0) g.huge.push_back(active[k]);
+    entries += g.cells[k];
+  }
+  // Buckets: the cells of the boxes' bounding grid in x-fastest order when it has at most 8 cells per entry, else
+  // a hash table of about twice as many buckets as entries.
+  Cell base{0, 0, 0};
+  std::array<std::int64_t, 3> dims{0, 0, 0};
+  {
+    Cell lo = g.chunk_bounds[0].first, hi = g.chunk_bounds[0].second;
+    for (Index ch = 1; ch < chunks; ++ch)
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = std::min(lo[d], g.chunk_bounds[ch].first[d]);
+        hi[d] = std::max(hi[d], g.chunk_bounds[ch].second[d]);
+      }
     base = lo;
     for (int d = 0; d < 3; ++d) dims[d] = std::max<std::int64_t>(0, std::int64_t(hi[d]) - lo[d] + 1);
   }
@@ -181,95 +223,89 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
                            (std::int64_t(q[0]) - base[0]));
     return hash_cell(q[0], q[1], q[2], mask);
   };
-  g.bucket_start.assign(std::size_t(buckets) + 1, 0);
   auto for_each_cell = [&](Index i, const auto& f) {
-    for (std::int32_t cx = g.lo[i][0]; cx <= g.hi[i][0]; ++cx)
+    for (std::int32_t cz = g.lo[i][2]; cz <= g.hi[i][2]; ++cz)
       for (std::int32_t cy = g.lo[i][1]; cy <= g.hi[i][1]; ++cy)
-        for (std::int32_t cz = g.lo[i][2]; cz <= g.hi[i][2]; ++cz) f(Cell{cx, cy, cz});
+        for (std::int32_t cx = g.lo[i][0]; cx <= g.hi[i][0]; ++cx) f(Cell{cx, cy, cz});
   };
-  const std::size_t huge_begin = 0;
-  std::size_t h = huge_begin;
-  for (Index i : g.active) {
-    if (h < g.huge.size() && g.huge[h] == i) {
-      ++h;
-      continue;
-    }
-    for_each_cell(i, [&](const Cell& q) { ++g.bucket_start[bucket_of(q) + 1]; });
-  }
+  // counting sort of (particle, cell) by bucket, particle order within a bucket; each entry notes along which axes
+  // its cell is the box's first (lower) one
+  g.bucket_start.assign(std::size_t(buckets) + 1, 0);
+  for (Index k = 0; k < count; ++k)
+    if (g.cells[k] != 0) for_each_cell(active[k], [&](const Cell& q) { ++g.bucket_start[bucket_of(q) + 1]; });
   for (std::uint32_t b = 0; b < buckets; ++b) g.bucket_start[b + 1] += g.bucket_start[b];
   g.entries.resize(entries);
-  {
-    std::vector<Index>& fill = g.fill;
-    fill.assign(g.bucket_start.begin(), g.bucket_start.end() - 1);
-    h = huge_begin;
-    for (Index i : g.active) {  // particle order within each bucket
-      if (h < g.huge.size() && g.huge[h] == i) {
-        ++h;
-        continue;
-      }
-      for_each_cell(i, [&](const Cell& q) { g.entries[fill[bucket_of(q)]++] = {i, q}; });
-    }
+  g.fill.assign(g.bucket_start.begin(), g.bucket_start.end() - 1);
+  for (Index k = 0; k < count; ++k) {
+    if (g.cells[k] == 0) continue;
+    const Index i = active[k];
+    const Cell lo = g.lo[i];
+    for_each_cell(i, [&](const Cell& q) {
+      const std::uint8_t lower = std::uint8_t((q[0] == lo[0] ? 1 : 0) | (q[1] == lo[1] ? 2 : 0) | (q[2] == lo[2] ? 4 : 0));
+      g.entries[g.fill[bucket_of(q)]++] = {i, lower, q};
+    });
   }
-  // 3. pairs: particle i looks up each cell its box covers and takes the particles j > i entered there for which
-  // that cell is the first their boxes share (the larger of their lower corners), so each pair is found once
+  // 3. pairs: in every bucket, each two entries of one cell; the pair is tested there when that cell is the first
+  // the two boxes share, the larger of their lower corners, i.e. when along each axis the cell is the lower one of
+  // one box or the other, so each pair once
+  // The pair test reads each particle's packed copy (filled with the boxes above).
+  const typename ParticleGrid<Real>::Mover* P = g.movers.data();
   auto test_pair = [&](Index i, Index j, std::vector<ParticleContact<Real>>& mine) {  // i < j
-    if (m.inverse_mass[i] == Real(0) && m.inverse_mass[j] == Real(0)) return;
-    const Real R = c.radius[i] + c.radius[j];
-    const Vec3<Real> d0 = x.col(i) - x.col(j), d1 = p.col(i) - p.col(j);
+    const auto& a = P[i];
+    const auto& b = P[j];
+    if (a.pinned && b.pinned) return;
+    const Real R = a.radius + b.radius;
+    const Vec3<Real> d0 = a.x - b.x, d1 = a.p - b.p;
     const Vec3<Real> e = d1 - d0;
-    const Real ee = e.squaredNorm();
-    const Real t = ee > Real(0) ? std::clamp(-d0.dot(e) / ee, Real(0), Real(1)) : Real(0);
-    if ((d0 + t * e).squaredNorm() >= (R + margin) * (R + margin)) return;
+    // closest approach of d0 + t·e, t ∈ [0, 1], within R + margin (without a division)
+    const Real ee = e.squaredNorm(), de = d0.dot(e), reach = (R + margin) * (R + margin);
+    bool near;
+    if (de >= Real(0)) near = d0.squaredNorm() < reach;
+    else if (-de >= ee) near = d1.squaredNorm() < reach;
+    else near = d0.squaredNorm() * ee - de * de < reach * ee;
+    if (!near) return;
     const Index bi = c.body_of[i];
     if (c.body_of[j] == bi) {  // within a body: only if it self-collides and no constraint joins the two
       if (!c.bodies[bi].self_collision) return;
-      for (Index k = g.joined_offsets[i]; k < g.joined_offsets[i + 1]; ++k)
+      for (Index k = g.joined_offsets[i]; k < g.joined_offsets[i + 1] && g.joined[k] <= j; ++k)  // sorted row
         if (g.joined[k] == j) return;
     }
     const Vec3<Real> nrm = first_contact_normal(d0, d1, R);
     mine.push_back({{i, j}, nrm, R, d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))),
                     mix_materials(c.material[i], c.material[j])});
   };
-  const Index chunks = std::min<Index>(kChunks, std::max<Index>(1, count));
-  g.chunks.resize(chunks + 1);
-  auto chunk = [&](Index ch) {
+  // chunk ch takes the buckets from the first one at or after entry ch·entries/chunks
+  g.bucket_cut.resize(std::size_t(chunks) + 1);
+  for (Index ch = 0; ch < chunks; ++ch)
+    g.bucket_cut[ch] = Index(std::lower_bound(g.bucket_start.begin(), g.bucket_start.end() - 1,
+                                              Index(std::uint64_t(ch) * entries / chunks)) - g.bucket_start.begin());
+  g.bucket_cut[chunks] = buckets;
+  g.chunks.resize(std::size_t(chunks) + 1);
+  const auto* E = g.entries.data();
+  over_chunks([&](Index ch) {
     std::vector<ParticleContact<Real>>& mine = g.chunks[ch];
     mine.clear();
-    const Index kb = Index(std::uint64_t(ch) * count / chunks), ke = Index(std::uint64_t(ch + 1) * count / chunks);
-    std::size_t h = std::size_t(std::lower_bound(g.huge.begin(), g.huge.end(), kb < count ? g.active[kb] : n) - g.huge.begin());
-    for (Index k = kb; k < ke; ++k) {
-      const Index i = g.active[k];
-      if (h < g.huge.size() && g.huge[h] == i) {  // its pairs are found below
-        ++h;
-        continue;
-      }
-      const Cell lo = g.lo[i];
-      for_each_cell(i, [&](const Cell& q) {
-        const std::uint32_t b = bucket_of(q);
-        // a bucket's entries are in particle order: the particles j > i are its tail
-        for (Index s = g.bucket_start[b + 1]; s-- > g.bucket_start[b] && g.entries[s].particle > i;) {
-          const auto& en = g.entries[s];
-          const Index j = en.particle;
-          if (en.cell[0] != q[0] || en.cell[1] != q[1] || en.cell[2] != q[2]) continue;
-          const Cell& lj = g.lo[j];
-          if (q[0] == std::max(lo[0], lj[0]) && q[1] == std::max(lo[1], lj[1]) && q[2] == std::max(lo[2], lj[2]))
-            test_pair(i, j, mine);
+    for (Index b = g.bucket_cut[ch]; b < g.bucket_cut[ch + 1]; ++b) {
+      const Index s1 = g.bucket_start[b + 1];
+      for (Index s = g.bucket_start[b]; s + 1 < s1; ++s) {
+        const auto& ea = E[s];
+        for (Index t = s + 1; t < s1; ++t) {
+          const auto& eb = E[t];
+          if ((ea.lower | eb.lower) != 7) continue;
+          if (!dense && ea.cell != eb.cell) continue;
+          const auto& ma = P[ea.particle];
+          const auto& mb = P[eb.particle];
+          if (((ma.lo.array() > mb.hi.array()) || (mb.lo.array() > ma.hi.array())).any()) continue;  // boxes apart
+          test_pair(ea.particle, eb.particle, mine);  // ea.particle < eb.particle: particle order in a bucket
         }
-      });
+      }
     }
-  };
-  if (parallel && entries >= 4096) {
-    tbb::parallel_for(tbb::blocked_range<Index>(0, chunks, 1), [&](const tbb::blocked_range<Index>& r) {
-      for (Index ch = r.begin(); ch < r.end(); ++ch) chunk(ch);
-    });
-  } else {
-    for (Index ch = 0; ch < chunks; ++ch) chunk(ch);
-  }
+  });
   // particles whose boxes span too many cells (far faster than the rest): against every other particle, by box
   std::vector<ParticleContact<Real>>& rest = g.chunks[chunks];
   rest.clear();
   for (Index i : g.huge)
-    for (Index j : g.active) {
+    for (Index j : active) {
       if (j == i || (j < i && std::binary_search(g.huge.begin(), g.huge.end(), j))) continue;  // huge pairs once
       bool overlap = true;
       for (int d = 0; d < 3; ++d) overlap = overlap && g.lo[i][d] <= g.hi[j][d] && g.lo[j][d] <= g.hi[i][d];
