@@ -221,14 +221,40 @@ template <class Real> void note_layout(Model<Real>& m) {
   note_particle_cuts(m);
 }
 
-template <class Real> void color_collisions(Store<CollisionConstraint<Real>>& s) {
+namespace {
+
+// First fit in generation order (the lowest color free at each item's non-pinned particles) of the items of `g`,
+// then `s` laid out color by color; w's buffers are kept from sub-step to sub-step, so nothing is allocated once
+// they have grown. More than 64 colors (never seen on contacts) take graph_coloring's first fit, which has no limit.
+template <class C> void first_fit_layout(Store<C>& s, const ConstraintGraph& g, FirstFitScratch<C>& w) {
+  const coloring::Hypergraph view = g.view();
+  w.used.assign(g.num_particles, 0);
+  w.color.resize(s.items.size());
+  if (!coloring::first_fit_extend(view, w.used, 64, w.color)) {
+    coloring::Options first_fit;
+    first_fit.algorithm = coloring::Algorithm::greedy_input;
+    first_fit.balance = false;
+    const coloring::Coloring col = coloring::color(view, first_fit);
+    w.color.assign(col.color.begin(), col.color.end());
+  }
+  w.by_index.swap(s.items);  // s.items keeps the other buffer: layout_by_color overwrites it
+  s.color.assign(w.color.begin(), w.color.end());
+  layout_by_color(s, w.by_index);
+}
+
+}  // namespace
+
+template <class Real>
+void color_collisions(Store<CollisionConstraint<Real>>& s, FirstFitScratch<CollisionConstraint<Real>>& w) {
   assert(s.slot.empty() && s.color.empty());
   const Index n = Index(s.size());
   if (n == 0) return;
   // Collisions arrive particle by particle: number the distinct particles so the graph has as many nodes as there
-  // are colliding particles, not as the world has particles.
-  ConstraintGraph g;
-  g.offsets = coloring::uniform_offsets(n, 1);
+  // are colliding particles, not as the world has particles. The k-th collision of a particle gets color k.
+  ConstraintGraph& g = w.graph;
+  g.fixed = {};
+  g.offsets.resize(std::size_t(n) + 1);
+  for (Index i = 0; i <= n; ++i) g.offsets[i] = std::uint32_t(i);
   g.nodes.resize(n);
   std::uint32_t node = 0;
   for (Index i = 0; i < n; ++i) {
@@ -236,27 +262,26 @@ template <class Real> void color_collisions(Store<CollisionConstraint<Real>>& s)
     g.nodes[i] = node;
   }
   g.num_particles = node + 1;
-  coloring::Options first_fit;
-  first_fit.algorithm = coloring::Algorithm::greedy_input;  // first fit in generation order: the k-th one gets color k
-  first_fit.balance = false;
-  const coloring::Coloring col = coloring::color(g.view(), first_fit);
-  std::vector<CollisionConstraint<Real>> by_index = std::move(s.items);
-  s.color.assign(col.color.begin(), col.color.end());
-  layout_by_color(s, by_index);
+  first_fit_layout(s, g, w);
 }
 
 template <class Real>
-void color_particle_contacts(Store<ParticleContact<Real>>& s, const std::vector<std::uint8_t>& fixed) {
+void color_particle_contacts(Store<ParticleContact<Real>>& s, const std::vector<std::uint8_t>& fixed,
+                             FirstFitScratch<ParticleContact<Real>>& w) {
   assert(s.slot.empty() && s.color.empty());
   if (s.empty()) return;
-  const ConstraintGraph g = constraint_graph<ParticleContact<Real>>(s.items, fixed);
-  coloring::Options first_fit;
-  first_fit.algorithm = coloring::Algorithm::greedy_input;  // first fit in generation order
-  first_fit.balance = false;
-  const coloring::Coloring col = coloring::color(g.view(), first_fit);
-  std::vector<ParticleContact<Real>> by_index = std::move(s.items);
-  s.color.assign(col.color.begin(), col.color.end());
-  layout_by_color(s, by_index);
+  ConstraintGraph& g = w.graph;
+  g.num_particles = std::uint32_t(fixed.size());
+  g.fixed = fixed;
+  g.offsets.resize(s.items.size() + 1);
+  g.nodes.resize(2 * s.items.size());
+  g.offsets[0] = 0;
+  for (std::size_t k = 0; k < s.items.size(); ++k) {
+    g.nodes[2 * k] = s.items[k].particles[0];
+    g.nodes[2 * k + 1] = s.items[k].particles[1];
+    g.offsets[k + 1] = std::uint32_t(2 * k + 2);
+  }
+  first_fit_layout(s, g, w);
 }
 
 #define PBD_SCHEDULE_INSTANTIATE(Real)                                                  \
@@ -264,8 +289,9 @@ void color_particle_contacts(Store<ParticleContact<Real>>& s, const std::vector<
   template void color_everything(Model<Real>&);                                         \
   template void update_colors(Model<Real>&, Layout);                                            \
   template void note_layout(Model<Real>&);                                              \
-  template void color_collisions(Store<CollisionConstraint<Real>>&);                     \
-  template void color_particle_contacts(Store<ParticleContact<Real>>&, const std::vector<std::uint8_t>&);
+  template void color_collisions(Store<CollisionConstraint<Real>>&, FirstFitScratch<CollisionConstraint<Real>>&); \
+  template void color_particle_contacts(Store<ParticleContact<Real>>&, const std::vector<std::uint8_t>&,          \
+                                        FirstFitScratch<ParticleContact<Real>>&);
 PBD_SCHEDULE_INSTANTIATE(float)
 PBD_SCHEDULE_INSTANTIATE(double)
 #undef PBD_SCHEDULE_INSTANTIATE

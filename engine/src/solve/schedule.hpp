@@ -6,6 +6,7 @@
 #include "pbd/constraints/collision.hpp"
 #include "pbd/constraints/particle_contact.hpp"
 #include "pbd/detail/model.hpp"
+#include "scratch.hpp"
 
 namespace pbd::detail {
 
@@ -28,11 +29,13 @@ template <class Real> void note_layout(Model<Real>& m);
 
 /// Colors this sub-step's collisions (each touches one particle: the k-th collision of a particle gets color k) and
 /// lays them out color by color.
-template <class Real> void color_collisions(Store<CollisionConstraint<Real>>& collisions);
+template <class Real>
+void color_collisions(Store<CollisionConstraint<Real>>& collisions, FirstFitScratch<CollisionConstraint<Real>>& w);
 
 /// Colors this sub-step's particle contacts (first fit in generation order; pinned particles, flagged in `fixed`,
 /// never conflict) and lays them out color by color.
 template <class Real>
-void color_particle_contacts(Store<ParticleContact<Real>>& contacts, const std::vector<std::uint8_t>& fixed);
+void color_particle_contacts(Store<ParticleContact<Real>>& contacts, const std::vector<std::uint8_t>& fixed,
+                             FirstFitScratch<ParticleContact<Real>>& w);
 
 }  // namespace pbd::detail

@@ -60,6 +60,14 @@ private:
   Index size_ = 0;
 };
 
+/// Buffers of the per-sub-step colorings (schedule.hpp: color_collisions, color_particle_contacts), kept between sub-steps so that nothing is reallocated.
+template <class C> struct FirstFitScratch {
+  ConstraintGraph graph;              // the constraints' particles
+  std::vector<std::uint64_t> used;    // per particle: colors taken there (bit c)
+  std::vector<std::uint32_t> color;   // per constraint, generation order
+  std::vector<C> by_index;            // the constraints in generation order while they are laid out
+};
+
 template <class Real> struct Scratch {
   Matrix3X<Real> p;                                 // predicted positions
   Store<CollisionConstraint<Real>> collisions;      // this sub-step's collisions (color order for colored solvers)
@@ -67,6 +75,8 @@ template <class Real> struct Scratch {
   Store<ParticleContact<Real>> particle_contacts;   // this sub-step's particle contacts (color order likewise)
   std::vector<Real> particle_contact_lambda;        // their λ likewise
   ParticleGrid<Real> grid;                          // the particle contacts' broad phase
+  FirstFitScratch<CollisionConstraint<Real>> collision_coloring;  // their colorings' buffers
+  FirstFitScratch<ParticleContact<Real>> contact_coloring;
   std::vector<SolveCoefficients<Real>> coeff;       // per constraint set, for this step's sub-step length
   VolumeScratch<Real> volume;                       // volume targets, gradients, block sums
   std::chrono::microseconds team_wait{20};          // how long the next solve waits for its team (team.hpp)

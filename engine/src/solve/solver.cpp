@@ -20,10 +20,10 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
   const Update update = solver == Solver::jacobi ? Update::jacobi : Update::in_place;
   const bool parallel = is_parallel(solver);
   if (schedule != Schedule::insertion) {
-    color_collisions(scratch.collisions);
+    color_collisions(scratch.collisions, scratch.collision_coloring);
     if (!scratch.particle_contacts.empty()) {
       if (model.fixed.size() != std::size_t(model.num_particles())) model.fixed = pinned_flags(model.inverse_mass);
-      color_particle_contacts(scratch.particle_contacts, model.fixed);
+      color_particle_contacts(scratch.particle_contacts, model.fixed, scratch.contact_coloring);
     }
   }
   Sweeper<Real> sweeper(model, state, scratch, schedule, update, reverse, parallel, config);
