@@ -172,8 +172,8 @@ template <class Real> World<Real> pile(Solver s, double r, int side) {
   w.add_plane(Vec3<Real>(0, 1, 0), Real(-half), rough);
   w.add_plane(Vec3<Real>(0, -1, 0), Real(-half), rough);
   // Ten layers deep: the floor's support climbs the pile one contact per sweep, and the impacts of the upper layers
-  // are the worst moments. 16 sub-steps of 5 sweeps keep every overlap under 1% (at 4 × 10: 1.3% serial, 2.9%
-  // colored; at 8 × 10: 0.45% and 0.85%).
+  // are the worst moments. 16 sub-steps of 5 sweeps keep every overlap under 1% (at 4 × 10: 1.3% serial, 2.5%
+  // colored; at 8 × 10: 0.45% and 0.84%).
   StepParams<Real> p = params<Real>(s, 16, 5);
   p.collision_margin = Real(0.2 * r);
   w.set_params(p);

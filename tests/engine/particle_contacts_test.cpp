@@ -2,7 +2,7 @@
 // layouts that take each of its paths (a dense cluster: the dense grid; particles scattered over a wide space: the
 // hash table; a few particles far faster than the rest: the boxes tested against everything; self-colliding bodies
 // whose joined pairs are excluded; pinned particles), it finds exactly the pairs whose relative path comes within
-// r_a + r_b + margin, each once, and the same list with and without threads.
+// r_a + r_b + margin, each once, in the order of the pairs, and the same list with and without threads.
 #include "contact/particle_contacts.hpp"
 
 #include <gtest/gtest.h>
@@ -113,6 +113,8 @@ TYPED_TEST(ParticleContacts, FindExactlyThePairsWhosePathsComeWithinReach) {
       generate_particle_contacts(c.model, c.x, c.p, c.v, Real(margin), false, grid, found);
       std::set<std::pair<Index, Index>> got;
       std::size_t near_boundary = 0;  // float rounding may decide a pair within 1e-5 of reach either way
+      for (std::size_t k = 1; k < found.size(); ++k)  // in the order of the pairs, whatever the grid
+        ASSERT_LT(found[k - 1].particles, found[k].particles) << k;
       for (const auto& k : found) {
         ASSERT_LT(k.particles[0], k.particles[1]);
         EXPECT_TRUE(got.insert({k.particles[0], k.particles[1]}).second)

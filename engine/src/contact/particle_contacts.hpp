@@ -17,7 +17,7 @@
 //                corners), so each pair is found once; then the two boxes must overlap, and the pair is kept when the
 //                relative path (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous, so nothing
 //                passes through anything within a sub-step (if it does, the two boxes meet)
-//   4. output    in bucket order, chunks joined in chunk order: the same list for any thread count
+//   4. output    sorted by pair (i, j), i < j: the same list for any thread count and any cells
 // A world without contact bodies of non-zero radius runs none of this.
 #include "pbd/constraints/particle_contact.hpp"
 #include "pbd/detail/model.hpp"
@@ -55,6 +55,7 @@ template <class Real> struct ParticleGrid {
   std::vector<Entry> entries;                      // (particle, cell), bucket by bucket, particle order within one
   std::vector<Index> fill;                         // the counting sort's cursor per bucket
   std::vector<Index> bucket_cut;                   // per chunk + 1: its first bucket
+  std::vector<Index> first_of;                     // per particle + 1: the output's counting sort by first particle
   std::vector<std::vector<ParticleContact<Real>>> chunks;  // per chunk of buckets: its contacts (last: the huge ones)
 };
 
