@@ -240,9 +240,11 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     if (g.cells[k] == 0) continue;
     const Index i = active[k];
     const Cell lo = g.lo[i];
+    const Index body = c.body_of[i];
+    const Index group = c.bodies[body].self_collision ? ContactBodies<Real>::kNone : body;
     for_each_cell(i, [&](const Cell& q) {
       const std::uint8_t lower = std::uint8_t((q[0] == lo[0] ? 1 : 0) | (q[1] == lo[1] ? 2 : 0) | (q[2] == lo[2] ? 4 : 0));
-      g.entries[g.fill[bucket_of(q)]++] = {i, lower, q};
+      g.entries[g.fill[bucket_of(q)]++] = {i, group, lower, q};
     });
   }
   // 3. pairs: in every bucket, each two entries of one cell; the pair is tested there when that cell is the first
@@ -292,6 +294,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
         for (Index t = s + 1; t < s1; ++t) {
           const auto& eb = E[t];
           if ((ea.lower | eb.lower) != 7) continue;
+          if (ea.group == eb.group && ea.group != ContactBodies<Real>::kNone) continue;  // one body, no self-collision
           if (!dense && ea.cell != eb.cell) continue;
           const auto& ma = P[ea.particle];
           const auto& mb = P[eb.particle];

@@ -48,6 +48,7 @@ template <class Real> struct ParticleGrid {
   std::vector<Index> huge;                         // particles whose boxes cover too many cells, ascending
   struct Entry {
     Index particle;
+    Index group;                                   // its body when that does not self-collide, else kNone
     std::uint8_t lower;                            // bit d: the cell is the box's lowest along axis d
     std::array<std::int32_t, 3> cell;
   };
