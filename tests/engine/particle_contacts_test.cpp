@@ -45,7 +45,7 @@ template <class Real> Case<Real> make(const Layout& l, std::uint32_t seed) {
   if (l.clusters > 0)
     for (auto& centre : centres) centre = Eigen::Vector3d(u(rng), u(rng), u(rng)) * l.spread;
   for (Index i = 0; i < n; ++i) {
-    const double scale = i < l.fast ? 1000.0 : 1.0;
+    const double scale = i < Index(l.fast) ? 1000.0 : 1.0;
     for (int d = 0; d < 3; ++d) {
       c.x(d, i) = Real(l.clusters > 0 ? centres[i % l.clusters][d] + 0.3 * u(rng) : l.spread * u(rng));
       c.p(d, i) = Real(double(c.x(d, i)) + l.step * scale * u(rng) + 0.3 * l.step);  // a shared drift
