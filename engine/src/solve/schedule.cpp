@@ -270,18 +270,8 @@ void color_particle_contacts(Store<ParticleContact<Real>>& s, const std::vector<
                              FirstFitScratch<ParticleContact<Real>>& w) {
   assert(s.slot.empty() && s.color.empty());
   if (s.empty()) return;
-  ConstraintGraph& g = w.graph;
-  g.num_particles = std::uint32_t(fixed.size());
-  g.fixed = fixed;
-  g.offsets.resize(s.items.size() + 1);
-  g.nodes.resize(2 * s.items.size());
-  g.offsets[0] = 0;
-  for (std::size_t k = 0; k < s.items.size(); ++k) {
-    g.nodes[2 * k] = s.items[k].particles[0];
-    g.nodes[2 * k + 1] = s.items[k].particles[1];
-    g.offsets[k + 1] = std::uint32_t(2 * k + 2);
-  }
-  first_fit_layout(s, g, w);
+  fill_constraint_graph(std::span<const ParticleContact<Real>>(s.items), fixed, w.graph);
+  first_fit_layout(s, w.graph, w);
 }
 
 #define PBD_SCHEDULE_INSTANTIATE(Real)                                                  \

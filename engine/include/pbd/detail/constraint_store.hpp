@@ -149,19 +149,27 @@ struct ConstraintGraph {
   coloring::Hypergraph view() const { return {offsets, nodes, num_particles, fixed}; }
 };
 
-/// The hypergraph of fixed-arity constraints items[first, end).
+/// Fills g with the hypergraph of fixed-arity constraints `items`, reusing g's buffers.
 template <class C>
-ConstraintGraph constraint_graph(std::span<const C> items, const std::vector<std::uint8_t>& fixed) {
-  ConstraintGraph g;
+void fill_constraint_graph(std::span<const C> items, const std::vector<std::uint8_t>& fixed, ConstraintGraph& g) {
   g.num_particles = std::uint32_t(fixed.size());
   g.fixed = fixed;
+  g.offsets.clear();
   g.offsets.reserve(items.size() + 1);
   g.offsets.push_back(0);
+  g.nodes.clear();
   g.nodes.reserve(items.size() * C::kArity);
   for (const C& c : items) {
     for (Index p : c.particles) g.nodes.push_back(p);
     g.offsets.push_back(std::uint32_t(g.nodes.size()));
   }
+}
+
+/// The hypergraph of fixed-arity constraints `items`.
+template <class C>
+ConstraintGraph constraint_graph(std::span<const C> items, const std::vector<std::uint8_t>& fixed) {
+  ConstraintGraph g;
+  fill_constraint_graph(items, fixed, g);
   return g;
 }
 
