@@ -111,8 +111,17 @@ void BM_GrainLatticeStep(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_GrainLatticeStep)->ArgNames({"side", "threads"})->ArgsProduct({{32, 64, 128}, {1, 2}})
-    ->Unit(benchmark::kMillisecond)->MinTime(1.0);
-BENCHMARK(BM_SelfCollidingClothStep)->ArgNames({"n", "threads"})->ArgsProduct({{30, 100, 300}, {1, 2}})
-    ->Unit(benchmark::kMillisecond)->MinTime(1.0);
+// A fixed number of steps per run (about a second on this machine), so that two builds compared see the same states.
+BENCHMARK(BM_GrainLatticeStep)->ArgNames({"side", "threads"})->ArgsProduct({{32}, {1, 2}})->Iterations(160)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GrainLatticeStep)->ArgNames({"side", "threads"})->ArgsProduct({{64}, {1, 2}})->Iterations(80)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GrainLatticeStep)->ArgNames({"side", "threads"})->ArgsProduct({{128}, {1, 2}})->Iterations(20)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SelfCollidingClothStep)->ArgNames({"n", "threads"})->ArgsProduct({{30}, {1, 2}})->Iterations(1000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SelfCollidingClothStep)->ArgNames({"n", "threads"})->ArgsProduct({{100}, {1, 2}})->Iterations(120)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SelfCollidingClothStep)->ArgNames({"n", "threads"})->ArgsProduct({{300}, {1, 2}})->Iterations(8)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();
