@@ -1,7 +1,8 @@
 // The particle contacts' broad phase (engine/src/contact/particle_contacts.hpp) against brute force: on random
 // layouts that take each of its paths (a dense cluster: the dense grid; particles scattered over a wide space: the
-// hash table; a few particles far faster than the rest: the boxes tested against everything; self-colliding bodies
-// whose joined pairs are excluded; pinned particles), it finds exactly the pairs whose relative path comes within
+// hash table; a few particles far faster than the rest: boxes paired with every box; a third of the particles a few
+// times faster: grids of wider cells for them; self-colliding bodies whose joined pairs are excluded; pinned
+// particles), it finds exactly the pairs whose relative path comes within
 // r_a + r_b + margin, each once, in the order of the pairs, and the same list with and without threads.
 #include "contact/particle_contacts.hpp"
 
@@ -22,9 +23,10 @@ struct Layout {
   int particles;
   double spread;      // positions uniform in a cube of this side, m
   double step;        // paths uniform in a cube of this side, m
-  int fast;           // particles whose paths are 1000 times longer (boxes over too many cells)
+  int fast;           // particles whose paths are `faster` times longer (larger boxes)
   int clusters = 0;   // > 0: particles in this many clusters 0.3 m wide, placed at random in the cube
   bool self = false;  // one self-colliding body whose consecutive particles are joined by stretch constraints
+  double faster = 1000;
 };
 
 template <class Real> struct Case {
@@ -45,7 +47,7 @@ template <class Real> Case<Real> make(const Layout& l, std::uint32_t seed) {
   if (l.clusters > 0)
     for (auto& centre : centres) centre = Eigen::Vector3d(u(rng), u(rng), u(rng)) * l.spread;
   for (Index i = 0; i < n; ++i) {
-    const double scale = i < Index(l.fast) ? 1000.0 : 1.0;
+    const double scale = i < Index(l.fast) ? l.faster : 1.0;
     for (int d = 0; d < 3; ++d) {
       c.x(d, i) = Real(l.clusters > 0 ? centres[i % l.clusters][d] + 0.3 * u(rng) : l.spread * u(rng));
       c.p(d, i) = Real(double(c.x(d, i)) + l.step * scale * u(rng) + 0.3 * l.step);  // a shared drift
@@ -96,9 +98,10 @@ TYPED_TEST_SUITE(ParticleContacts, Precisions);
 TYPED_TEST(ParticleContacts, FindExactlyThePairsWhosePathsComeWithinReach) {
   using Real = TypeParam;
   const Layout layouts[] = {
-      {"dense cluster", 3000, 0.5, 0.01, 0},
+      {"dense cluster", 5000, 0.5, 0.01, 0},
       {"clusters far apart (hash table)", 2000, 20.0, 0.01, 0, 5},
       {"a few far faster", 2000, 0.6, 0.01, 5},
+      {"a third faster (grids of wider cells)", 3000, 0.6, 0.01, 1000, 0, false, 6},
       {"self-colliding, joined pairs", 3000, 0.5, 0.01, 0, 0, true},
       {"still", 1500, 0.4, 0.0, 0},
   };

@@ -40,14 +40,16 @@ namespace {
 
 using Cell = std::array<std::int32_t, 3>;
 
-template <class Real> Cell cell_of(const Vec3<Real>& q, const Vec3<Real>& inv) {
+inline bool same(const Cell& a, const Cell& b) { return ((a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2])) == 0; }
+
+template <class Real> inline Cell cell_of(const Vec3<Real>& q, const Vec3<Real>& inv) {
   auto axis = [&](int d) {  // clamped so that a far particle cannot overflow (it only shares a cell more often)
     return std::int32_t(std::clamp(std::floor(q[d] * inv[d]), Real(-1e9), Real(1e9)));
   };
   return {axis(0), axis(1), axis(2)};
 }
 
-std::uint32_t hash_cell(std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t mask) {
+inline std::uint32_t hash_cell(std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t mask) {
   const std::uint64_t h = std::uint64_t(x) * 73856093ull ^ std::uint64_t(y) * 19349663ull ^ std::uint64_t(z) * 83492791ull;
   return std::uint32_t((h ^ (h >> 29)) & mask);
 }
@@ -98,8 +100,28 @@ template <class Real> Vec3<Real> first_contact_normal(const Vec3<Real>& d0, cons
   return d.normalized();
 }
 
-constexpr Index kChunks = 64;  // fixed, so the output never depends on the thread count
-constexpr std::uint64_t kMaxCells = 4096;  // a swept box over more cells is tested against every particle
+constexpr Index kChunks = 64;              // fixed, so the output never depends on the thread count
+constexpr std::uint64_t kMaxCells = 4096;  // a larger box whose query spans more rows is paired with every small box
+constexpr Index kBruteForce = 64;          // at most this many boxes left: paired with one another
+constexpr std::uint32_t kLarge = ~std::uint32_t(0);
+// Cells as wide as the boxes are on average along each axis (chosen by measurement on bench_contacts' draped cloth
+// and grain lattice: wider cells hold more boxes to pair, narrower ones leave more boxes large). The boxes alone
+// decide which pairs are tested, and the test alone which are kept, so the cells change only the cost.
+constexpr double kCellScale = 1.0;
+
+// Calls f(chunk, begin, end) for `count` items in min(kChunks, count) fixed chunks, in parallel when `fork`.
+template <class F> void over_chunks(Index count, bool fork, const F& f) {
+  const Index chunks = std::min<Index>(kChunks, count);
+  auto one = [&](Index ch) {
+    f(ch, Index(std::uint64_t(ch) * count / chunks), Index(std::uint64_t(ch + 1) * count / chunks));
+  };
+  if (fork && chunks > 1)
+    tbb::parallel_for(tbb::blocked_range<Index>(0, chunks, 1), [&](const tbb::blocked_range<Index>& r) {
+      for (Index ch = r.begin(); ch < r.end(); ++ch) one(ch);
+    });
+  else
+    for (Index ch = 0; ch < chunks; ++ch) one(ch);
+}
 
 }  // namespace
 
@@ -107,6 +129,8 @@ template <class Real>
 void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, const Matrix3X<Real>& p,
                                 const Matrix3X<Real>& v, Real margin, bool parallel, ParticleGrid<Real>& g,
                                 std::vector<ParticleContact<Real>>& out) {
+  using Entry = typename ParticleGrid<Real>::Entry;
+  using Level = typename ParticleGrid<Real>::Level;
   const ContactBodies<Real>& c = m.contact;
   const Index n = m.num_particles();
   if (!c.particle_contacts() || n == 0) return;
@@ -118,139 +142,43 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   const std::vector<Index>& active = c.active;
   const Index count = Index(active.size());
   if (count == 0) return;
-  // Loops over the active particles in kChunks fixed chunks, in parallel when asked: whatever a chunk computes
-  // depends on its particles only, and chunk results are joined in chunk order, so nothing depends on threads.
-  const Index chunks = std::min<Index>(kChunks, count);
-  const bool fork = parallel && count >= 4096;
-  auto over_chunks = [&](const auto& f) {
-    if (fork)
-      tbb::parallel_for(tbb::blocked_range<Index>(0, chunks, 1), [&](const tbb::blocked_range<Index>& r) {
-        for (Index ch = r.begin(); ch < r.end(); ++ch) f(ch);
-      });
-    else
-      for (Index ch = 0; ch < chunks; ++ch) f(ch);
-  };
-  auto first_of = [&](Index ch) { return Index(std::uint64_t(ch) * count / chunks); };
+  // Loops run in fixed chunks (over_chunks): whatever a chunk computes depends on its items only, and chunk results
+  // are joined in chunk order, so nothing depends on threads.
+  auto fork = [&](Index items) { return parallel && items >= 4096; };
   // 2. swept boxes in the frame that moves with the mean path Δ̄ (relative paths, all a pair test reads, are the
   // same there; a falling cloth's boxes stay short)
-  g.partial.resize(2 * std::size_t(chunks));
-  over_chunks([&](Index ch) {
+  g.partial.resize(kChunks);
+  over_chunks(count, fork(count), [&](Index ch, Index b, Index e) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (Index k = first_of(ch); k < first_of(ch + 1); ++k) sum += (p.col(active[k]) - x.col(active[k])).template cast<double>();
+    for (Index k = b; k < e; ++k) sum += (p.col(active[k]) - x.col(active[k])).template cast<double>();
     g.partial[ch] = sum;
   });
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (Index ch = 0; ch < chunks; ++ch) mean += g.partial[ch];
+  for (Index ch = 0; ch < std::min<Index>(kChunks, count); ++ch) mean += g.partial[ch];
   const Vec3<Real> shared = (mean / double(count)).template cast<Real>();
-  over_chunks([&](Index ch) {
+  g.movers.resize(n);
+  g.boxes.resize(n);
+  over_chunks(count, fork(count), [&](Index ch, Index b, Index e) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (Index k = first_of(ch); k < first_of(ch + 1); ++k)
-      sum += (p.col(active[k]) - x.col(active[k]) - shared).template cast<double>().cwiseAbs();
+    for (Index k = b; k < e; ++k) {
+      const Index i = active[k];
+      const Vec3<Real> from = x.col(i), to = p.col(i) - shared;
+      const Real grow = c.radius[i] + Real(0.5) * margin;
+      const Index body = c.body_of[i];
+      g.movers[i] = {x.col(i), p.col(i), c.radius[i], m.inverse_mass[i] == Real(0)};
+      Entry& box = g.boxes[i];
+      box.lo = from.cwiseMin(to).array() - grow;
+      box.hi = from.cwiseMax(to).array() + grow;
+      box.particle = i;
+      box.group = c.bodies[body].self_collision ? ContactBodies<Real>::kNone : body;
+      sum += (box.hi - box.lo).template cast<double>();
+    }
     g.partial[ch] = sum;
   });
-  Eigen::Vector3d spread = Eigen::Vector3d::Zero();
-  for (Index ch = 0; ch < chunks; ++ch) spread += g.partial[ch];
-  // Cells 1.5·(2·r_max + margin) wide, stretched along each axis by three times the paths' mean departure from Δ̄
-  // along it, whichever way the bodies move (chosen by measurement on bench_contacts' draped cloth: cells as wide as
-  // a box give each box more entries to sort, cells twice as wide more pairs per cell to check). The boxes alone
-  // decide which pairs are tested, and the test alone which are kept, so the cells change only the cost and the
-  // order of the list.
-  const Vec3<Real> inv = (Real(1.5) * (Real(2) * c.max_radius + margin +
-                                       Real(2) * (spread / double(count)).template cast<Real>().array()))
-                             .cwiseInverse()
-                             .matrix();
-  // each box's cell range, the cells it covers (0: too many, tested against every particle instead) and, per
-  // chunk, the range of cells its boxes cover
-  g.lo.resize(n);
-  g.hi.resize(n);
-  g.cells.resize(count);
-  g.movers.resize(n);
-  g.chunk_bounds.resize(chunks);
-  over_chunks([&](Index ch) {
-    Cell lo{std::numeric_limits<std::int32_t>::max(), std::numeric_limits<std::int32_t>::max(), std::numeric_limits<std::int32_t>::max()};
-    Cell hi{std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::min()};
-    for (Index k = first_of(ch); k < first_of(ch + 1); ++k) {
-      const Index i = active[k];
-      const Vec3<Real> a = x.col(i), b = p.col(i) - shared;
-      const Real grow = c.radius[i] + Real(0.5) * margin;
-      g.movers[i] = {x.col(i), p.col(i), c.radius[i], m.inverse_mass[i] == Real(0),
-                     Vec3<Real>(a.cwiseMin(b).array() - grow), Vec3<Real>(a.cwiseMax(b).array() + grow)};
-      g.lo[i] = cell_of<Real>(Vec3<Real>(a.cwiseMin(b).array() - grow), inv);
-      g.hi[i] = cell_of<Real>(Vec3<Real>(a.cwiseMax(b).array() + grow), inv);
-      std::uint64_t cells = 1;
-      for (int d = 0; d < 3; ++d) cells *= std::uint64_t(std::int64_t(g.hi[i][d]) - g.lo[i][d] + 1);
-      g.cells[k] = cells > kMaxCells ? 0 : std::uint32_t(cells);
-      if (cells > kMaxCells) continue;
-      for (int d = 0; d < 3; ++d) {
-        lo[d] = std::min(lo[d], g.lo[i][d]);
-        hi[d] = std::max(hi[d], g.hi[i][d]);
-      }
-    }
-    g.chunk_bounds[ch] = {lo, hi};
-  });
-  g.huge.clear();
-  std::size_t entries = 0;
-  for (Index k = 0; k < count; ++k) {
-    if (g.cells[k] == 0) g.huge.push_back(active[k]);
-    entries += g.cells[k];
-  }
-  // Buckets: the cells of the boxes' bounding grid in x-fastest order when it has at most 8 cells per entry, else
-  // a hash table of about twice as many buckets as entries.
-  Cell base{0, 0, 0};
-  std::array<std::int64_t, 3> dims{0, 0, 0};
-  {
-    Cell lo = g.chunk_bounds[0].first, hi = g.chunk_bounds[0].second;
-    for (Index ch = 1; ch < chunks; ++ch)
-      for (int d = 0; d < 3; ++d) {
-        lo[d] = std::min(lo[d], g.chunk_bounds[ch].first[d]);
-        hi[d] = std::max(hi[d], g.chunk_bounds[ch].second[d]);
-      }
-    base = lo;
-    for (int d = 0; d < 3; ++d) dims[d] = std::max<std::int64_t>(0, std::int64_t(hi[d]) - lo[d] + 1);
-  }
-  const std::uint64_t dense_cells = std::uint64_t(dims[0]) * std::uint64_t(dims[1]) * std::uint64_t(dims[2]);
-  const bool dense = entries > 0 && dense_cells <= 8 * std::uint64_t(entries) && dense_cells < (1ull << 31);
-  std::uint32_t buckets = 1;
-  if (dense) {
-    buckets = std::uint32_t(dense_cells);
-  } else {
-    while (buckets < 2 * entries) buckets <<= 1;
-  }
-  const std::uint32_t mask = buckets - 1;
-  auto bucket_of = [&](const Cell& q) -> std::uint32_t {
-    if (dense)
-      return std::uint32_t(((std::int64_t(q[2]) - base[2]) * dims[1] + (std::int64_t(q[1]) - base[1])) * dims[0] +
-                           (std::int64_t(q[0]) - base[0]));
-    return hash_cell(q[0], q[1], q[2], mask);
-  };
-  auto for_each_cell = [&](Index i, const auto& f) {
-    for (std::int32_t cz = g.lo[i][2]; cz <= g.hi[i][2]; ++cz)
-      for (std::int32_t cy = g.lo[i][1]; cy <= g.hi[i][1]; ++cy)
-        for (std::int32_t cx = g.lo[i][0]; cx <= g.hi[i][0]; ++cx) f(Cell{cx, cy, cz});
-  };
-  // counting sort of (particle, cell) by bucket, particle order within a bucket; each entry notes along which axes
-  // its cell is the box's first (lower) one
-  g.bucket_start.assign(std::size_t(buckets) + 1, 0);
-  for (Index k = 0; k < count; ++k)
-    if (g.cells[k] != 0) for_each_cell(active[k], [&](const Cell& q) { ++g.bucket_start[bucket_of(q) + 1]; });
-  for (std::uint32_t b = 0; b < buckets; ++b) g.bucket_start[b + 1] += g.bucket_start[b];
-  g.entries.resize(entries);
-  g.fill.assign(g.bucket_start.begin(), g.bucket_start.end() - 1);
-  for (Index k = 0; k < count; ++k) {
-    if (g.cells[k] == 0) continue;
-    const Index i = active[k];
-    const Cell lo = g.lo[i];
-    const Index body = c.body_of[i];
-    const Index group = c.bodies[body].self_collision ? ContactBodies<Real>::kNone : body;
-    for_each_cell(i, [&](const Cell& q) {
-      const std::uint8_t lower = std::uint8_t((q[0] == lo[0] ? 1 : 0) | (q[1] == lo[1] ? 2 : 0) | (q[2] == lo[2] ? 4 : 0));
-      g.entries[g.fill[bucket_of(q)]++] = {i, group, lower, q};
-    });
-  }
-  // 3. pairs: in every bucket, each two entries of one cell; the pair is tested there when that cell is the first
-  // the two boxes share, the larger of their lower corners, i.e. when along each axis the cell is the lower one of
-  // one box or the other, so each pair once
-  // The pair test reads each particle's packed copy (filled with the boxes above).
+  Eigen::Vector3d extent = Eigen::Vector3d::Zero();
+  for (Index ch = 0; ch < std::min<Index>(kChunks, count); ++ch) extent += g.partial[ch];
+  Eigen::Vector3d width = kCellScale * extent / double(count);
+  // 4. the pair test: the boxes must overlap, then the relative path must come within reach
   const typename ParticleGrid<Real>::Mover* P = g.movers.data();
   auto test_pair = [&](Index i, Index j, std::vector<ParticleContact<Real>>& mine) {  // i < j
     const auto& a = P[i];
@@ -261,10 +189,10 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     const Vec3<Real> e = d1 - d0;
     // closest approach of d0 + t·e, t ∈ [0, 1], within R + margin (without a division)
     const Real ee = e.squaredNorm(), de = d0.dot(e), reach = (R + margin) * (R + margin);
-    bool near;
-    if (de >= Real(0)) near = d0.squaredNorm() < reach;
-    else if (-de >= ee) near = d1.squaredNorm() < reach;
-    else near = d0.squaredNorm() * ee - de * de < reach * ee;
+    const Real q0 = d0.squaredNorm();
+    const bool ahead = de >= Real(0), past = -de >= ee;  // closest at t = 0, at t = 1 (else between)
+    const bool near = (ahead & (q0 < reach)) | (!ahead & past & (d1.squaredNorm() < reach)) |
+                      (!ahead & !past & (q0 * ee - de * de < reach * ee));  // bitwise: no branch to mispredict
     if (!near) return;
     const Index bi = c.body_of[i];
     if (c.body_of[j] == bi) {  // within a body: only if it self-collides and no constraint joins the two
@@ -276,59 +204,237 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     mine.push_back({{i, j}, nrm, R, d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))),
                     mix_materials(c.material[i], c.material[j])});
   };
-  // chunk ch takes the buckets from the first one at or after entry ch·entries/chunks
-  g.bucket_cut.resize(std::size_t(chunks) + 1);
-  for (Index ch = 0; ch < chunks; ++ch)
-    g.bucket_cut[ch] = Index(std::lower_bound(g.bucket_start.begin(), g.bucket_start.end() - 1,
-                                              Index(std::uint64_t(ch) * entries / chunks)) - g.bucket_start.begin());
-  g.bucket_cut[chunks] = buckets;
-  g.chunks.resize(std::size_t(chunks) + 1);
-  const auto* E = g.entries.data();
-  over_chunks([&](Index ch) {
-    std::vector<ParticleContact<Real>>& mine = g.chunks[ch];
-    mine.clear();
-    for (Index b = g.bucket_cut[ch]; b < g.bucket_cut[ch + 1]; ++b) {
-      const Index s1 = g.bucket_start[b + 1];
-      for (Index s = g.bucket_start[b]; s + 1 < s1; ++s) {
-        const auto& ea = E[s];
-        for (Index t = s + 1; t < s1; ++t) {
-          const auto& eb = E[t];
-          if ((ea.lower | eb.lower) != 7) continue;
-          if (ea.group == eb.group && ea.group != ContactBodies<Real>::kNone) continue;  // one body, no self-collision
-          if (!dense && ea.cell != eb.cell) continue;
-          const auto& ma = P[ea.particle];
-          const auto& mb = P[eb.particle];
-          if (((ma.lo.array() > mb.hi.array()) || (mb.lo.array() > ma.hi.array())).any()) continue;  // boxes apart
-          test_pair(ea.particle, eb.particle, mine);  // ea.particle < eb.particle: particle order in a bucket
+  auto candidate = [&](const Entry& a, const Entry& b, std::vector<ParticleContact<Real>>& mine) {
+    if (a.group == b.group && a.group != ContactBodies<Real>::kNone) return;  // one body, no self-collision
+    if (((a.lo.array() > b.hi.array()) || (b.lo.array() > a.hi.array())).any()) return;  // boxes apart
+    test_pair(std::min(a.particle, b.particle), std::max(a.particle, b.particle), mine);
+  };
+  std::size_t lists = 0;  // contact lists used so far
+  auto take_lists = [&](std::size_t k) {
+    if (g.lists.size() < lists + k) g.lists.resize(lists + k);
+    for (std::size_t l = lists; l < lists + k; ++l) g.lists[l].clear();
+    lists += k;
+    return lists - k;
+  };
+  // 3. level by level
+  if (g.levels.empty()) g.levels.resize(1);
+  g.levels[0].members.assign(active.begin(), active.end());
+  for (std::size_t level = 0;; ++level) {
+    if (g.levels.size() < level + 2) g.levels.resize(level + 2);
+    Level& lv = g.levels[level];
+    const Index members = Index(lv.members.size());
+    if (members <= kBruteForce) {  // few left: each with each
+      std::vector<ParticleContact<Real>>& mine = g.lists[take_lists(1)];
+      for (Index a = 0; a < members; ++a)
+        for (Index b = a + 1; b < members; ++b) candidate(g.boxes[lv.members[a]], g.boxes[lv.members[b]], mine);
+      break;
+    }
+    const Vec3<Real> inv = width.cwiseInverse().template cast<Real>();
+    const Index chunks = std::min<Index>(kChunks, members);
+    lv.lo.resize(members);
+    lv.hi.resize(members);
+    lv.key.resize(members);
+    lv.bounds.resize(chunks);
+    lv.extent.resize(chunks);
+    // cells of each box's corners; small or large; per chunk the range of the small boxes' lower cells
+    over_chunks(members, fork(members), [&](Index ch, Index b, Index e) {
+      constexpr std::int32_t top = std::numeric_limits<std::int32_t>::max(), bottom = std::numeric_limits<std::int32_t>::min();
+      Cell lo{top, top, top}, hi{bottom, bottom, bottom};
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (Index k = b; k < e; ++k) {
+        const Entry& box = g.boxes[lv.members[k]];
+        const Cell a = cell_of<Real>(box.lo, inv), z = cell_of<Real>(box.hi, inv);
+        lv.lo[k] = a;
+        lv.hi[k] = z;
+        const bool small = std::int64_t(z[0]) - a[0] <= 1 && std::int64_t(z[1]) - a[1] <= 1 && std::int64_t(z[2]) - a[2] <= 1;
+        lv.key[k] = small ? 0 : kLarge;
+        if (!small) {
+          sum += (box.hi - box.lo).template cast<double>();
+          continue;
+        }
+        for (int d = 0; d < 3; ++d) {
+          lo[d] = std::min(lo[d], a[d]);
+          hi[d] = std::max(hi[d], a[d]);
         }
       }
+      lv.bounds[ch] = {lo, hi};
+      lv.extent[ch] = sum;
+    });
+    lv.large.clear();
+    Index small = 0;
+    for (Index k = 0; k < members; ++k) {
+      if (lv.key[k] == kLarge) lv.large.push_back(lv.members[k]);
+      else ++small;
     }
-  });
-  // particles whose boxes span too many cells (far faster than the rest): against every other particle, by box
-  std::vector<ParticleContact<Real>>& rest = g.chunks[chunks];
-  rest.clear();
-  for (Index i : g.huge)
-    for (Index j : active) {
-      if (j == i || (j < i && std::binary_search(g.huge.begin(), g.huge.end(), j))) continue;  // huge pairs once
-      bool overlap = true;
-      for (int d = 0; d < 3; ++d) overlap = overlap && g.lo[i][d] <= g.hi[j][d] && g.lo[j][d] <= g.hi[i][d];
-      if (overlap) test_pair(std::min(i, j), std::max(i, j), rest);
+    // buckets: rows of cells along x, keyed by (y, z): the rows of the small boxes' lower corners' bounding grid
+    // grown by one row on every side (so that a neighbouring row's bucket is the box's own plus a fixed step), y
+    // fastest, when there are at most 8 rows per small box; else a hash table of about twice as many buckets as small
+    // boxes. Within a bucket the boxes are sorted by cell (z, y, x), then particle: a row's boxes lie together, in x
+    // order.
+    Cell base{0, 0, 0};
+    std::array<std::int64_t, 3> dims{0, 0, 0};
+    if (small > 0) {
+      Cell lo = lv.bounds[0].first, hi = lv.bounds[0].second;
+      for (Index ch = 1; ch < chunks; ++ch)
+        for (int d = 0; d < 3; ++d) {
+          lo[d] = std::min(lo[d], lv.bounds[ch].first[d]);
+          hi[d] = std::max(hi[d], lv.bounds[ch].second[d]);
+        }
+      for (int d = 1; d < 3; ++d) {
+        base[d] = lo[d] - 1;  // cells are clamped to ±1e9: no overflow
+        dims[d] = std::int64_t(hi[d]) - lo[d] + 3;
+      }
     }
-  // 4. in the order of the pairs (i, j): a counting sort by i of the chunks' lists, then by j among each i's few.
-  // The list is then the same whatever the grid's cells, and Gauss-Seidel meets a pile's contacts in particle order
+    const std::uint64_t dense_rows = std::uint64_t(dims[1]) * std::uint64_t(dims[2]);
+    const bool dense = small > 0 && dense_rows <= 8 * std::uint64_t(small) && dense_rows < (1ull << 31);
+    std::uint32_t buckets = 1;
+    if (dense) {
+      buckets = std::uint32_t(dense_rows);
+    } else {
+      while (buckets < 2 * std::uint64_t(small)) buckets <<= 1;
+    }
+    const std::uint32_t mask = buckets - 1;
+    auto bucket_of = [&](std::int32_t y, std::int32_t z) -> std::uint32_t {
+      if (dense) return std::uint32_t((std::int64_t(z) - base[2]) * dims[1] + (std::int64_t(y) - base[1]));
+      return hash_cell(0, y, z, mask);
+    };
+    if (small > 0)
+      over_chunks(members, fork(members), [&](Index, Index b, Index e) {
+        for (Index k = b; k < e; ++k)
+          if (lv.key[k] != kLarge) lv.key[k] = bucket_of(lv.lo[k][1], lv.lo[k][2]);
+      });
+    // counting sort of the small boxes by bucket, then each bucket sorted by (cell z, y, x, particle)
+    lv.bucket_start.assign(std::size_t(buckets) + 1, 0);
+    for (Index k = 0; k < members; ++k)
+      if (lv.key[k] != kLarge) ++lv.bucket_start[lv.key[k] + 1];
+    for (std::uint32_t b = 0; b < buckets; ++b) lv.bucket_start[b + 1] += lv.bucket_start[b];
+    lv.entries.resize(small);
+    lv.fill.assign(lv.bucket_start.begin(), lv.bucket_start.end() - 1);
+    for (Index k = 0; k < members; ++k) {
+      if (lv.key[k] == kLarge) continue;
+      Entry& to = lv.entries[lv.fill[lv.key[k]]++];
+      to = g.boxes[lv.members[k]];
+      to.cell = lv.lo[k];
+    }
+    Entry* E = lv.entries.data();
+    const Index* start = lv.bucket_start.data();
+    auto before = [](const Entry& a, const Entry& b) {
+      if (a.cell[2] != b.cell[2]) return a.cell[2] < b.cell[2];
+      if (a.cell[1] != b.cell[1]) return a.cell[1] < b.cell[1];
+      if (a.cell[0] != b.cell[0]) return a.cell[0] < b.cell[0];
+      return a.particle < b.particle;
+    };
+    const Index small_chunks = std::min<Index>(kChunks, std::max<Index>(small, 1));
+    lv.cut.resize(std::size_t(small_chunks) + 1);
+    for (Index ch = 0; ch < small_chunks; ++ch)  // chunk ch: the buckets from the first at or after entry ch·small/chunks
+      lv.cut[ch] = Index(std::lower_bound(lv.bucket_start.begin(), lv.bucket_start.end() - 1,
+                                          Index(std::uint64_t(ch) * small / small_chunks)) - lv.bucket_start.begin());
+    lv.cut[small_chunks] = buckets;
+    if (small > 1)
+      over_chunks(small_chunks, fork(small), [&](Index ch, Index, Index) {
+        for (Index b = lv.cut[ch]; b < lv.cut[ch + 1]; ++b) {
+          Entry* first = E + start[b];
+          Entry* last = E + start[b + 1];
+          if (last - first <= 24) {  // insertion sort: a row of particles added in x order is sorted already
+            for (Entry* q = first + 1; q < last; ++q)
+              for (Entry* r = q; r > first && before(*r, *(r - 1)); --r) std::swap(*r, *(r - 1));
+          } else {
+            std::sort(first, last, before);
+          }
+        }
+      });
+    // the boxes of row (y, z) in bucket `nb` from cell x0 on: [from, end of the row)
+    auto row_from = [&](std::uint32_t nb, std::int32_t y, std::int32_t z, std::int32_t x0) {
+      Entry probe;
+      probe.cell = {x0, y, z};
+      probe.particle = 0;
+      return Index(std::lower_bound(E + start[nb], E + start[nb + 1], probe, before) - E);
+    };
+    auto in_row = [&](const Entry& e, std::int32_t y, std::int32_t z) { return e.cell[1] == y && e.cell[2] == z; };
+    // small with small: each box with those after it in its cell and the next cell along x, and with those in the
+    // neighbouring cells of the rows (y + 1, z), (y − 1, z + 1), (y, z + 1), (y + 1, z + 1): the 13 of the 26
+    // neighbouring cells that come after its own, so each pair once
+    if (small > 1) {
+      static constexpr std::array<std::array<std::int32_t, 2>, 4> kRows = {{{1, 0}, {-1, 1}, {0, 1}, {1, 1}}};
+      const std::size_t first = take_lists(std::size_t(small_chunks));
+      over_chunks(small_chunks, fork(small), [&](Index ch, Index, Index) {
+        std::vector<ParticleContact<Real>>& mine = g.lists[first + ch];
+        for (Index b = lv.cut[ch]; b < lv.cut[ch + 1]; ++b) {
+          const Index s1 = start[b + 1];
+          for (Index r0 = start[b], r1; r0 < s1; r0 = r1) {  // one row at a time: [r0, r1)
+            const std::int32_t y = E[r0].cell[1], z = E[r0].cell[2];
+            for (r1 = r0 + 1; r1 < s1 && in_row(E[r1], y, z); ++r1) {}
+            for (Index s = r0; s < r1; ++s)  // its own cell (after s) and the next along x
+              for (Index t = s + 1; t < r1 && E[t].cell[0] <= E[s].cell[0] + 1; ++t) candidate(E[s], E[t], mine);
+            for (const auto& r : kRows) {  // each neighbouring row, walked along with this one
+              const std::int32_t ny = y + r[0], nz = z + r[1];
+              const std::uint32_t nb = bucket_of(ny, nz);
+              Index w = row_from(nb, ny, nz, E[r0].cell[0] - 1), w1 = w;
+              for (; w1 < start[nb + 1] && in_row(E[w1], ny, nz); ++w1) {}
+              for (Index s = r0; s < r1 && w < w1; ++s) {
+                const std::int32_t x = E[s].cell[0];
+                while (w < w1 && E[w].cell[0] < x - 1) ++w;
+                for (Index t = w; t < w1 && E[t].cell[0] <= x + 1; ++t) candidate(E[s], E[t], mine);
+              }
+            }
+          }
+        }
+      });
+    }
+    // large with small: each large box with the small boxes whose lower corners lie in its cells or one cell below
+    // (a small box that overlaps it has its lower corner there), or with every small box when that is too many rows
+    const Index large = Index(lv.large.size());
+    if (large > 0 && small > 0) {
+      const std::size_t first = take_lists(std::size_t(std::min<Index>(kChunks, large)));
+      over_chunks(large, fork(large), [&](Index ch, Index b, Index e) {
+        std::vector<ParticleContact<Real>>& mine = g.lists[first + ch];
+        for (Index k = b; k < e; ++k) {
+          const Entry& box = g.boxes[lv.large[k]];
+          Cell lo = cell_of<Real>(box.lo, inv), hi = cell_of<Real>(box.hi, inv);
+          std::uint64_t rows = 1;
+          for (int d = 0; d < 3; ++d) lo[d] -= 1;
+          for (int d = 1; d < 3; ++d) {
+            if (dense) {  // only the grid's rows hold boxes
+              lo[d] = std::int32_t(std::max<std::int64_t>(lo[d], base[d]));
+              hi[d] = std::int32_t(std::min<std::int64_t>(hi[d], base[d] + dims[d] - 1));
+            }
+            rows *= std::uint64_t(std::max<std::int64_t>(0, std::int64_t(hi[d]) - lo[d] + 1));
+          }
+          if (rows > kMaxCells) {
+            for (Index t = 0; t < small; ++t) candidate(box, E[t], mine);
+            continue;
+          }
+          for (std::int32_t cz = lo[2]; cz <= hi[2]; ++cz)
+            for (std::int32_t cy = lo[1]; cy <= hi[1]; ++cy) {
+              const std::uint32_t nb = bucket_of(cy, cz);
+              for (Index t = row_from(nb, cy, cz, lo[0]); t < start[nb + 1] && in_row(E[t], cy, cz) && E[t].cell[0] <= hi[0]; ++t)
+                candidate(box, E[t], mine);
+            }
+        }
+      });
+    }
+    if (large == 0) break;
+    // the large boxes form the next level, with cells at least twice as wide and as wide as they are on average
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (Index ch = 0; ch < chunks; ++ch) sum += lv.extent[ch];
+    width = (2.0 * width).cwiseMax(kCellScale * sum / double(large));
+    g.levels[level + 1].members.swap(lv.large);
+  }
+  // 5. in the order of the pairs (i, j): a counting sort by i of the lists, then by j among each i's few. The list
+  // is then the same whatever the grid's cells, and Gauss-Seidel meets a pile's contacts in particle order
   // (measured on contact_test's pile, 4 × 10: worst overlap 1.3% serial in that order, 2.3% in bucket order).
   g.first_of.assign(std::size_t(n) + 1, 0);
   std::size_t found = 0;
-  for (const auto& ch : g.chunks) {
-    found += ch.size();
-    for (const auto& k : ch) ++g.first_of[k.particles[0] + 1];
+  for (std::size_t l = 0; l < lists; ++l) {
+    found += g.lists[l].size();
+    for (const auto& k : g.lists[l]) ++g.first_of[k.particles[0] + 1];
   }
   for (Index i = 0; i < n; ++i) g.first_of[i + 1] += g.first_of[i];
   const std::size_t before = out.size();
   out.resize(before + found);
   ParticleContact<Real>* to = out.data() + before;
-  for (const auto& ch : g.chunks)
-    for (const auto& k : ch) to[g.first_of[k.particles[0]]++] = k;  // first_of[i] ends where i's contacts end
+  for (std::size_t l = 0; l < lists; ++l)
+    for (const auto& k : g.lists[l]) to[g.first_of[k.particles[0]]++] = k;  // first_of[i] ends where i's contacts end
   Index begin = 0;
   for (Index i = 0; i < n; ++i) {
     const Index end = g.first_of[i];
