@@ -7,16 +7,18 @@
 //                all a pair test reads, are the same in the frame that moves with it, where a falling cloth's boxes
 //                stay short) grown by its radius and half the margin
 //   3. levels    a uniform grid whose cells are as wide as the boxes are on average, along each axis. A box that
-//                spans at most two cells along every axis ("small") is entered once, in the cell of its lower corner
-//                (a counting sort into one bucket per cell of the lower corners' bounding grid, x fastest, or when
-//                that grid is sparse a hash table of about twice as many buckets as entries). Two small boxes that
-//                overlap have lower corners at most one cell apart along each axis, so each small box is paired
-//                with the small boxes of its own cell after it and of the 13 neighbouring cells that come after
-//                its own (half of the 26): each pair once. A larger box is paired with the small boxes whose lower
-//                corners lie in its cells or one cell below them (or with all of them, over kMaxCells cells). The
-//                larger boxes then form the next level, with cells at least twice as wide, until every box is
-//                small or at most kBruteForce boxes are left, which are paired with one another. Sums, cells,
-//                pairs and queries are computed in fixed chunks, in parallel when asked
+//                spans at most two cells along every axis ("small") is entered once, by the cell of its lower corner,
+//                into the bucket of that cell's row along x (a counting sort into one bucket per row (y, z) of the
+//                lower corners' bounding grid, or when those rows are sparse a hash table of about twice as many
+//                buckets as boxes), sorted within a bucket by cell and particle. Two small boxes that overlap have
+//                lower corners at most one cell apart along each axis, so each small box is paired with the boxes of
+//                its own row in its cell (after it) and the next, and with those of the rows (y + 1, z), (y − 1, z + 1),
+//                (y, z + 1), (y + 1, z + 1) within one cell along x, walked along with its own row: the 13 of the 26
+//                neighbouring cells that come after its own, so each pair once. A larger box is paired with the small
+//                boxes whose lower corners lie in its cells or one cell below them (or with all of them, over
+//                kMaxCells rows). The larger boxes then form the next level, with cells at least twice as wide, until
+//                every box is small or at most kBruteForce boxes are left, which are paired with one another. Sums,
+//                cells, sorts, pairs and queries run in fixed chunks, in parallel when asked
 //   4. pairs     two boxes paired above must overlap, and the pair is kept when the relative path
 //                (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous, so nothing passes through
 //                anything within a sub-step (if it does, the two boxes meet)
@@ -61,7 +63,7 @@ template <class Real> struct ParticleGrid {
     std::vector<Eigen::Vector3d> extent;           //   per chunk: the sum of its large members' box sizes
     std::vector<Index> bucket_start;               //   per bucket + 1: where its entries start in `entries`
     std::vector<Index> fill;                       //   the counting sort's cursor per bucket
-    std::vector<Entry> entries;                    //   the small members, bucket by bucket, ascending in one
+    std::vector<Entry> entries;                    //   the small members, bucket by bucket, by (cell z, y, x, particle)
     std::vector<Index> cut;                        //   per chunk + 1: its first bucket
   };
   std::vector<Level> levels;
