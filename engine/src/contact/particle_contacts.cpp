@@ -101,7 +101,7 @@ template <class Real> Vec3<Real> first_contact_normal(const Vec3<Real>& d0, cons
 }
 
 constexpr Index kChunks = 64;              // fixed, so the output never depends on the thread count
-constexpr std::uint64_t kMaxCells = 4096;  // a larger box whose query spans more rows is paired with every small box
+constexpr std::uint64_t kMaxRows = 4096;   // a larger box whose query spans more rows is paired with every small box
 constexpr Index kBruteForce = 64;          // at most this many boxes left: paired with one another
 constexpr std::uint32_t kLarge = ~std::uint32_t(0);
 // Cells as wide as the boxes are on average along each axis (chosen by measurement on bench_contacts' draped cloth
@@ -400,7 +400,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
             }
             rows *= std::uint64_t(std::max<std::int64_t>(0, std::int64_t(hi[d]) - lo[d] + 1));
           }
-          if (rows > kMaxCells) {
+          if (rows > kMaxRows) {
             for (Index t = 0; t < small; ++t) candidate(box, E[t], mine);
             continue;
           }

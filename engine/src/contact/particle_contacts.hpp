@@ -16,7 +16,7 @@
 //                (y, z + 1), (y + 1, z + 1) within one cell along x, walked along with its own row: the 13 of the 26
 //                neighbouring cells that come after its own, so each pair once. A larger box is paired with the small
 //                boxes whose lower corners lie in its cells or one cell below them (or with all of them, over
-//                kMaxCells rows). The larger boxes then form the next level, with cells at least twice as wide, until
+//                kMaxRows rows). The larger boxes then form the next level, with cells at least twice as wide, until
 //                every box is small or at most kBruteForce boxes are left, which are paired with one another. Sums,
 //                cells, sorts, pairs and queries run in fixed chunks, in parallel when asked
 //   4. pairs     two boxes paired above must overlap, and the pair is kept when the relative path
