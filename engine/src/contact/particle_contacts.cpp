@@ -55,6 +55,7 @@ inline std::uint32_t hash_cell(std::int32_t x, std::int32_t y, std::int32_t z, s
 }
 
 // Particles joined to one another by a built-in constraint, both in the same self-colliding body: never in contact.
+// Each particle's row lists those above it (pairs are tested as (i, j), i < j).
 template <class Real> void build_exclusions(const Model<Real>& m, ParticleGrid<Real>& g) {
   const ContactBodies<Real>& c = m.contact;
   const Index n = m.num_particles();
@@ -65,7 +66,7 @@ template <class Real> void build_exclusions(const Model<Real>& m, ParticleGrid<R
       for (std::size_t a = 0; a < con.particles.size(); ++a)
         for (std::size_t b = 0; b < con.particles.size(); ++b) {
           const Index u = con.particles[a], v = con.particles[b];
-          if (u != v && self(u) && c.body_of[u] == c.body_of[v]) pairs.emplace_back(u, v);
+          if (u < v && self(u) && c.body_of[u] == c.body_of[v]) pairs.emplace_back(u, v);
         }
   });
   std::sort(pairs.begin(), pairs.end());
@@ -369,8 +370,11 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
             for (const auto& r : kRows) {  // each neighbouring row, walked along with this one
               const std::int32_t ny = y + r[0], nz = z + r[1];
               const std::uint32_t nb = bucket_of(ny, nz);
-              Index w = row_from(nb, ny, nz, E[r0].cell[0] - 1), w1 = w;
-              for (; w1 < start[nb + 1] && in_row(E[w1], ny, nz); ++w1) {}
+              Index w = start[nb], w1 = start[nb + 1];  // dense: the bucket is the row
+              if (!dense) {
+                w = row_from(nb, ny, nz, E[r0].cell[0] - 1);
+                for (w1 = w; w1 < start[nb + 1] && in_row(E[w1], ny, nz); ++w1) {}
+              }
               for (Index s = r0; s < r1 && w < w1; ++s) {
                 const std::int32_t x = E[s].cell[0];
                 while (w < w1 && E[w].cell[0] < x - 1) ++w;
