@@ -2,13 +2,19 @@
 
 #include "pbd/constraint_types.hpp"
 
+#include "../solve/kernels_avx2.hpp"  // avx2_enabled
+#include "../solve/wide.hpp"
+#include "near_avx2.hpp"
+
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 namespace pbd::detail {
@@ -71,11 +77,13 @@ template <class Real> void build_exclusions(const Model<Real>& m, ParticleGrid<R
   });
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  // rows padded to whole groups of four with kNone (no particle), so that a row is compared four at a time
   g.joined_offsets.assign(std::size_t(n) + 1, 0);
   for (const auto& [u, v] : pairs) ++g.joined_offsets[u + 1];
-  for (Index i = 0; i < n; ++i) g.joined_offsets[i + 1] += g.joined_offsets[i];
-  g.joined.resize(pairs.size());
-  for (std::size_t k = 0; k < pairs.size(); ++k) g.joined[k] = pairs[k].second;
+  for (Index i = 0; i < n; ++i) g.joined_offsets[i + 1] = g.joined_offsets[i] + (g.joined_offsets[i + 1] + 3) / 4 * 4;
+  g.joined.assign(g.joined_offsets[n], ContactBodies<Real>::kNone);
+  std::vector<Index> fill(g.joined_offsets.begin(), g.joined_offsets.end() - 1);
+  for (const auto& [u, v] : pairs) g.joined[fill[u]++] = v;
   g.joined_edits = m.edits;
   g.joined_bodies = c.bodies.size();
 }
@@ -99,6 +107,84 @@ template <class Real> Vec3<Real> first_contact_normal(const Vec3<Real>& d0, cons
   if (!(d.squaredNorm() > tiny_squared<Real>())) d = d1;
   if (!(d.squaredNorm() > tiny_squared<Real>())) return Vec3<Real>::UnitZ();
   return d.normalized();
+}
+
+// Whether j is in the row [first, last) (a whole number of groups of four, padded with kNone).
+inline bool joined_to(const Index* first, const Index* last, Index j) {
+#if defined(__SSE2__)
+  const __m128i key = _mm_set1_epi32(std::int32_t(j));
+  __m128i any = _mm_setzero_si128();
+  for (const Index* q = first; q < last; q += 4)
+    any = _mm_or_si128(any, _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q)), key));
+  return _mm_movemask_epi8(any) != 0;
+#else
+  bool found = false;
+  for (const Index* q = first; q < last; ++q) found = found || *q == j;
+  return found;
+#endif
+}
+
+// The particles one particle (a) is to be tested against, gathered so that they are tested together (near_bits).
+struct Others {
+  static constexpr std::uint32_t kSize = 64;
+  Index a = 0;
+  std::uint32_t size = 0;
+  std::array<Index, kSize + 8> of;  // [size, size + 8) padded with a, for the four- or eight-lane test
+};
+
+// Whether the relative path (x_a − x_b) → (p_a − p_b) comes within r_a + r_b + margin at its closest, t ∈ [0, 1]:
+// at t = 0 when the path moves apart (d0·e ≥ 0), at t = 1 when it ends before its closest point, else between
+// (|d0|²|e|² − (d0·e)² < reach·|e|², without a division). Dot products as Eigen sums three terms: x + (y + z).
+template <class Real> inline bool near_pair(const Real* ax, const Real* ap, const Real* bx, const Real* bp, Real margin) {
+  const Real R = (ax[3] + bx[3]) + margin, reach = R * R;
+  Real d0[3], d1[3], e[3];
+  for (int d = 0; d < 3; ++d) {
+    d0[d] = ax[d] - bx[d];
+    d1[d] = ap[d] - bp[d];
+    e[d] = d1[d] - d0[d];
+  }
+  auto dot = [](const Real* u, const Real* v) { return u[0] * v[0] + (u[1] * v[1] + u[2] * v[2]); };
+  const Real ee = dot(e, e), de = dot(d0, e), q0 = dot(d0, d0), q1 = dot(d1, d1);
+  const bool ahead = de >= Real(0), past = -de >= ee;
+  return (ahead & (q0 < reach)) | (!ahead & past & (q1 < reach)) | (!(ahead | past) & (q0 * ee - de * de < reach * ee));
+}
+
+// Bit k set when o.of[k] is near o.a (near_pair), k < o.size ≤ 64.
+template <class Mover, class Real> std::uint64_t near_bits(const Mover* P, Others& o, Real margin, bool avx2) {
+  for (std::uint32_t k = o.size; k < o.size + 8; ++k) o.of[k] = o.a;
+  const Mover& a = P[o.a];
+  std::uint64_t bits = 0;
+#if defined(__SSE2__)
+  if constexpr (std::is_same_v<Real, float>) {  // four or eight at a time: the same operations in the same order
+    static_assert(sizeof(Mover) == 8 * sizeof(float));
+    if (avx2) return near_bits_avx2(P[0].x, o.a, o.of.data(), o.size, margin);
+    using namespace wide;
+    const FloatW ax = splat(a.x[0]), ay = splat(a.x[1]), az = splat(a.x[2]), ar = splat(a.x[3]);
+    const FloatW px = splat(a.p[0]), py = splat(a.p[1]), pz = splat(a.p[2]), m = splat(margin), z = zero();
+    for (std::uint32_t k = 0; k < o.size; k += 4) {
+      const Mover* b[4] = {P + o.of[k], P + o.of[k + 1], P + o.of[k + 2], P + o.of[k + 3]};
+      const FloatW x0 = load(b[0]->x), x1 = load(b[1]->x), x2 = load(b[2]->x), x3 = load(b[3]->x);
+      const Vec3W bx = transpose_xyz(x0, x1, x2, x3);
+      const FloatW br = transpose_w(x0, x1, x2, x3);
+      const Vec3W bp = transpose_xyz(load(b[0]->p), load(b[1]->p), load(b[2]->p), load(b[3]->p));
+      const FloatW R = (ar + br) + m, reach = R * R;
+      const Vec3W d0{ax - bx.x, ay - bx.y, az - bx.z}, d1{px - bp.x, py - bp.y, pz - bp.z};
+      const Vec3W e{d1.x - d0.x, d1.y - d0.y, d1.z - d0.z};
+      const FloatW ee = squared_norm(e), de = d0.x * e.x + (d0.y * e.y + d0.z * e.z);
+      const FloatW q0 = squared_norm(d0), q1 = squared_norm(d1);
+      const MaskW ahead{_mm_cmpge_ps(de.v, z.v)}, past{_mm_cmpge_ps((-de).v, ee.v)};
+      const __m128 start = (ahead & (q0 < reach)).v;
+      const __m128 end = _mm_andnot_ps(ahead.v, (past & (q1 < reach)).v);
+      const __m128 mid = _mm_andnot_ps((ahead | past).v, (q0 * ee - de * de < reach * ee).v);
+      const MaskW near{_mm_or_ps(_mm_or_ps(start, end), mid)};
+      bits |= std::uint64_t(wide::bits(near)) << k;
+    }
+    return o.size == 64 ? bits : bits & ((std::uint64_t(1) << o.size) - 1);
+  }
+#endif
+  for (std::uint32_t k = 0; k < o.size; ++k)
+    bits |= std::uint64_t(near_pair(a.x, a.p, P[o.of[k]].x, P[o.of[k]].p, margin)) << k;
+  return bits;
 }
 
 constexpr Index kChunks = 64;              // fixed, so the output never depends on the thread count
@@ -130,7 +216,8 @@ template <class Real>
 void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, const Matrix3X<Real>& p,
                                 const Matrix3X<Real>& v, Real margin, bool parallel, ParticleGrid<Real>& g,
                                 std::vector<ParticleContact<Real>>& out) {
-  using Entry = typename ParticleGrid<Real>::Entry;
+  using Box = typename ParticleGrid<Real>::Box;
+  using Slot = typename ParticleGrid<Real>::Slot;
   using Level = typename ParticleGrid<Real>::Level;
   const ContactBodies<Real>& c = m.contact;
   const Index n = m.num_particles();
@@ -166,11 +253,11 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       const Vec3<Real> from = x.col(i), to = p.col(i) - shared;
       const Real grow = c.radius[i] + Real(0.5) * margin;
       const Index body = c.body_of[i];
-      g.movers[i] = {x.col(i), p.col(i), c.radius[i], m.inverse_mass[i] == Real(0)};
-      Entry& box = g.boxes[i];
+      g.movers[i] = {{x(0, i), x(1, i), x(2, i), c.radius[i]},
+                     {p(0, i), p(1, i), p(2, i), m.inverse_mass[i] == Real(0) ? Real(1) : Real(0)}};
+      Box& box = g.boxes[i];
       box.lo = from.cwiseMin(to).array() - grow;
       box.hi = from.cwiseMax(to).array() + grow;
-      box.particle = i;
       box.group = c.bodies[body].self_collision ? ContactBodies<Real>::kNone : body;
       sum += (box.hi - box.lo).template cast<double>();
     }
@@ -179,36 +266,39 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   Eigen::Vector3d extent = Eigen::Vector3d::Zero();
   for (Index ch = 0; ch < std::min<Index>(kChunks, count); ++ch) extent += g.partial[ch];
   Eigen::Vector3d width = kCellScale * extent / double(count);
-  // 4. the pair test: the boxes must overlap, then the relative path must come within reach
-  const typename ParticleGrid<Real>::Mover* P = g.movers.data();
-  auto test_pair = [&](Index i, Index j, std::vector<ParticleContact<Real>>& mine) {  // i < j
-    const auto& a = P[i];
-    const auto& b = P[j];
-    if (a.pinned && b.pinned) return;
-    const Real R = a.radius + b.radius;
-    const Vec3<Real> d0 = a.x - b.x, d1 = a.p - b.p;
-    const Vec3<Real> e = d1 - d0;
-    // closest approach of d0 + t·e, t ∈ [0, 1], within R + margin (without a division)
-    const Real ee = e.squaredNorm(), de = d0.dot(e), reach = (R + margin) * (R + margin);
-    const Real q0 = d0.squaredNorm();
-    const bool ahead = de >= Real(0), past = -de >= ee;  // closest at t = 0, at t = 1 (else between)
-    const bool near = (ahead & (q0 < reach)) | (!ahead & past & (d1.squaredNorm() < reach)) |
-                      (!ahead & !past & (q0 * ee - de * de < reach * ee));  // bitwise: no branch to mispredict
-    if (!near) return;
-    const Index bi = c.body_of[i];
-    if (c.body_of[j] == bi) {  // within a body: only if it self-collides and no constraint joins the two
-      if (!c.bodies[bi].self_collision) return;
-      for (Index k = g.joined_offsets[i]; k < g.joined_offsets[i + 1] && g.joined[k] <= j; ++k)  // sorted row
-        if (g.joined[k] == j) return;
+  // 4. the pair test: a particle is tested against the candidates gathered for it, several at a time (near_bits);
+  // boxes are not compared first, since two paths within reach have overlapping boxes (each box is its path grown by
+  // its radius and half the margin). The few pairs within reach are then kept unless both are pinned, or they are
+  // of one body that does not self-collide, or a constraint joins them.
+  using Mover = typename ParticleGrid<Real>::Mover;
+  const Mover* P = g.movers.data();
+  const bool avx2 = avx2_enabled();
+  auto flush = [&](Others& o, std::vector<ParticleContact<Real>>& mine) {
+    for (std::uint64_t bits = o.size > 0 ? near_bits(P, o, margin, avx2) : 0; bits != 0; bits &= bits - 1) {
+      const Index other = o.of[std::size_t(__builtin_ctzll(bits))];
+      const Index i = std::min(o.a, other), j = std::max(o.a, other);
+      const Mover& a = P[i];
+      const Mover& b = P[j];
+      if (a.p[3] != Real(0) && b.p[3] != Real(0)) continue;
+      const Index group = g.boxes[i].group;
+      if (group != ContactBodies<Real>::kNone && group == g.boxes[j].group) continue;  // one body, no self-collision
+      const Index bi = c.body_of[i];
+      if (c.body_of[j] == bi) {  // within a body: only if it self-collides and no constraint joins the two
+        if (!c.bodies[bi].self_collision) continue;
+        if (joined_to(g.joined.data() + g.joined_offsets[i], g.joined.data() + g.joined_offsets[i + 1], j)) continue;
+      }
+      const Real R = a.x[3] + b.x[3];
+      const Vec3<Real> d0(a.x[0] - b.x[0], a.x[1] - b.x[1], a.x[2] - b.x[2]);
+      const Vec3<Real> d1(a.p[0] - b.p[0], a.p[1] - b.p[1], a.p[2] - b.p[2]);
+      const Vec3<Real> nrm = first_contact_normal(d0, d1, R);
+      mine.push_back({{i, j}, nrm, R, d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))),
+                      mix_materials(c.material[i], c.material[j])});
     }
-    const Vec3<Real> nrm = first_contact_normal(d0, d1, R);
-    mine.push_back({{i, j}, nrm, R, d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))),
-                    mix_materials(c.material[i], c.material[j])});
+    o.size = 0;
   };
-  auto candidate = [&](const Entry& a, const Entry& b, std::vector<ParticleContact<Real>>& mine) {
-    if (a.group == b.group && a.group != ContactBodies<Real>::kNone) return;  // one body, no self-collision
-    if (((a.lo.array() > b.hi.array()) || (b.lo.array() > a.hi.array())).any()) return;  // boxes apart
-    test_pair(std::min(a.particle, b.particle), std::max(a.particle, b.particle), mine);
+  auto candidate = [&](Index b, Others& o, std::vector<ParticleContact<Real>>& mine) {  // b joins a's candidates
+    o.of[o.size++] = b;
+    if (o.size == Others::kSize) flush(o, mine);
   };
   std::size_t lists = 0;  // contact lists used so far
   auto take_lists = [&](std::size_t k) {
@@ -226,8 +316,12 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     const Index members = Index(lv.members.size());
     if (members <= kBruteForce) {  // few left: each with each
       std::vector<ParticleContact<Real>>& mine = g.lists[take_lists(1)];
-      for (Index a = 0; a < members; ++a)
-        for (Index b = a + 1; b < members; ++b) candidate(g.boxes[lv.members[a]], g.boxes[lv.members[b]], mine);
+      Others o;
+      for (Index a = 0; a < members; ++a) {
+        o.a = lv.members[a];
+        for (Index b = a + 1; b < members; ++b) candidate(lv.members[b], o, mine);
+        flush(o, mine);
+      }
       break;
     }
     const Vec3<Real> inv = width.cwiseInverse().template cast<Real>();
@@ -243,7 +337,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       Cell lo{top, top, top}, hi{bottom, bottom, bottom};
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       for (Index k = b; k < e; ++k) {
-        const Entry& box = g.boxes[lv.members[k]];
+        const Box& box = g.boxes[lv.members[k]];
         const Cell a = cell_of<Real>(box.lo, inv), z = cell_of<Real>(box.hi, inv);
         lv.lo[k] = a;
         lv.hi[k] = z;
@@ -313,17 +407,26 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     lv.fill.assign(lv.bucket_start.begin(), lv.bucket_start.end() - 1);
     for (Index k = 0; k < members; ++k) {
       if (lv.key[k] == kLarge) continue;
-      Entry& to = lv.entries[lv.fill[lv.key[k]]++];
-      to = g.boxes[lv.members[k]];
-      to.cell = lv.lo[k];
+      lv.entries[lv.fill[lv.key[k]]++] = {lv.lo[k], lv.members[k]};
     }
-    Entry* E = lv.entries.data();
+    Slot* E = lv.entries.data();
     const Index* start = lv.bucket_start.data();
-    auto before = [](const Entry& a, const Entry& b) {
+    auto before = [](const Slot& a, const Slot& b) {
       if (a.cell[2] != b.cell[2]) return a.cell[2] < b.cell[2];
       if (a.cell[1] != b.cell[1]) return a.cell[1] < b.cell[1];
       if (a.cell[0] != b.cell[0]) return a.cell[0] < b.cell[0];
       return a.particle < b.particle;
+    };
+    auto before_x = [](const Slot& a, const Slot& b) {  // dense: a bucket is one row
+      return a.cell[0] != b.cell[0] ? a.cell[0] < b.cell[0] : a.particle < b.particle;
+    };
+    auto sort_bucket = [&](Slot* first, Slot* last, const auto& less) {
+      if (last - first <= 24) {  // insertion sort: a row of particles added in x order is sorted already
+        for (Slot* q = first + 1; q < last; ++q)
+          for (Slot* r = q; r > first && less(*r, *(r - 1)); --r) std::swap(*r, *(r - 1));
+      } else {
+        std::sort(first, last, less);
+      }
     };
     const Index small_chunks = std::min<Index>(kChunks, std::max<Index>(small, 1));
     lv.cut.resize(std::size_t(small_chunks) + 1);
@@ -334,24 +437,30 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     if (small > 1)
       over_chunks(small_chunks, fork(small), [&](Index ch, Index, Index) {
         for (Index b = lv.cut[ch]; b < lv.cut[ch + 1]; ++b) {
-          Entry* first = E + start[b];
-          Entry* last = E + start[b + 1];
-          if (last - first <= 24) {  // insertion sort: a row of particles added in x order is sorted already
-            for (Entry* q = first + 1; q < last; ++q)
-              for (Entry* r = q; r > first && before(*r, *(r - 1)); --r) std::swap(*r, *(r - 1));
-          } else {
-            std::sort(first, last, before);
-          }
+          if (dense) sort_bucket(E + start[b], E + start[b + 1], before_x);
+          else sort_bucket(E + start[b], E + start[b + 1], before);
         }
       });
+    lv.cell_x.resize(std::size_t(small) + 4);
+    lv.particle.resize(std::size_t(small) + 4);
+    for (Index k = 0; k < small; ++k) {
+      lv.cell_x[k] = E[k].cell[0];
+      lv.particle[k] = E[k].particle;
+    }
+    for (Index k = small; k < small + 4; ++k) {
+      lv.cell_x[k] = std::numeric_limits<std::int32_t>::max();
+      lv.particle[k] = small > 0 ? E[0].particle : 0;
+    }
+    const std::int32_t* cx = lv.cell_x.data();
+    const Index* pid = lv.particle.data();
     // the boxes of row (y, z) in bucket `nb` from cell x0 on: [from, end of the row)
     auto row_from = [&](std::uint32_t nb, std::int32_t y, std::int32_t z, std::int32_t x0) {
-      Entry probe;
+      Slot probe;
       probe.cell = {x0, y, z};
       probe.particle = 0;
       return Index(std::lower_bound(E + start[nb], E + start[nb + 1], probe, before) - E);
     };
-    auto in_row = [&](const Entry& e, std::int32_t y, std::int32_t z) { return e.cell[1] == y && e.cell[2] == z; };
+    auto in_row = [&](const Slot& e, std::int32_t y, std::int32_t z) { return e.cell[1] == y && e.cell[2] == z; };
     // small with small: each box with those after it in its cell and the next cell along x, and with those in the
     // neighbouring cells of the rows (y + 1, z), (y − 1, z + 1), (y, z + 1), (y + 1, z + 1): the 13 of the 26
     // neighbouring cells that come after its own, so each pair once
@@ -360,26 +469,72 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       const std::size_t first = take_lists(std::size_t(small_chunks));
       over_chunks(small_chunks, fork(small), [&](Index ch, Index, Index) {
         std::vector<ParticleContact<Real>>& mine = g.lists[first + ch];
+        Others o;
+        // Entries [from, end) whose cells along x are at most `top`: counted four at a time without a branch (the
+        // arrays run four past the last entry), as the rows hold one or two boxes per cell.
+        // With `below` < `top`, also those whose cells are at most `below` (a prefix: the row is sorted).
+        auto upto = [&](Index from, Index end, std::int32_t below, std::int32_t top) {
+          Index n = 0, under = 0;
+          for (;;) {
+            Index k4 = 0;
+#if defined(__SSE2__)
+            const Index at = from + n;  // indices and cells fit in 31 bits: signed compares
+            const __m128i cells = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cx + at));
+            const __m128i inside = _mm_and_si128(
+                _mm_cmplt_epi32(_mm_add_epi32(_mm_set1_epi32(std::int32_t(at)), _mm_setr_epi32(0, 1, 2, 3)),
+                                _mm_set1_epi32(std::int32_t(end))),
+                _mm_cmplt_epi32(cells, _mm_set1_epi32(top + 1)));
+            const __m128i low = _mm_and_si128(inside, _mm_cmplt_epi32(cells, _mm_set1_epi32(below + 1)));
+            k4 = Index(__builtin_ctz(~unsigned(_mm_movemask_ps(_mm_castsi128_ps(inside)))));  // prefixes: a row is sorted
+            under += Index(__builtin_ctz(~unsigned(_mm_movemask_ps(_mm_castsi128_ps(low)))));
+#else
+            for (Index k = 0; k < 4; ++k) {
+              const Index at = from + n + k;
+              const bool in = (at < end) & (cx[at] <= top);
+              k4 += Index(in);
+              under += Index(in & (cx[at] <= below));
+            }
+#endif
+            n += k4;
+            if (k4 < 4) return std::pair<Index, Index>(under, n);
+          }
+        };
+        // b's candidates from row entries [from, from + count)
+        auto take = [&](Index from, Index count) {
+          if (o.size + count > Others::kSize) {  // a crowded cell: one at a time
+            for (Index k = 0; k < count; ++k) candidate(pid[from + k], o, mine);
+            return;
+          }
+          std::memcpy(o.of.data() + o.size, pid + from, 4 * sizeof(Index));  // four at once; `count` of them kept
+          for (Index k = 4; k < count; ++k) o.of[o.size + k] = pid[from + k];
+          o.size += count;
+        };
         for (Index b = lv.cut[ch]; b < lv.cut[ch + 1]; ++b) {
           const Index s1 = start[b + 1];
           for (Index r0 = start[b], r1; r0 < s1; r0 = r1) {  // one row at a time: [r0, r1)
             const std::int32_t y = E[r0].cell[1], z = E[r0].cell[2];
             for (r1 = r0 + 1; r1 < s1 && in_row(E[r1], y, z); ++r1) {}
-            for (Index s = r0; s < r1; ++s)  // its own cell (after s) and the next along x
-              for (Index t = s + 1; t < r1 && E[t].cell[0] <= E[s].cell[0] + 1; ++t) candidate(E[s], E[t], mine);
-            for (const auto& r : kRows) {  // each neighbouring row, walked along with this one
-              const std::int32_t ny = y + r[0], nz = z + r[1];
+            std::array<Index, 4> w, w1;  // each neighbouring row, walked along with this one: [w, w1)
+            for (std::size_t q = 0; q < kRows.size(); ++q) {
+              const std::int32_t ny = y + kRows[q][0], nz = z + kRows[q][1];
               const std::uint32_t nb = bucket_of(ny, nz);
-              Index w = start[nb], w1 = start[nb + 1];  // dense: the bucket is the row
+              w[q] = start[nb];  // dense: the bucket is the row
+              w1[q] = start[nb + 1];
               if (!dense) {
-                w = row_from(nb, ny, nz, E[r0].cell[0] - 1);
-                for (w1 = w; w1 < start[nb + 1] && in_row(E[w1], ny, nz); ++w1) {}
+                w[q] = row_from(nb, ny, nz, E[r0].cell[0] - 1);
+                for (w1[q] = w[q]; w1[q] < start[nb + 1] && in_row(E[w1[q]], ny, nz); ++w1[q]) {}
               }
-              for (Index s = r0; s < r1 && w < w1; ++s) {
-                const std::int32_t x = E[s].cell[0];
-                while (w < w1 && E[w].cell[0] < x - 1) ++w;
-                for (Index t = w; t < w1 && E[t].cell[0] <= x + 1; ++t) candidate(E[s], E[t], mine);
+            }
+            for (Index s = r0; s < r1; ++s) {
+              const std::int32_t x = cx[s];
+              o.a = pid[s];
+              take(s + 1, upto(s + 1, r1, x, x + 1).second);  // its own cell (after s) and the next along x
+              for (std::size_t q = 0; q < kRows.size(); ++q) {  // the neighbouring rows' cells x − 1, x, x + 1
+                const auto [skip, n] = upto(w[q], w1[q], x - 2, x + 1);
+                w[q] += skip;
+                take(w[q], n - skip);
               }
+              flush(o, mine);
             }
           }
         }
@@ -392,8 +547,10 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       const std::size_t first = take_lists(std::size_t(std::min<Index>(kChunks, large)));
       over_chunks(large, fork(large), [&](Index ch, Index b, Index e) {
         std::vector<ParticleContact<Real>>& mine = g.lists[first + ch];
+        Others o;
         for (Index k = b; k < e; ++k) {
-          const Entry& box = g.boxes[lv.large[k]];
+          const Box& box = g.boxes[lv.large[k]];
+          o.a = lv.large[k];
           Cell lo = cell_of<Real>(box.lo, inv), hi = cell_of<Real>(box.hi, inv);
           std::uint64_t rows = 1;
           for (int d = 0; d < 3; ++d) lo[d] -= 1;
@@ -405,15 +562,23 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
             rows *= std::uint64_t(std::max<std::int64_t>(0, std::int64_t(hi[d]) - lo[d] + 1));
           }
           if (rows > kMaxRows) {
-            for (Index t = 0; t < small; ++t) candidate(box, E[t], mine);
+            for (Index t = 0; t < small; ++t) candidate(pid[t], o, mine);
+            flush(o, mine);
             continue;
           }
           for (std::int32_t cz = lo[2]; cz <= hi[2]; ++cz)
             for (std::int32_t cy = lo[1]; cy <= hi[1]; ++cy) {
               const std::uint32_t nb = bucket_of(cy, cz);
-              for (Index t = row_from(nb, cy, cz, lo[0]); t < start[nb + 1] && in_row(E[t], cy, cz) && E[t].cell[0] <= hi[0]; ++t)
-                candidate(box, E[t], mine);
+              if (dense) {  // the bucket is the row
+                for (Index t = Index(std::lower_bound(cx + start[nb], cx + start[nb + 1], lo[0]) - cx);
+                     t < start[nb + 1] && cx[t] <= hi[0]; ++t)
+                  candidate(pid[t], o, mine);
+              } else {
+                for (Index t = row_from(nb, cy, cz, lo[0]); t < start[nb + 1] && in_row(E[t], cy, cz) && cx[t] <= hi[0]; ++t)
+                  candidate(pid[t], o, mine);
+              }
             }
+          flush(o, mine);
         }
       });
     }

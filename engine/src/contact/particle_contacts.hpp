@@ -19,9 +19,13 @@
 //                kMaxRows rows). The larger boxes then form the next level, with cells at least twice as wide, until
 //                every box is small or at most kBruteForce boxes are left, which are paired with one another. Sums,
 //                cells, sorts, pairs and queries run in fixed chunks, in parallel when asked
-//   4. pairs     two boxes paired above must overlap, and the pair is kept when the relative path
+//   4. pairs     a box's candidates from its neighbouring cells are gathered (a row's are consecutive: counted four
+//                at a time without a branch) and tested together, eight at a time with AVX2, four with SSE2, one at a
+//                time otherwise, all giving the same bits: a pair is kept when the relative path
 //                (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous, so nothing passes through
-//                anything within a sub-step (if it does, the two boxes meet)
+//                anything within a sub-step. The boxes are not compared first: paths within reach have overlapping
+//                boxes. Then pairs of one body that does not self-collide, of two pinned particles, or joined by a
+//                constraint are dropped
 //   5. output    sorted by pair (i, j), i < j: the same list for any thread count and any cells
 // A world without contact bodies of non-zero radius runs none of this.
 #include "pbd/constraints/particle_contact.hpp"
@@ -39,21 +43,23 @@ template <class Real> struct ParticleGrid {
   std::uint64_t joined_edits = ~std::uint64_t(0);  // Model::edits the exclusions below were built at
   std::size_t joined_bodies = 0;                   // contact bodies then
   std::vector<Index> joined_offsets;               // CSR per particle: the particles above it joined to it by a
-  std::vector<Index> joined;                       //   constraint (sorted; only in self-colliding bodies)
+  std::vector<Index> joined;                       //   constraint (ascending, each row padded to whole groups of
+                                                   //   four with kNone; only in self-colliding bodies)
   std::vector<Eigen::Vector3d> partial;            // per chunk: its part of a sum over the particles
-  struct Mover {                                   // what a pair test reads of a particle, in one place
-    Vec3<Real> x, p;                               //   start of the sub-step and predicted, m
-    Real radius;                                   //   m
-    bool pinned;                                   //   inverse mass 0
+  struct alignas(16) Mover {                      // what a pair test reads of a particle, padded for lane loads
+    Real x[4];                                     //   start of the sub-step, m, then its radius, m
+    Real p[4];                                     //   predicted, m, then 1 when pinned (inverse mass 0), else 0
   };
   std::vector<Mover> movers;                       // per particle (those with a radius are filled)
-  struct Entry {                                   // a box as the grid holds it
-    Vec3<Real> lo, hi;                             //   its swept box in the sub-step's moving frame, m
-    Index particle;
+  struct Box {                                     // a particle's swept box
+    Vec3<Real> lo, hi;                             //   in the sub-step's moving frame, m
     Index group;                                   //   its body when that does not self-collide, else kNone
-    Cell cell;                                     //   the cell of its lower corner
   };
-  std::vector<Entry> boxes;                        // per particle (those with a radius are filled; cell unset)
+  std::vector<Box> boxes;                          // per particle (those with a radius are filled)
+  struct Slot {                                    // a small box as a grid holds it
+    Cell cell;                                     //   the cell of its lower corner
+    Index particle;
+  };
   struct Level {                                   // one grid (see above)
     std::vector<Index> members;                    //   its particles, ascending
     std::vector<Cell> lo, hi;                      //   per member: the cells of its box's corners
@@ -63,7 +69,9 @@ template <class Real> struct ParticleGrid {
     std::vector<Eigen::Vector3d> extent;           //   per chunk: the sum of its large members' box sizes
     std::vector<Index> bucket_start;               //   per bucket + 1: where its entries start in `entries`
     std::vector<Index> fill;                       //   the counting sort's cursor per bucket
-    std::vector<Entry> entries;                    //   the small members, bucket by bucket, by (cell z, y, x, particle)
+    std::vector<Slot> entries;                     //   the small members, bucket by bucket, by (cell z, y, x, particle)
+    std::vector<std::int32_t> cell_x;              //   per entry (+ 4 past the end): its cell along x
+    std::vector<Index> particle;                   //   per entry (+ 4 past the end): its particle
     std::vector<Index> cut;                        //   per chunk + 1: its first bucket
   };
   std::vector<Level> levels;
