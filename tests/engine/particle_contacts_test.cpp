@@ -2,7 +2,7 @@
 // layouts that take each of its paths (a dense cluster: the dense grid; particles scattered over a wide space: the
 // hash table; a few particles far faster than the rest: boxes paired with every box; a third of the particles a few
 // times faster: grids of wider cells for them; self-colliding bodies whose joined pairs are excluded; pinned
-// particles), it finds exactly the pairs whose relative path comes within
+// particles; hundreds of boxes in one cell: more candidates than a particle's batch holds), it finds exactly the pairs whose relative path comes within
 // r_a + r_b + margin, each once, in the order of the pairs, and the same list with and without threads.
 #include "contact/particle_contacts.hpp"
 
@@ -27,6 +27,7 @@ struct Layout {
   int clusters = 0;   // > 0: particles in this many clusters 0.3 m wide, placed at random in the cube
   bool self = false;  // one self-colliding body whose consecutive particles are joined by stretch constraints
   double faster = 1000;
+  double width = 0.3;  // of a cluster, m
 };
 
 template <class Real> struct Case {
@@ -49,7 +50,7 @@ template <class Real> Case<Real> make(const Layout& l, std::uint32_t seed) {
   for (Index i = 0; i < n; ++i) {
     const double scale = i < Index(l.fast) ? l.faster : 1.0;
     for (int d = 0; d < 3; ++d) {
-      c.x(d, i) = Real(l.clusters > 0 ? centres[i % l.clusters][d] + 0.3 * u(rng) : l.spread * u(rng));
+      c.x(d, i) = Real(l.clusters > 0 ? centres[i % l.clusters][d] + l.width * u(rng) : l.spread * u(rng));
       c.p(d, i) = Real(double(c.x(d, i)) + l.step * scale * u(rng) + 0.3 * l.step);  // a shared drift
     }
     if (i % 17 == 5) c.model.inverse_mass[i] = 0;  // pinned (two pinned particles never touch)
@@ -104,6 +105,7 @@ TYPED_TEST(ParticleContacts, FindExactlyThePairsWhosePathsComeWithinReach) {
       {"a third faster (grids of wider cells)", 3000, 0.6, 0.01, 1000, 0, false, 6},
       {"self-colliding, joined pairs", 3000, 0.5, 0.01, 0, 0, true},
       {"still", 1500, 0.4, 0.0, 0},
+      {"crowded cells (hundreds of boxes in a cell)", 900, 0.5, 0.001, 0, 3, false, 1000, 0.01},
   };
   const double margin = 0.004;
   for (const Layout& l : layouts)

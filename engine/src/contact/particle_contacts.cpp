@@ -297,8 +297,8 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     o.size = 0;
   };
   auto candidate = [&](Index b, Others& o, std::vector<ParticleContact<Real>>& mine) {  // b joins a's candidates
-    o.of[o.size++] = b;
     if (o.size == Others::kSize) flush(o, mine);
+    o.of[o.size++] = b;
   };
   std::size_t lists = 0;  // contact lists used so far
   auto take_lists = [&](std::size_t k) {
