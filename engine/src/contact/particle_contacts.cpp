@@ -49,6 +49,17 @@ using Cell = std::array<std::int32_t, 3>;
 inline bool same(const Cell& a, const Cell& b) { return ((a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2])) == 0; }
 
 template <class Real> inline Cell cell_of(const Vec3<Real>& q, const Vec3<Real>& inv) {
+#if defined(__SSE2__)
+  if constexpr (std::is_same_v<Real, float>) {  // the same cells, three axes at once: floor(q·inv), clamped
+    const __m128 v = _mm_mul_ps(_mm_setr_ps(q[0], q[1], q[2], 0.0f), _mm_setr_ps(inv[0], inv[1], inv[2], 0.0f));
+    const __m128 c = _mm_max_ps(_mm_min_ps(v, _mm_set1_ps(1e9f)), _mm_set1_ps(-1e9f));
+    const __m128i t = _mm_cvttps_epi32(c);  // toward zero, then one down where that rounded up
+    const __m128i f = _mm_add_epi32(t, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(t), c)));
+    alignas(16) std::int32_t out[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(out), f);
+    return {out[0], out[1], out[2]};
+  }
+#endif
   auto axis = [&](int d) {  // clamped so that a far particle cannot overflow (it only shares a cell more often)
     return std::int32_t(std::clamp(std::floor(q[d] * inv[d]), Real(-1e9), Real(1e9)));
   };
@@ -61,7 +72,8 @@ inline std::uint32_t hash_cell(std::int32_t x, std::int32_t y, std::int32_t z, s
 }
 
 // Particles joined to one another by a built-in constraint, both in the same self-colliding body: never in contact.
-// Each particle's row lists those above it (pairs are tested as (i, j), i < j).
+// Each particle's row lists all the particles joined to it (a candidate is tested against its row, whichever of the
+// two is lower).
 template <class Real> void build_exclusions(const Model<Real>& m, ParticleGrid<Real>& g) {
   const ContactBodies<Real>& c = m.contact;
   const Index n = m.num_particles();
@@ -72,7 +84,7 @@ template <class Real> void build_exclusions(const Model<Real>& m, ParticleGrid<R
       for (std::size_t a = 0; a < con.particles.size(); ++a)
         for (std::size_t b = 0; b < con.particles.size(); ++b) {
           const Index u = con.particles[a], v = con.particles[b];
-          if (u < v && self(u) && c.body_of[u] == c.body_of[v]) pairs.emplace_back(u, v);
+          if (u != v && self(u) && c.body_of[u] == c.body_of[v]) pairs.emplace_back(u, v);
         }
   });
   std::sort(pairs.begin(), pairs.end());
@@ -109,21 +121,6 @@ template <class Real> Vec3<Real> first_contact_normal(const Vec3<Real>& d0, cons
   return d.normalized();
 }
 
-// Whether j is in the row [first, last) (a whole number of groups of four, padded with kNone).
-inline bool joined_to(const Index* first, const Index* last, Index j) {
-#if defined(__SSE2__)
-  const __m128i key = _mm_set1_epi32(std::int32_t(j));
-  __m128i any = _mm_setzero_si128();
-  for (const Index* q = first; q < last; q += 4)
-    any = _mm_or_si128(any, _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q)), key));
-  return _mm_movemask_epi8(any) != 0;
-#else
-  bool found = false;
-  for (const Index* q = first; q < last; ++q) found = found || *q == j;
-  return found;
-#endif
-}
-
 // The particles one particle (a) is to be tested against, gathered so that they are tested together (near_bits).
 struct Others {
   static constexpr std::uint32_t kSize = 64;
@@ -131,6 +128,33 @@ struct Others {
   std::uint32_t size = 0;
   std::array<Index, kSize + 8> of;  // [size, size + 8) padded with a, for the four- or eight-lane test
 };
+
+// Bit k set when o.of[k] is in a's row of joined particles [first, last) (a whole number of groups of four, padded
+// with kNone), k < o.size; o.of is padded with o.a past o.size (near_bits), which is never in its own row.
+inline std::uint64_t joined_bits(const Index* first, const Index* last, const Others& o) {
+  std::uint64_t bits = 0;
+  if (first == last) return bits;
+#if defined(__SSE2__)
+  for (std::uint32_t k = 0; k < o.size; k += 4) {  // four candidates against four of the row's at a time, rotated
+    const __m128i of = _mm_loadu_si128(reinterpret_cast<const __m128i*>(o.of.data() + k));
+    __m128i any = _mm_setzero_si128();
+    for (const Index* q = first; q < last; q += 4) {
+      const __m128i r = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q));
+      any = _mm_or_si128(any, _mm_or_si128(_mm_cmpeq_epi32(of, r), _mm_cmpeq_epi32(of, _mm_shuffle_epi32(r, 0x39))));
+      any = _mm_or_si128(any, _mm_or_si128(_mm_cmpeq_epi32(of, _mm_shuffle_epi32(r, 0x4e)),
+                                           _mm_cmpeq_epi32(of, _mm_shuffle_epi32(r, 0x93))));
+    }
+    bits |= std::uint64_t(unsigned(_mm_movemask_ps(_mm_castsi128_ps(any)))) << k;
+  }
+#else
+  for (std::uint32_t k = 0; k < o.size; ++k) {
+    bool found = false;
+    for (const Index* q = first; q < last; ++q) found = found || *q == o.of[k];
+    bits |= std::uint64_t(found) << k;
+  }
+#endif
+  return bits;
+}
 
 // Whether the relative path (x_a − x_b) → (p_a − p_b) comes within r_a + r_b + margin at its closest, t ∈ [0, 1]:
 // at t = 0 when the path moves apart (d0·e ≥ 0), at t = 1 when it ends before its closest point, else between
@@ -274,7 +298,10 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   const Mover* P = g.movers.data();
   const bool avx2 = avx2_enabled();
   auto flush = [&](Others& o, std::vector<ParticleContact<Real>>& mine) {
-    for (std::uint64_t bits = o.size > 0 ? near_bits(P, o, margin, avx2) : 0; bits != 0; bits &= bits - 1) {
+    std::uint64_t bits = o.size > 0 ? near_bits(P, o, margin, avx2) : 0;
+    if (bits != 0 && any_self)  // joined by a constraint (the near pairs of a cloth are nearly all its neighbours)
+      bits &= ~joined_bits(g.joined.data() + g.joined_offsets[o.a], g.joined.data() + g.joined_offsets[o.a + 1], o);
+    for (; bits != 0; bits &= bits - 1) {
       const Index other = o.of[std::size_t(__builtin_ctzll(bits))];
       const Index i = std::min(o.a, other), j = std::max(o.a, other);
       const Mover& a = P[i];
@@ -283,10 +310,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       const Index group = g.boxes[i].group;
       if (group != ContactBodies<Real>::kNone && group == g.boxes[j].group) continue;  // one body, no self-collision
       const Index bi = c.body_of[i];
-      if (c.body_of[j] == bi) {  // within a body: only if it self-collides and no constraint joins the two
-        if (!c.bodies[bi].self_collision) continue;
-        if (joined_to(g.joined.data() + g.joined_offsets[i], g.joined.data() + g.joined_offsets[i + 1], j)) continue;
-      }
+      if (c.body_of[j] == bi && !c.bodies[bi].self_collision) continue;  // within a body: only if it self-collides
       const Real R = a.x[3] + b.x[3];
       const Vec3<Real> d0(a.x[0] - b.x[0], a.x[1] - b.x[1], a.x[2] - b.x[2]);
       const Vec3<Real> d1(a.p[0] - b.p[0], a.p[1] - b.p[1], a.p[2] - b.p[2]);
@@ -528,6 +552,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
             for (Index s = r0; s < r1; ++s) {
               const std::int32_t x = cx[s];
               o.a = pid[s];
+              if (any_self) __builtin_prefetch(g.joined.data() + g.joined_offsets[pid[s + 2]]);  // pid runs 4 past
               take(s + 1, upto(s + 1, r1, x, x + 1).second);  // its own cell (after s) and the next along x
               for (std::size_t q = 0; q < kRows.size(); ++q) {  // the neighbouring rows' cells x − 1, x, x + 1
                 const auto [skip, n] = upto(w[q], w1[q], x - 2, x + 1);

@@ -42,9 +42,9 @@ template <class Real> struct ParticleGrid {
   using Cell = std::array<std::int32_t, 3>;
   std::uint64_t joined_edits = ~std::uint64_t(0);  // Model::edits the exclusions below were built at
   std::size_t joined_bodies = 0;                   // contact bodies then
-  std::vector<Index> joined_offsets;               // CSR per particle: the particles above it joined to it by a
-  std::vector<Index> joined;                       //   constraint (ascending, each row padded to whole groups of
-                                                   //   four with kNone; only in self-colliding bodies)
+  std::vector<Index> joined_offsets;               // CSR per particle: the particles joined to it by a constraint
+  std::vector<Index> joined;                       //   (ascending, each row padded to whole groups of four with
+                                                   //   kNone; only in self-colliding bodies)
   std::vector<Eigen::Vector3d> partial;            // per chunk: its part of a sum over the particles
   struct alignas(16) Mover {                      // what a pair test reads of a particle, padded for lane loads
     Real x[4];                                     //   start of the sub-step, m, then its radius, m
