@@ -399,6 +399,8 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
           lo[d] = std::min(lo[d], lv.bounds[ch].first[d]);
           hi[d] = std::max(hi[d], lv.bounds[ch].second[d]);
         }
+      base[0] = lo[0];  // along x: the lower corners' range
+      dims[0] = std::int64_t(hi[0]) - lo[0] + 1;
       for (int d = 1; d < 3; ++d) {
         base[d] = lo[d] - 1;  // cells are clamped to ±1e9: no overflow
         dims[d] = std::int64_t(hi[d]) - lo[d] + 3;
@@ -422,16 +424,29 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
         for (Index k = b; k < e; ++k)
           if (lv.key[k] != kLarge) lv.key[k] = bucket_of(lv.lo[k][1], lv.lo[k][2]);
       });
-    // counting sort of the small boxes by bucket, then each bucket sorted by (cell z, y, x, particle)
+    // counting sort of the small boxes by bucket, then each bucket sorted by (cell z, y, x, particle). Dense, and
+    // when the cells along x are not too many: a counting sort by cell x first, so that the one by bucket (stable)
+    // leaves each row in (x, particle) order with no sort (members are ascending).
+    const bool by_x = dense && dims[0] <= 4 * std::int64_t(small) + 64;
     lv.bucket_start.assign(std::size_t(buckets) + 1, 0);
     for (Index k = 0; k < members; ++k)
       if (lv.key[k] != kLarge) ++lv.bucket_start[lv.key[k] + 1];
     for (std::uint32_t b = 0; b < buckets; ++b) lv.bucket_start[b + 1] += lv.bucket_start[b];
     lv.entries.resize(small);
     lv.fill.assign(lv.bucket_start.begin(), lv.bucket_start.end() - 1);
-    for (Index k = 0; k < members; ++k) {
-      if (lv.key[k] == kLarge) continue;
-      lv.entries[lv.fill[lv.key[k]]++] = {lv.lo[k], lv.members[k]};
+    auto enter = [&](Index k) { lv.entries[lv.fill[lv.key[k]]++] = {lv.lo[k], lv.members[k]}; };
+    if (by_x) {
+      lv.x_start.assign(std::size_t(dims[0]) + 1, 0);
+      for (Index k = 0; k < members; ++k)
+        if (lv.key[k] != kLarge) ++lv.x_start[lv.lo[k][0] - base[0] + 1];
+      for (std::int64_t x = 0; x < dims[0]; ++x) lv.x_start[x + 1] += lv.x_start[x];
+      lv.by_x.resize(small);
+      for (Index k = 0; k < members; ++k)
+        if (lv.key[k] != kLarge) lv.by_x[lv.x_start[lv.lo[k][0] - base[0]]++] = k;
+      for (Index t = 0; t < small; ++t) enter(lv.by_x[t]);
+    } else {
+      for (Index k = 0; k < members; ++k)
+        if (lv.key[k] != kLarge) enter(k);
     }
     Slot* E = lv.entries.data();
     const Index* start = lv.bucket_start.data();
@@ -458,7 +473,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       lv.cut[ch] = Index(std::lower_bound(lv.bucket_start.begin(), lv.bucket_start.end() - 1,
                                           Index(std::uint64_t(ch) * small / small_chunks)) - lv.bucket_start.begin());
     lv.cut[small_chunks] = buckets;
-    if (small > 1)
+    if (small > 1 && !by_x)
       over_chunks(small_chunks, fork(small), [&](Index ch, Index, Index) {
         for (Index b = lv.cut[ch]; b < lv.cut[ch + 1]; ++b) {
           if (dense) sort_bucket(E + start[b], E + start[b + 1], before_x);

@@ -69,6 +69,8 @@ template <class Real> struct ParticleGrid {
     std::vector<Eigen::Vector3d> extent;           //   per chunk: the sum of its large members' box sizes
     std::vector<Index> bucket_start;               //   per bucket + 1: where its entries start in `entries`
     std::vector<Index> fill;                       //   the counting sort's cursor per bucket
+    std::vector<Index> x_start;                    //   dense: per cell along x + 1, the first counting sort's starts
+    std::vector<Index> by_x;                       //   dense: the small members by cell along x, then particle
     std::vector<Slot> entries;                     //   the small members, bucket by bucket, by (cell z, y, x, particle)
     std::vector<std::int32_t> cell_x;              //   per entry (+ 4 past the end): its cell along x
     std::vector<Index> particle;                   //   per entry (+ 4 past the end): its particle
