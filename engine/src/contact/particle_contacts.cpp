@@ -539,41 +539,50 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
           }
         };
         // b's candidates from row entries [from, from + count)
-        auto take = [&](Index from, Index count) {
-          if (o.size + count > Others::kSize) {  // a crowded cell: one at a time
+        // b's candidates from row entries [from, from + count), counted in `size` (o.size once they are all taken:
+        // a local count stays in a register)
+        auto take = [&](Index from, Index count, std::uint32_t& size) {
+          if (size + count > Others::kSize) {  // a crowded cell: one at a time
+            o.size = size;
             for (Index k = 0; k < count; ++k) candidate(pid[from + k], o, mine);
+            size = o.size;
             return;
           }
-          std::memcpy(o.of.data() + o.size, pid + from, 4 * sizeof(Index));  // four at once; `count` of them kept
-          for (Index k = 4; k < count; ++k) o.of[o.size + k] = pid[from + k];
-          o.size += count;
+          Index* to = o.of.data() + size;
+          std::memcpy(to, pid + from, 4 * sizeof(Index));  // four at once; `count` of them kept
+          for (Index k = 4; k < count; ++k) to[k] = pid[from + k];
+          size += count;
         };
         for (Index b = lv.cut[ch]; b < lv.cut[ch + 1]; ++b) {
           const Index s1 = start[b + 1];
           for (Index r0 = start[b], r1; r0 < s1; r0 = r1) {  // one row at a time: [r0, r1)
             const std::int32_t y = E[r0].cell[1], z = E[r0].cell[2];
             for (r1 = r0 + 1; r1 < s1 && in_row(E[r1], y, z); ++r1) {}
-            std::array<Index, 4> w, w1;  // each neighbouring row, walked along with this one: [w, w1)
+            std::array<Index, 4> w, w1;  // each neighbouring row that holds boxes, walked along with this one: [w, w1)
+            std::size_t rows = 0;
             for (std::size_t q = 0; q < kRows.size(); ++q) {
               const std::int32_t ny = y + kRows[q][0], nz = z + kRows[q][1];
               const std::uint32_t nb = bucket_of(ny, nz);
-              w[q] = start[nb];  // dense: the bucket is the row
-              w1[q] = start[nb + 1];
+              w[rows] = start[nb];  // dense: the bucket is the row
+              w1[rows] = start[nb + 1];
               if (!dense) {
-                w[q] = row_from(nb, ny, nz, E[r0].cell[0] - 1);
-                for (w1[q] = w[q]; w1[q] < start[nb + 1] && in_row(E[w1[q]], ny, nz); ++w1[q]) {}
+                w[rows] = row_from(nb, ny, nz, E[r0].cell[0] - 1);
+                for (w1[rows] = w[rows]; w1[rows] < start[nb + 1] && in_row(E[w1[rows]], ny, nz); ++w1[rows]) {}
               }
+              rows += w[rows] < w1[rows] ? 1 : 0;  // an empty row (a flat cloth's rows above it) is not walked
             }
             for (Index s = r0; s < r1; ++s) {
               const std::int32_t x = cx[s];
               o.a = pid[s];
               if (any_self) __builtin_prefetch(g.joined.data() + g.joined_offsets[pid[s + 2]]);  // pid runs 4 past
-              take(s + 1, upto(s + 1, r1, x, x + 1).second);  // its own cell (after s) and the next along x
-              for (std::size_t q = 0; q < kRows.size(); ++q) {  // the neighbouring rows' cells x − 1, x, x + 1
+              std::uint32_t size = 0;
+              take(s + 1, upto(s + 1, r1, x, x + 1).second, size);  // its own cell (after s) and the next along x
+              for (std::size_t q = 0; q < rows; ++q) {  // the neighbouring rows' cells x − 1, x, x + 1
                 const auto [skip, n] = upto(w[q], w1[q], x - 2, x + 1);
                 w[q] += skip;
-                take(w[q], n - skip);
+                take(w[q], n - skip, size);
               }
+              o.size = size;
               flush(o, mine);
             }
           }
