@@ -10,8 +10,9 @@
 //                spans at most two cells along every axis ("small") is entered once, by the cell of its lower corner,
 //                into the bucket of that cell's row along x (a counting sort into one bucket per row (y, z) of the
 //                lower corners' bounding grid, or when those rows are sparse a hash table of about twice as many
-//                buckets as boxes), sorted within a bucket by cell and particle. Two small boxes that overlap have
-//                lower corners at most one cell apart along each axis, so each small box is paired with the boxes of
+//                buckets as boxes), sorted within a bucket by cell and particle (a dense grid is counting-sorted by
+//                cell x before the sort by row, so no row needs sorting). Two small boxes that overlap have lower
+//                corners at most one cell apart along each axis, so each small box is paired with the boxes of
 //                its own row in its cell (after it) and the next, and with those of the rows (y + 1, z), (y − 1, z + 1),
 //                (y, z + 1), (y + 1, z + 1) within one cell along x, walked along with its own row: the 13 of the 26
 //                neighbouring cells that come after its own, so each pair once. A larger box is paired with the small
@@ -24,8 +25,9 @@
 //                time otherwise, all giving the same bits: a pair is kept when the relative path
 //                (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous, so nothing passes through
 //                anything within a sub-step. The boxes are not compared first: paths within reach have overlapping
-//                boxes. Then pairs of one body that does not self-collide, of two pinned particles, or joined by a
-//                constraint are dropped
+//                boxes. Candidates joined to the particle by a constraint are masked out together (four at a time
+//                against its row of joined particles: a cloth's near pairs are nearly all its neighbours); then pairs
+//                of one body that does not self-collide or of two pinned particles are dropped
 //   5. output    sorted by pair (i, j), i < j: the same list for any thread count and any cells
 // A world without contact bodies of non-zero radius runs none of this.
 #include "pbd/constraints/particle_contact.hpp"
