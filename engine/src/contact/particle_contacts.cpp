@@ -500,6 +500,35 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       return Index(std::lower_bound(E + start[nb], E + start[nb + 1], probe, before) - E);
     };
     auto in_row = [&](const Slot& e, std::int32_t y, std::int32_t z) { return e.cell[1] == y && e.cell[2] == z; };
+    // Entries [from, end) whose cells along x are at most `top`: counted four at a time without a branch (the
+    // arrays run four past the last entry), as the rows hold one or two boxes per cell.
+    // With `below` < `top`, also those whose cells are at most `below` (a prefix: the row is sorted).
+    auto upto = [&](Index from, Index end, std::int32_t below, std::int32_t top) {
+      Index n = 0, under = 0;
+      for (;;) {
+        Index k4 = 0;
+#if defined(__SSE2__)
+        const Index at = from + n;  // indices and cells fit in 31 bits: signed compares
+        const __m128i cells = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cx + at));
+        const __m128i inside = _mm_and_si128(
+            _mm_cmplt_epi32(_mm_add_epi32(_mm_set1_epi32(std::int32_t(at)), _mm_setr_epi32(0, 1, 2, 3)),
+                            _mm_set1_epi32(std::int32_t(end))),
+            _mm_cmplt_epi32(cells, _mm_set1_epi32(top + 1)));
+        const __m128i low = _mm_and_si128(inside, _mm_cmplt_epi32(cells, _mm_set1_epi32(below + 1)));
+        k4 = Index(__builtin_ctz(~unsigned(_mm_movemask_ps(_mm_castsi128_ps(inside)))));  // prefixes: a row is sorted
+        under += Index(__builtin_ctz(~unsigned(_mm_movemask_ps(_mm_castsi128_ps(low)))));
+#else
+        for (Index k = 0; k < 4; ++k) {
+          const Index at = from + n + k;
+          const bool in = (at < end) & (cx[at] <= top);
+          k4 += Index(in);
+          under += Index(in & (cx[at] <= below));
+        }
+#endif
+        n += k4;
+        if (k4 < 4) return std::pair<Index, Index>(under, n);
+      }
+    };
     // small with small: each box with those after it in its cell and the next cell along x, and with those in the
     // neighbouring cells of the rows (y + 1, z), (y − 1, z + 1), (y, z + 1), (y + 1, z + 1): the 13 of the 26
     // neighbouring cells that come after its own, so each pair once
@@ -509,36 +538,6 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       over_chunks(small_chunks, fork(small), [&](Index ch, Index, Index) {
         std::vector<ParticleContact<Real>>& mine = g.lists[first + ch];
         Others o;
-        // Entries [from, end) whose cells along x are at most `top`: counted four at a time without a branch (the
-        // arrays run four past the last entry), as the rows hold one or two boxes per cell.
-        // With `below` < `top`, also those whose cells are at most `below` (a prefix: the row is sorted).
-        auto upto = [&](Index from, Index end, std::int32_t below, std::int32_t top) {
-          Index n = 0, under = 0;
-          for (;;) {
-            Index k4 = 0;
-#if defined(__SSE2__)
-            const Index at = from + n;  // indices and cells fit in 31 bits: signed compares
-            const __m128i cells = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cx + at));
-            const __m128i inside = _mm_and_si128(
-                _mm_cmplt_epi32(_mm_add_epi32(_mm_set1_epi32(std::int32_t(at)), _mm_setr_epi32(0, 1, 2, 3)),
-                                _mm_set1_epi32(std::int32_t(end))),
-                _mm_cmplt_epi32(cells, _mm_set1_epi32(top + 1)));
-            const __m128i low = _mm_and_si128(inside, _mm_cmplt_epi32(cells, _mm_set1_epi32(below + 1)));
-            k4 = Index(__builtin_ctz(~unsigned(_mm_movemask_ps(_mm_castsi128_ps(inside)))));  // prefixes: a row is sorted
-            under += Index(__builtin_ctz(~unsigned(_mm_movemask_ps(_mm_castsi128_ps(low)))));
-#else
-            for (Index k = 0; k < 4; ++k) {
-              const Index at = from + n + k;
-              const bool in = (at < end) & (cx[at] <= top);
-              k4 += Index(in);
-              under += Index(in & (cx[at] <= below));
-            }
-#endif
-            n += k4;
-            if (k4 < 4) return std::pair<Index, Index>(under, n);
-          }
-        };
-        // b's candidates from row entries [from, from + count)
         // b's candidates from row entries [from, from + count), counted in `size` (o.size once they are all taken:
         // a local count stays in a register)
         auto take = [&](Index from, Index count, std::uint32_t& size) {
@@ -618,10 +617,12 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
           for (std::int32_t cz = lo[2]; cz <= hi[2]; ++cz)
             for (std::int32_t cy = lo[1]; cy <= hi[1]; ++cy) {
               const std::uint32_t nb = bucket_of(cy, cz);
-              if (dense) {  // the bucket is the row
-                for (Index t = Index(std::lower_bound(cx + start[nb], cx + start[nb + 1], lo[0]) - cx);
-                     t < start[nb + 1] && cx[t] <= hi[0]; ++t)
-                  candidate(pid[t], o, mine);
+              if (dense) {  // the bucket is the row: its boxes in cells lo..hi along x, counted as the walk counts
+                Index from = start[nb];
+                const Index last = start[nb + 1];
+                if (last - from > 32) from = Index(std::lower_bound(cx + from, cx + last, lo[0]) - cx);
+                const auto [skip, end] = upto(from, last, lo[0] - 1, hi[0]);
+                for (Index t = from + skip; t < from + end; ++t) candidate(pid[t], o, mine);
               } else {
                 for (Index t = row_from(nb, cy, cz, lo[0]); t < start[nb + 1] && in_row(E[t], cy, cz) && cx[t] <= hi[0]; ++t)
                   candidate(pid[t], o, mine);
