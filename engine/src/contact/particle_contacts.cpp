@@ -309,8 +309,6 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       if (a.p[3] != Real(0) && b.p[3] != Real(0)) continue;
       const Index group = g.boxes[i].group;
       if (group != ContactBodies<Real>::kNone && group == g.boxes[j].group) continue;  // one body, no self-collision
-      const Index bi = c.body_of[i];
-      if (c.body_of[j] == bi && !c.bodies[bi].self_collision) continue;  // within a body: only if it self-collides
       const Real R = a.x[3] + b.x[3];
       const Vec3<Real> d0(a.x[0] - b.x[0], a.x[1] - b.x[1], a.x[2] - b.x[2]);
       const Vec3<Real> d1(a.p[0] - b.p[0], a.p[1] - b.p[1], a.p[2] - b.p[2]);
