@@ -146,8 +146,9 @@ template <class Real> void World<Real>::advance(const Real* forces) {
           model_.contact.empty() ? ParticleSurfaces<Real>{}
                                  : ParticleSurfaces<Real>{model_.contact.radius.data(), model_.contact.material.data()};
       if (!model_.colliders.empty())
-        generate_collisions(model_.colliders, state_.x, k.p, state_.v, model_.inverse_mass, params_.collision_margin,
-                            surfaces, k.collisions.items);
+        detail::generate_collisions_chunked(model_.colliders, state_.x, k.p, state_.v, model_.inverse_mass,
+                                            params_.collision_margin, surfaces, parallel, k.collision_chunks,
+                                            k.collisions.items);
       if (model_.contact.particle_contacts())
         detail::generate_particle_contacts(model_, state_.x, k.p, state_.v, params_.collision_margin, parallel, k.grid,
                                            k.particle_contacts.items);

@@ -1,6 +1,11 @@
 // Collision constraints and their continuous generation against planes and spheres.
 #include "constraint_checks.hpp"
+#include "contact/colliders.hpp"  // engine internal: the chunked generation
 #include "pbd/colliders.hpp"
+
+#include <oneapi/tbb/task_arena.h>
+
+#include <cstring>
 
 namespace pbd {
 namespace {
@@ -124,6 +129,62 @@ TEST(CollisionGeneration, PinnedParticlesNeverCollide) {
   std::vector<CollisionConstraint<double>> out;
   generate_collisions(c, s.x, s.p, s.v, s.w, 0.0, {}, out);
   EXPECT_TRUE(out.empty());
+}
+
+// The chunked generation (engine/src/contact/colliders.hpp) gives the serial list bit for bit on any thread count, and
+// each contact's material is its collider's mixed with its particle's (the mixes are kept while a particle's material
+// repeats): a cloud of 5000 particles of mixed radii and materials (in runs, as bodies have them), some pinned, about
+// ten colliders (more than the mixes kept for), whose paths enter, end near, or miss them.
+TEST(CollisionGeneration, ChunksGiveTheSerialListOnAnyThreadCount) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  const Index n = 5000;
+  Matrix3X<float> x(3, n), p(3, n), v(3, n);
+  VectorX<float> w(n), radius(n);
+  std::vector<ContactMaterial<float>> material(n);
+  const ContactMaterial<float> kinds[3] = {{0.5f, 0.4f, 0.1f}, {0.9f, 0.3f, 0.6f}, {0.2f, 0.2f, 0.0f}};
+  for (Index i = 0; i < n; ++i) {
+    x.col(i) = Vec3<float>(u(rng), u(rng), u(rng));
+    p.col(i) = x.col(i) + 0.3f * Vec3<float>(u(rng), u(rng), u(rng));
+    v.col(i) = 60.0f * (p.col(i) - x.col(i));
+    w[i] = i % 17 == 0 ? 0.0f : 1.0f;
+    radius[i] = i % 3 == 0 ? 0.0f : 0.02f;
+    material[i] = kinds[(i / 37) % 3];
+  }
+  Colliders<float> c;
+  for (int k = 0; k < 6; ++k) {
+    const Vec3<float> nrm = Vec3<float>(u(rng), u(rng), u(rng)).normalized();
+    c.planes.push_back({nrm, -0.5f, {0.1f * float(k + 1), 0.05f * float(k + 1), 0.1f * float(k)}});
+  }
+  for (int k = 0; k < 4; ++k)
+    c.spheres.push_back({Vec3<float>(u(rng), u(rng), u(rng)), 0.3f, {0.3f + 0.1f * float(k), 0.2f, 0.05f * float(k)}});
+  const ParticleSurfaces<float> surfaces{radius.data(), material.data()};
+  std::vector<CollisionConstraint<float>> serial;
+  generate_collisions(c, x, p, v, w, 0.01f, surfaces, serial);
+  ASSERT_GT(serial.size(), std::size_t(n) / 2);
+  for (const auto& k : serial) {
+    const Index i = k.particles[0];
+    bool from_a_collider = false;  // a plane's contact has its normal, bit for bit; a sphere's one of their mixes
+    for (const auto& pl : c.planes)
+      if (k.normal == pl.normal) {
+        const ContactMaterial<float> mixed = mix_materials(pl.material, material[i]);
+        from_a_collider = std::memcmp(&k.material, &mixed, sizeof mixed) == 0;
+      }
+    if (!from_a_collider)
+      for (const auto& s : c.spheres) {
+        const ContactMaterial<float> mixed = mix_materials(s.material, material[i]);
+        from_a_collider = from_a_collider || std::memcmp(&k.material, &mixed, sizeof mixed) == 0;
+      }
+    EXPECT_TRUE(from_a_collider) << "particle " << i;
+  }
+  detail::CollisionChunks<float> chunks;
+  for (int threads : {1, 2, 3}) {
+    std::vector<CollisionConstraint<float>> chunked;
+    tbb::task_arena(threads).execute(
+        [&] { detail::generate_collisions_chunked(c, x, p, v, w, 0.01f, surfaces, true, chunks, chunked); });
+    ASSERT_EQ(chunked.size(), serial.size()) << threads << " threads";
+    EXPECT_EQ(std::memcmp(chunked.data(), serial.data(), serial.size() * sizeof serial[0]), 0) << threads << " threads";
+  }
 }
 
 }  // namespace

@@ -1,6 +1,12 @@
-#include "pbd/colliders.hpp"
+#include "colliders.hpp"
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace pbd {
 namespace {
@@ -19,25 +25,43 @@ template <class Real> Real entry_parameter(const Vec3<Real>& x, const Vec3<Real>
   return (t >= Real(0) && t <= Real(1)) ? t : Real(-1);
 }
 
-}  // namespace
+// mix_materials of one collider's material with a particle's, the last mix kept: a body's particles share one
+// material, so the square roots run once per run of equal materials (compared bit for bit: the same result).
+template <class Real> struct MixMemo {
+  ContactMaterial<Real> particle{}, mixed{};
+  bool valid = false;
+  const ContactMaterial<Real>& operator()(const ContactMaterial<Real>& collider, const ContactMaterial<Real>& of) {
+    if (!valid || std::memcmp(&of, &particle, sizeof of) != 0) {
+      particle = of;
+      mixed = mix_materials(collider, of);
+      valid = true;
+    }
+    return mixed;
+  }
+};
 
+// The collisions of particles [begin, end), appended to `out` in order.
 template <class Real>
-void generate_collisions(const Colliders<Real>& colliders, const Matrix3X<Real>& x, const Matrix3X<Real>& p,
-                         const Matrix3X<Real>& v, const VectorX<Real>& w, Real margin, ParticleSurfaces<Real> surfaces,
-                         std::vector<CollisionConstraint<Real>>& out) {
-  const Index n = Index(p.cols());
-  for (Index i = 0; i < n; ++i) {
+void collide_range(const Colliders<Real>& colliders, const Matrix3X<Real>& x, const Matrix3X<Real>& p,
+                   const Matrix3X<Real>& v, const VectorX<Real>& w, Real margin, ParticleSurfaces<Real> surfaces,
+                   Index begin, Index end, std::vector<CollisionConstraint<Real>>& out) {
+  constexpr std::size_t kMemos = 8;  // colliders whose mixes are kept (the rest mix every time)
+  MixMemo<Real> memo[kMemos];
+  for (Index i = begin; i < end; ++i) {
     if (w[i] == Real(0)) continue;  // pinned particles never move, so they never collide
     const Vec3<Real> xi = x.col(i), pi = p.col(i), vi = v.col(i);
     const Real r = surfaces.radius ? surfaces.radius[i] : Real(0);
+    std::size_t which = 0;  // the collider's index, planes first
     auto contact = [&](const Vec3<Real>& nrm, Real offset, const ContactMaterial<Real>& m) {
-      const ContactMaterial<Real> mixed = surfaces.material ? mix_materials(m, surfaces.material[i]) : m;
-      out.push_back({{i}, nrm, offset, xi, nrm.dot(vi), mixed});
+      if (!surfaces.material) out.push_back({{i}, nrm, offset, xi, nrm.dot(vi), m});
+      else if (which < kMemos) out.push_back({{i}, nrm, offset, xi, nrm.dot(vi), memo[which](m, surfaces.material[i])});
+      else out.push_back({{i}, nrm, offset, xi, nrm.dot(vi), mix_materials(m, surfaces.material[i])});
     };
     for (const Plane<Real>& pl : colliders.planes) {
       // A half-space: a path that ends behind the plane crossed it (or started behind), so this is continuous.
       const Real offset = r > Real(0) ? pl.offset + r : pl.offset;
       if (pl.normal.dot(pi) < offset + margin) contact(pl.normal, offset, pl.material);
+      ++which;
     }
     for (const Sphere<Real>& s0 : colliders.spheres) {
       const Sphere<Real> s{s0.center, r > Real(0) ? s0.radius + r : s0.radius, s0.material};  // the centre's bound
@@ -56,9 +80,48 @@ void generate_collisions(const Colliders<Real>& colliders, const Matrix3X<Real>&
         const Vec3<Real> nrm = dir.normalized();
         contact(nrm, nrm.dot(s.center) + s.radius, s.material);
       }
+      ++which;
     }
   }
 }
+
+}  // namespace
+
+template <class Real>
+void generate_collisions(const Colliders<Real>& colliders, const Matrix3X<Real>& x, const Matrix3X<Real>& p,
+                         const Matrix3X<Real>& v, const VectorX<Real>& w, Real margin, ParticleSurfaces<Real> surfaces,
+                         std::vector<CollisionConstraint<Real>>& out) {
+  collide_range(colliders, x, p, v, w, margin, surfaces, 0, Index(p.cols()), out);
+}
+
+namespace detail {
+
+template <class Real>
+void generate_collisions_chunked(const Colliders<Real>& colliders, const Matrix3X<Real>& x, const Matrix3X<Real>& p,
+                                 const Matrix3X<Real>& v, const VectorX<Real>& w, Real margin,
+                                 ParticleSurfaces<Real> surfaces, bool parallel, CollisionChunks<Real>& chunks,
+                                 std::vector<CollisionConstraint<Real>>& out) {
+  const Index n = Index(p.cols());
+  constexpr Index kChunk = 1024;  // particles per chunk: a few microseconds of work, well above a task's cost
+  const Index count = (n + kChunk - 1) / kChunk;
+  if (!parallel || count < 2 || tbb::this_task_arena::max_concurrency() < 2) {
+    collide_range(colliders, x, p, v, w, margin, surfaces, 0, n, out);
+    return;
+  }
+  if (chunks.size() < std::size_t(count)) chunks.resize(std::size_t(count));
+  tbb::parallel_for(tbb::blocked_range<Index>(0, count, 1), [&](const tbb::blocked_range<Index>& r) {
+    for (Index c = r.begin(); c < r.end(); ++c) {
+      chunks[c].clear();
+      collide_range(colliders, x, p, v, w, margin, surfaces, c * kChunk, std::min(n, (c + 1) * kChunk), chunks[c]);
+    }
+  });
+  std::size_t total = out.size();
+  for (Index c = 0; c < count; ++c) total += chunks[c].size();
+  out.reserve(total);
+  for (Index c = 0; c < count; ++c) out.insert(out.end(), chunks[c].begin(), chunks[c].end());
+}
+
+}  // namespace detail
 
 template void generate_collisions(const Colliders<float>&, const Matrix3X<float>&, const Matrix3X<float>&,
                                   const Matrix3X<float>&, const VectorX<float>&, float, ParticleSurfaces<float>,
@@ -66,5 +129,14 @@ template void generate_collisions(const Colliders<float>&, const Matrix3X<float>
 template void generate_collisions(const Colliders<double>&, const Matrix3X<double>&, const Matrix3X<double>&,
                                   const Matrix3X<double>&, const VectorX<double>&, double, ParticleSurfaces<double>,
                                   std::vector<CollisionConstraint<double>>&);
+template void detail::generate_collisions_chunked(const Colliders<float>&, const Matrix3X<float>&,
+                                                  const Matrix3X<float>&, const Matrix3X<float>&, const VectorX<float>&,
+                                                  float, ParticleSurfaces<float>, bool, detail::CollisionChunks<float>&,
+                                                  std::vector<CollisionConstraint<float>>&);
+template void detail::generate_collisions_chunked(const Colliders<double>&, const Matrix3X<double>&,
+                                                  const Matrix3X<double>&, const Matrix3X<double>&,
+                                                  const VectorX<double>&, double, ParticleSurfaces<double>, bool,
+                                                  detail::CollisionChunks<double>&,
+                                                  std::vector<CollisionConstraint<double>>&);
 
 }  // namespace pbd

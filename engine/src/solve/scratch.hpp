@@ -6,6 +6,7 @@
 #include "pbd/constraints/volume.hpp"
 #include "pbd/detail/constraint_store.hpp"
 #include "free_bodies.hpp"
+#include "contact/colliders.hpp"
 #include "contact/particle_contacts.hpp"
 #include "pbd/stiffness.hpp"
 
@@ -72,6 +73,7 @@ template <class Real> struct Scratch {
   Matrix3X<Real> p;                                 // predicted positions
   Store<CollisionConstraint<Real>> collisions;      // this sub-step's collisions (color order for colored solvers)
   std::vector<Real> collision_lambda;               // their λ, stored order (counts the projections that moved one)
+  CollisionChunks<Real> collision_chunks;           // their generation's per-chunk lists
   Store<ParticleContact<Real>> particle_contacts;   // this sub-step's particle contacts (color order likewise)
   std::vector<Real> particle_contact_lambda;        // their λ likewise
   ParticleGrid<Real> grid;                          // the particle contacts' broad phase
