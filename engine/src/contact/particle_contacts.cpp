@@ -554,7 +554,8 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
           const Index s1 = start[b + 1];
           for (Index r0 = start[b], r1; r0 < s1; r0 = r1) {  // one row at a time: [r0, r1)
             const std::int32_t y = E[r0].cell[1], z = E[r0].cell[2];
-            for (r1 = r0 + 1; r1 < s1 && in_row(E[r1], y, z); ++r1) {}
+            if (dense) r1 = s1;  // the bucket is the row
+            else for (r1 = r0 + 1; r1 < s1 && in_row(E[r1], y, z); ++r1) {}
             std::array<Index, 4> w, w1;  // each neighbouring row that holds boxes, walked along with this one: [w, w1)
             std::size_t rows = 0;
             for (std::size_t q = 0; q < kRows.size(); ++q) {
@@ -591,7 +592,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     const Index large = Index(lv.large.size());
     if (large > 0 && small > 0) {
       const std::size_t first = take_lists(std::size_t(std::min<Index>(kChunks, large)));
-      over_chunks(large, fork(large), [&](Index ch, Index b, Index e) {
+      over_chunks(large, fork(16 * large), [&](Index ch, Index b, Index e) {  // a query costs tens of boxes' passes
         std::vector<ParticleContact<Real>>& mine = g.lists[first + ch];
         Others o;
         for (Index k = b; k < e; ++k) {
