@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 namespace pbd {
 namespace {
@@ -25,43 +24,23 @@ template <class Real> Real entry_parameter(const Vec3<Real>& x, const Vec3<Real>
   return (t >= Real(0) && t <= Real(1)) ? t : Real(-1);
 }
 
-// mix_materials of one collider's material with a particle's, the last mix kept: a body's particles share one
-// material, so the square roots run once per run of equal materials (compared bit for bit: the same result).
-template <class Real> struct MixMemo {
-  ContactMaterial<Real> particle{}, mixed{};
-  bool valid = false;
-  const ContactMaterial<Real>& operator()(const ContactMaterial<Real>& collider, const ContactMaterial<Real>& of) {
-    if (!valid || std::memcmp(&of, &particle, sizeof of) != 0) {
-      particle = of;
-      mixed = mix_materials(collider, of);
-      valid = true;
-    }
-    return mixed;
-  }
-};
-
 // The collisions of particles [begin, end), appended to `out` in order.
 template <class Real>
 void collide_range(const Colliders<Real>& colliders, const Matrix3X<Real>& x, const Matrix3X<Real>& p,
                    const Matrix3X<Real>& v, const VectorX<Real>& w, Real margin, ParticleSurfaces<Real> surfaces,
                    Index begin, Index end, std::vector<CollisionConstraint<Real>>& out) {
-  constexpr std::size_t kMemos = 8;  // colliders whose mixes are kept (the rest mix every time)
-  MixMemo<Real> memo[kMemos];
   for (Index i = begin; i < end; ++i) {
     if (w[i] == Real(0)) continue;  // pinned particles never move, so they never collide
     const Vec3<Real> xi = x.col(i), pi = p.col(i), vi = v.col(i);
     const Real r = surfaces.radius ? surfaces.radius[i] : Real(0);
-    std::size_t which = 0;  // the collider's index, planes first
     auto contact = [&](const Vec3<Real>& nrm, Real offset, const ContactMaterial<Real>& m) {
-      if (!surfaces.material) out.push_back({{i}, nrm, offset, xi, nrm.dot(vi), m});
-      else if (which < kMemos) out.push_back({{i}, nrm, offset, xi, nrm.dot(vi), memo[which](m, surfaces.material[i])});
-      else out.push_back({{i}, nrm, offset, xi, nrm.dot(vi), mix_materials(m, surfaces.material[i])});
+      const ContactMaterial<Real> mixed = surfaces.material ? mix_materials(m, surfaces.material[i]) : m;
+      out.push_back({{i}, nrm, offset, xi, nrm.dot(vi), mixed});
     };
     for (const Plane<Real>& pl : colliders.planes) {
       // A half-space: a path that ends behind the plane crossed it (or started behind), so this is continuous.
       const Real offset = r > Real(0) ? pl.offset + r : pl.offset;
       if (pl.normal.dot(pi) < offset + margin) contact(pl.normal, offset, pl.material);
-      ++which;
     }
     for (const Sphere<Real>& s0 : colliders.spheres) {
       const Sphere<Real> s{s0.center, r > Real(0) ? s0.radius + r : s0.radius, s0.material};  // the centre's bound
@@ -80,7 +59,6 @@ void collide_range(const Colliders<Real>& colliders, const Matrix3X<Real>& x, co
         const Vec3<Real> nrm = dir.normalized();
         contact(nrm, nrm.dot(s.center) + s.radius, s.material);
       }
-      ++which;
     }
   }
 }
