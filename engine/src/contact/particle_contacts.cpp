@@ -215,6 +215,8 @@ constexpr Index kChunks = 64;              // fixed, so the output never depends
 constexpr std::uint64_t kMaxRows = 4096;   // a larger box whose query spans more rows is paired with every small box
 constexpr Index kBruteForce = 64;          // at most this many boxes left: paired with one another
 constexpr std::uint32_t kLarge = ~std::uint32_t(0);
+constexpr std::uint32_t kSplit = kLarge - 1;  // a box entered as a few small ones (see generate_particle_contacts)
+constexpr int kMaxPieces = 4;                 // at most this many
 // Cells as wide as the boxes are on average along each axis (chosen by measurement on bench_contacts' draped cloth
 // and grain lattice: wider cells hold more boxes to pair, narrower ones leave more boxes large). The boxes alone
 // decide which pairs are tested, and the test alone which are kept, so the cells change only the cost.
@@ -322,6 +324,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     if (o.size == Others::kSize) flush(o, mine);
     o.of[o.size++] = b;
   };
+  bool repeats = false;    // a box was entered in pieces: a pair may have been found more than once
   std::size_t lists = 0;  // contact lists used so far
   auto take_lists = [&](std::size_t k) {
     if (g.lists.size() < lists + k) g.lists.resize(lists + k);
@@ -363,26 +366,53 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
         const Cell a = cell_of<Real>(box.lo, inv), z = cell_of<Real>(box.hi, inv);
         lv.lo[k] = a;
         lv.hi[k] = z;
-        const bool small = std::int64_t(z[0]) - a[0] <= 1 && std::int64_t(z[1]) - a[1] <= 1 && std::int64_t(z[2]) - a[2] <= 1;
-        lv.key[k] = small ? 0 : kLarge;
-        if (!small) {
+        // pieces along each axis: blocks of two cells from the lower corner's (cells are clamped to ±1e9: no
+        // overflow)
+        const std::int32_t sx = z[0] - a[0], sy = z[1] - a[1], sz = z[2] - a[2];
+        Cell top_corner = a;  // the last piece's lower corner
+        int pieces = 1;
+        if ((sx | sy | sz) > 1) {
+          const std::int32_t span[3] = {sx, sy, sz};
+          for (int d = 0; d < 3; ++d) {
+            const int along = span[d] <= 1 ? 1 : span[d] <= 3 ? 2 : kMaxPieces + 1;
+            pieces *= along;
+            top_corner[d] = a[d] + 2 * (along - 1);
+          }
+        }
+        lv.key[k] = pieces == 1 ? 0 : pieces <= kMaxPieces ? kSplit : kLarge;
+        if (pieces > kMaxPieces) {
           sum += (box.hi - box.lo).template cast<double>();
           continue;
         }
         for (int d = 0; d < 3; ++d) {
           lo[d] = std::min(lo[d], a[d]);
-          hi[d] = std::max(hi[d], a[d]);
+          hi[d] = std::max(hi[d], top_corner[d]);
         }
       }
       lv.bounds[ch] = {lo, hi};
       lv.extent[ch] = sum;
     });
+    // the grid's entries: a small box once, by its lower corner's cell; a box that spans three or four cells along
+    // an axis (a fast particle's) as up to kMaxPieces pieces of at most two cells each along every axis, which cover
+    // it, so that a box overlapping it overlaps a piece (the pieces' pairs are found like any small box's, a pair
+    // maybe more than once: the output drops the repeats); larger boxes go to the next level
     lv.large.clear();
-    Index small = 0;
+    lv.slots.clear();
     for (Index k = 0; k < members; ++k) {
-      if (lv.key[k] == kLarge) lv.large.push_back(lv.members[k]);
-      else ++small;
+      if (lv.key[k] == kLarge) {
+        lv.large.push_back(lv.members[k]);
+      } else if (lv.key[k] == 0) {
+        lv.slots.push_back({lv.lo[k], lv.members[k]});
+      } else {
+        repeats = true;
+        const Cell& a = lv.lo[k];
+        const Cell& z = lv.hi[k];
+        for (std::int32_t cz = a[2]; cz <= z[2]; cz += 2)  // pieces' lower corners: two cells apart, so that no
+          for (std::int32_t cy = a[1]; cy <= z[1]; cy += 2)  // two of one box are ever paired
+            for (std::int32_t cx0 = a[0]; cx0 <= z[0]; cx0 += 2) lv.slots.push_back({{cx0, cy, cz}, lv.members[k]});
+      }
     }
+    const Index small = Index(lv.slots.size());
     // buckets: rows of cells along x, keyed by (y, z): the rows of the small boxes' lower corners' bounding grid
     // grown by one row on every side (so that a neighbouring row's bucket is the box's own plus a fixed step), y
     // fastest, when there are at most 8 rows per small box; else a hash table of about twice as many buckets as small
@@ -417,34 +447,30 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       if (dense) return std::uint32_t((std::int64_t(z) - base[2]) * dims[1] + (std::int64_t(y) - base[1]));
       return hash_cell(0, y, z, mask);
     };
+    lv.key.resize(std::size_t(small));
     if (small > 0)
-      over_chunks(members, fork(members), [&](Index, Index b, Index e) {
-        for (Index k = b; k < e; ++k)
-          if (lv.key[k] != kLarge) lv.key[k] = bucket_of(lv.lo[k][1], lv.lo[k][2]);
+      over_chunks(small, fork(small), [&](Index, Index b, Index e) {
+        for (Index t = b; t < e; ++t) lv.key[t] = bucket_of(lv.slots[t].cell[1], lv.slots[t].cell[2]);
       });
     // counting sort of the small boxes by bucket, then each bucket sorted by (cell z, y, x, particle). Dense, and
     // when the cells along x are not too many: a counting sort by cell x first, so that the one by bucket (stable)
     // leaves each row in (x, particle) order with no sort (members are ascending).
     const bool by_x = dense && dims[0] <= 4 * std::int64_t(small) + 64;
     lv.bucket_start.assign(std::size_t(buckets) + 1, 0);
-    for (Index k = 0; k < members; ++k)
-      if (lv.key[k] != kLarge) ++lv.bucket_start[lv.key[k] + 1];
+    for (Index t = 0; t < small; ++t) ++lv.bucket_start[lv.key[t] + 1];
     for (std::uint32_t b = 0; b < buckets; ++b) lv.bucket_start[b + 1] += lv.bucket_start[b];
     lv.entries.resize(small);
     lv.fill.assign(lv.bucket_start.begin(), lv.bucket_start.end() - 1);
-    auto enter = [&](Index k) { lv.entries[lv.fill[lv.key[k]]++] = {lv.lo[k], lv.members[k]}; };
+    auto enter = [&](Index t) { lv.entries[lv.fill[lv.key[t]]++] = lv.slots[t]; };
     if (by_x) {
       lv.x_start.assign(std::size_t(dims[0]) + 1, 0);
-      for (Index k = 0; k < members; ++k)
-        if (lv.key[k] != kLarge) ++lv.x_start[lv.lo[k][0] - base[0] + 1];
+      for (Index t = 0; t < small; ++t) ++lv.x_start[lv.slots[t].cell[0] - base[0] + 1];
       for (std::int64_t x = 0; x < dims[0]; ++x) lv.x_start[x + 1] += lv.x_start[x];
       lv.by_x.resize(small);
-      for (Index k = 0; k < members; ++k)
-        if (lv.key[k] != kLarge) lv.by_x[lv.x_start[lv.lo[k][0] - base[0]]++] = k;
+      for (Index t = 0; t < small; ++t) lv.by_x[lv.x_start[lv.slots[t].cell[0] - base[0]]++] = t;
       for (Index t = 0; t < small; ++t) enter(lv.by_x[t]);
     } else {
-      for (Index k = 0; k < members; ++k)
-        if (lv.key[k] != kLarge) enter(k);
+      for (Index t = 0; t < small; ++t) enter(t);
     }
     Slot* E = lv.entries.data();
     const Index* start = lv.bucket_start.data();
@@ -659,6 +685,10 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     if (end - begin > 1)
       std::sort(to + begin, to + end, [](const auto& a, const auto& b) { return a.particles[1] < b.particles[1]; });
     begin = end;
+  }
+  if (repeats) {  // a pair found more than once gave the same contact each time: keep one
+    auto last = std::unique(to, to + found, [](const auto& a, const auto& b) { return a.particles == b.particles; });
+    out.resize(before + std::size_t(last - to));
   }
 }
 

@@ -65,7 +65,8 @@ template <class Real> struct ParticleGrid {
   struct Level {                                   // one grid (see above)
     std::vector<Index> members;                    //   its particles, ascending
     std::vector<Cell> lo, hi;                      //   per member: the cells of its box's corners
-    std::vector<std::uint32_t> key;                //   per member: its bucket, or kLarge
+    std::vector<std::uint32_t> key;                //   per member: small, in pieces or large; then per slot: its bucket
+    std::vector<Slot> slots;                       //   the grid's entries: the small boxes and the pieces of some larger
     std::vector<Index> large;                      //   its particles whose boxes span more than two cells
     std::vector<std::pair<Cell, Cell>> bounds;     //   per chunk: the range of its small members' lower cells
     std::vector<Eigen::Vector3d> extent;           //   per chunk: the sum of its large members' box sizes
