@@ -3,7 +3,8 @@
 // hash table; a few particles far faster than the rest: boxes paired with every box; a third of the particles a few
 // times faster: grids of wider cells for them; self-colliding bodies whose joined pairs are excluded; pinned
 // particles; hundreds of boxes in one cell: more candidates than a particle's batch holds), it finds exactly the pairs whose relative path comes within
-// r_a + r_b + margin, each once, in the order of the pairs, and the same list with and without threads.
+// r_a + r_b + margin, each once, in the order of the pairs, and the same list with and without threads, and from a
+// grid that kept another sub-step's frame and cells.
 #include "contact/particle_contacts.hpp"
 
 #include <gtest/gtest.h>
@@ -149,6 +150,21 @@ TYPED_TEST(ParticleContacts, FindExactlyThePairsWhosePathsComeWithinReach) {
           [&] { generate_particle_contacts(c.model, c.x, c.p, c.v, Real(margin), true, grid2, again); });
       ASSERT_EQ(again.size(), found.size());
       for (std::size_t k = 0; k < found.size(); ++k) EXPECT_EQ(again[k].particles, found[k].particles) << k;
+      // the same list from a grid that kept another sub-step's frame and cell widths (paths three times as long and
+      // moved: another mean path, wider boxes), and again from one that kept this sub-step's
+      ParticleGrid<Real> grid3;
+      std::vector<ParticleContact<Real>> other, third, fourth;
+      Matrix3X<Real> moved = c.x + Real(3) * (c.p - c.x);
+      moved.colwise() += Vec3<Real>(Real(0.05), Real(-0.02), Real(0.1));
+      generate_particle_contacts(c.model, c.x, moved, c.v, Real(margin), false, grid3, other);
+      generate_particle_contacts(c.model, c.x, c.p, c.v, Real(margin), false, grid3, third);
+      generate_particle_contacts(c.model, c.x, c.p, c.v, Real(margin), false, grid3, fourth);
+      ASSERT_EQ(third.size(), found.size());
+      ASSERT_EQ(fourth.size(), found.size());
+      for (std::size_t k = 0; k < found.size(); ++k) {
+        EXPECT_EQ(third[k].particles, found[k].particles) << k;
+        EXPECT_EQ(fourth[k].particles, found[k].particles) << k;
+      }
     }
 }
 

@@ -244,7 +244,6 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
                                 std::vector<ParticleContact<Real>>& out) {
   using Box = typename ParticleGrid<Real>::Box;
   using Slot = typename ParticleGrid<Real>::Slot;
-  using Level = typename ParticleGrid<Real>::Level;
   const ContactBodies<Real>& c = m.contact;
   const Index n = m.num_particles();
   if (!c.particle_contacts() || n == 0) return;
@@ -259,21 +258,79 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   // Loops run in fixed chunks (over_chunks): whatever a chunk computes depends on its items only, and chunk results
   // are joined in chunk order, so nothing depends on threads.
   auto fork = [&](Index items) { return parallel && items >= 4096; };
-  // 2. swept boxes in the frame that moves with the mean path Δ̄ (relative paths, all a pair test reads, are the
-  // same there; a falling cloth's boxes stay short)
+  // 2. swept boxes in a frame that moves with a mean path Δ̄ (relative paths, all a pair test reads, are the same in
+  // any such frame; a falling cloth's boxes stay short there): the last sub-step's when there was one with as many
+  // particles, else this one's, from a pass of its own. With the last sub-step's cell widths known as well, level 0's
+  // cells are found in the same pass. Δ̄ and the widths change only which pairs are tested, never the result.
+  const bool known = g.known == count;
   g.partial.resize(kChunks);
-  over_chunks(count, fork(count), [&](Index ch, Index b, Index e) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (Index k = b; k < e; ++k) sum += (p.col(active[k]) - x.col(active[k])).template cast<double>();
-    g.partial[ch] = sum;
-  });
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (Index ch = 0; ch < std::min<Index>(kChunks, count); ++ch) mean += g.partial[ch];
-  const Vec3<Real> shared = (mean / double(count)).template cast<Real>();
+  g.partial_path.resize(kChunks);
+  Vec3<Real> shared = g.frame;
+  if (!known) {
+    over_chunks(count, fork(count), [&](Index ch, Index b, Index e) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (Index k = b; k < e; ++k) sum += (p.col(active[k]) - x.col(active[k])).template cast<double>();
+      g.partial[ch] = sum;
+    });
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (Index ch = 0; ch < std::min<Index>(kChunks, count); ++ch) mean += g.partial[ch];
+    shared = (mean / double(count)).template cast<Real>();
+  }
+  // A box's cells (the lower and upper corners'), as the level's member k: small (0), in pieces (kSplit) or large
+  // (kLarge); an entry's lower cells widen [lo, hi], a large box's size adds to sum.
+  using Level = typename ParticleGrid<Real>::Level;
+  auto open_range = [](Cell& lo, Cell& hi, Eigen::Vector3d& sum) {
+    constexpr std::int32_t top = std::numeric_limits<std::int32_t>::max(), bottom = std::numeric_limits<std::int32_t>::min();
+    lo = {top, top, top};
+    hi = {bottom, bottom, bottom};
+    sum.setZero();
+  };
+  auto classify = [&](Level& lv, Index k, const Box& box, const Vec3<Real>& inv, Cell& lo, Cell& hi,
+                      Eigen::Vector3d& sum) {
+    const Cell a = cell_of<Real>(box.lo, inv), z = cell_of<Real>(box.hi, inv);
+    lv.lo[k] = a;
+    lv.hi[k] = z;
+    // pieces along each axis: blocks of two cells from the lower corner's (cells are clamped to ±1e9: no
+    // overflow)
+    const std::int32_t sx = z[0] - a[0], sy = z[1] - a[1], sz = z[2] - a[2];
+    Cell top_corner = a;  // the last piece's lower corner
+    int pieces = 1;
+    if ((sx | sy | sz) > 1) {
+      const std::int32_t span[3] = {sx, sy, sz};
+      for (int d = 0; d < 3; ++d) {
+        const int along = span[d] <= 1 ? 1 : span[d] <= 3 ? 2 : kMaxPieces + 1;
+        pieces *= along;
+        top_corner[d] = a[d] + 2 * (along - 1);
+      }
+    }
+    lv.key[k] = pieces == 1 ? 0 : pieces <= kMaxPieces ? kSplit : kLarge;
+    if (pieces > kMaxPieces) {
+      sum += (box.hi - box.lo).template cast<double>();
+      return;
+    }
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::min(lo[d], a[d]);
+      hi[d] = std::max(hi[d], top_corner[d]);
+    }
+  };
+  if (g.levels.empty()) g.levels.resize(1);
+  Level& top = g.levels[0];
+  top.members.assign(active.begin(), active.end());
+  Eigen::Vector3d width = g.width;
+  const Vec3<Real> inv0 = width.cwiseInverse().template cast<Real>();
+  if (known) {
+    top.lo.resize(count);
+    top.hi.resize(count);
+    top.key.resize(count);
+    top.bounds.resize(std::min<Index>(kChunks, count));
+    top.extent.resize(std::min<Index>(kChunks, count));
+  }
   g.movers.resize(n);
   g.boxes.resize(n);
   over_chunks(count, fork(count), [&](Index ch, Index b, Index e) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero(), path = Eigen::Vector3d::Zero(), large;
+    Cell lo, hi;
+    open_range(lo, hi, large);
     for (Index k = b; k < e; ++k) {
       const Index i = active[k];
       const Vec3<Real> from = x.col(i), to = p.col(i) - shared;
@@ -286,12 +343,25 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       box.hi = from.cwiseMax(to).array() + grow;
       box.group = c.bodies[body].self_collision ? ContactBodies<Real>::kNone : body;
       sum += (box.hi - box.lo).template cast<double>();
+      path += (p.col(i) - x.col(i)).template cast<double>();
+      if (known) classify(top, k, box, inv0, lo, hi, large);
     }
     g.partial[ch] = sum;
+    g.partial_path[ch] = path;
+    if (known) {
+      top.bounds[ch] = {lo, hi};
+      top.extent[ch] = large;
+    }
   });
-  Eigen::Vector3d extent = Eigen::Vector3d::Zero();
-  for (Index ch = 0; ch < std::min<Index>(kChunks, count); ++ch) extent += g.partial[ch];
-  Eigen::Vector3d width = kCellScale * extent / double(count);
+  Eigen::Vector3d extent = Eigen::Vector3d::Zero(), path = Eigen::Vector3d::Zero();
+  for (Index ch = 0; ch < std::min<Index>(kChunks, count); ++ch) {
+    extent += g.partial[ch];
+    path += g.partial_path[ch];
+  }
+  g.width = kCellScale * extent / double(count);  // for the next sub-step
+  g.frame = (path / double(count)).template cast<Real>();
+  g.known = count;
+  if (!known) width = g.width;
   // 4. the pair test: a particle is tested against the candidates gathered for it, several at a time (near_bits);
   // boxes are not compared first, since two paths within reach have overlapping boxes (each box is its path grown by
   // its radius and half the margin). The few pairs within reach are then kept unless both are pinned, or they are
@@ -333,8 +403,6 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     return lists - k;
   };
   // 3. level by level
-  if (g.levels.empty()) g.levels.resize(1);
-  g.levels[0].members.assign(active.begin(), active.end());
   for (std::size_t level = 0;; ++level) {
     if (g.levels.size() < level + 2) g.levels.resize(level + 2);
     Level& lv = g.levels[level];
@@ -351,51 +419,24 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     }
     const Vec3<Real> inv = width.cwiseInverse().template cast<Real>();
     const Index chunks = std::min<Index>(kChunks, members);
-    lv.lo.resize(members);
-    lv.hi.resize(members);
-    lv.key.resize(members);
-    lv.bounds.resize(chunks);
-    lv.extent.resize(chunks);
-    // cells of each box's corners; small or large; per chunk the range of the small boxes' lower cells
-    over_chunks(members, fork(members), [&](Index ch, Index b, Index e) {
-      constexpr std::int32_t top = std::numeric_limits<std::int32_t>::max(), bottom = std::numeric_limits<std::int32_t>::min();
-      Cell lo{top, top, top}, hi{bottom, bottom, bottom};
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      for (Index k = b; k < e; ++k) {
-        const Box& box = g.boxes[lv.members[k]];
-        const Cell a = cell_of<Real>(box.lo, inv), z = cell_of<Real>(box.hi, inv);
-        lv.lo[k] = a;
-        lv.hi[k] = z;
-        // pieces along each axis: blocks of two cells from the lower corner's (cells are clamped to ±1e9: no
-        // overflow)
-        const std::int32_t sx = z[0] - a[0], sy = z[1] - a[1], sz = z[2] - a[2];
-        Cell top_corner = a;  // the last piece's lower corner
-        int pieces = 1;
-        if ((sx | sy | sz) > 1) {
-          const std::int32_t span[3] = {sx, sy, sz};
-          for (int d = 0; d < 3; ++d) {
-            const int along = span[d] <= 1 ? 1 : span[d] <= 3 ? 2 : kMaxPieces + 1;
-            pieces *= along;
-            top_corner[d] = a[d] + 2 * (along - 1);
-          }
-        }
-        lv.key[k] = pieces == 1 ? 0 : pieces <= kMaxPieces ? kSplit : kLarge;
-        if (pieces > kMaxPieces) {
-          sum += (box.hi - box.lo).template cast<double>();
-          continue;
-        }
-        for (int d = 0; d < 3; ++d) {
-          lo[d] = std::min(lo[d], a[d]);
-          hi[d] = std::max(hi[d], top_corner[d]);
-        }
-      }
-      lv.bounds[ch] = {lo, hi};
-      lv.extent[ch] = sum;
-    });
-    // the grid's entries: a small box once, by its lower corner's cell; a box that spans three or four cells along
-    // an axis (a fast particle's) as up to kMaxPieces pieces of at most two cells each along every axis, which cover
-    // it, so that a box overlapping it overlaps a piece (the pieces' pairs are found like any small box's, a pair
-    // maybe more than once: the output drops the repeats); larger boxes go to the next level
+    if (level > 0 || !known) {
+      lv.lo.resize(members);
+      lv.hi.resize(members);
+      lv.key.resize(members);
+      lv.bounds.resize(chunks);
+      lv.extent.resize(chunks);
+    }
+    // cells of each box's corners; small, in pieces or large; per chunk the range of the entries' lower cells (level
+    // 0's were found with the boxes when the cells' widths were known)
+    if (level > 0 || !known)
+      over_chunks(members, fork(members), [&](Index ch, Index b, Index e) {
+        Cell lo, hi;
+        Eigen::Vector3d sum;
+        open_range(lo, hi, sum);
+        for (Index k = b; k < e; ++k) classify(lv, k, g.boxes[lv.members[k]], inv, lo, hi, sum);
+        lv.bounds[ch] = {lo, hi};
+        lv.extent[ch] = sum;
+      });
     lv.large.clear();
     lv.slots.clear();
     for (Index k = 0; k < members; ++k) {

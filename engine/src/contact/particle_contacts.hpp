@@ -48,6 +48,10 @@ template <class Real> struct ParticleGrid {
   std::vector<Index> joined;                       //   (ascending, each row padded to whole groups of four with
                                                    //   kNone; only in self-colliding bodies)
   std::vector<Eigen::Vector3d> partial;            // per chunk: its part of a sum over the particles
+  std::vector<Eigen::Vector3d> partial_path;       //   and of the sum of their paths
+  Index known = 0;                                 // the particles of the last sub-step (0: none yet), for which
+  Vec3<Real> frame = Vec3<Real>::Zero();           //   its mean path, m
+  Eigen::Vector3d width = Eigen::Vector3d::Ones(); //   and its boxes' mean size along each axis, m (level 0's cells)
   struct alignas(16) Mover {                      // what a pair test reads of a particle, padded for lane loads
     Real x[4];                                     //   start of the sub-step, m, then its radius, m
     Real p[4];                                     //   predicted, m, then 1 when pinned (inverse mass 0), else 0
