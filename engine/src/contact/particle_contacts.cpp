@@ -654,8 +654,8 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
         }
       });
     }
-    // large with small: each large box with the small boxes whose lower corners lie in its cells or one cell below
-    // (a small box that overlaps it has its lower corner there), or with every small box when that is too many rows
+    // large with entered: each large box with the entries whose lower corners lie in its cells or one cell below (an
+    // entry that overlaps it has its lower corner there), or with every entry when that is too many rows
     const Index large = Index(lv.large.size());
     if (large > 0 && small > 0) {
       const std::size_t first = take_lists(std::size_t(std::min<Index>(kChunks, large)));

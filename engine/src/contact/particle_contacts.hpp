@@ -3,23 +3,28 @@
 // between the particles of contact bodies (contacts.hpp), once per sub-step, after the prediction.
 //   1. cook      per particle: body, radius, material (when bodies or particles changed); for self-colliding
 //                bodies, the particles each one is joined to by a built-in constraint (when the model changed)
-//   2. boxes     each particle's swept box: its path x → p − Δ̄ (Δ̄ the mean path of this sub-step: relative paths,
-//                all a pair test reads, are the same in the frame that moves with it, where a falling cloth's boxes
-//                stay short) grown by its radius and half the margin
+//   2. boxes     each particle's swept box: its path x → p − Δ̄ (Δ̄ a mean path: relative paths, all a pair test reads,
+//                are the same in any frame that moves with one, where a falling cloth's boxes stay short) grown by its
+//                radius and half the margin. Δ̄ and level 0's cell widths are the last sub-step's (kept here), so level
+//                0's cells are found in this pass; the first sub-step, or one with a new particle count, finds them
+//                in passes of their own. Neither changes the result, only which pairs are tested
 //   3. levels    a uniform grid whose cells are as wide as the boxes are on average, along each axis. A box that
 //                spans at most two cells along every axis ("small") is entered once, by the cell of its lower corner,
 //                into the bucket of that cell's row along x (a counting sort into one bucket per row (y, z) of the
 //                lower corners' bounding grid, or when those rows are sparse a hash table of about twice as many
 //                buckets as boxes), sorted within a bucket by cell and particle (a dense grid is counting-sorted by
-//                cell x before the sort by row, so no row needs sorting). Two small boxes that overlap have lower
-//                corners at most one cell apart along each axis, so each small box is paired with the boxes of
-//                its own row in its cell (after it) and the next, and with those of the rows (y + 1, z), (y − 1, z + 1),
-//                (y, z + 1), (y + 1, z + 1) within one cell along x, walked along with its own row: the 13 of the 26
-//                neighbouring cells that come after its own, so each pair once. A larger box is paired with the small
-//                boxes whose lower corners lie in its cells or one cell below them (or with all of them, over
-//                kMaxRows rows). The larger boxes then form the next level, with cells at least twice as wide, until
-//                every box is small or at most kBruteForce boxes are left, which are paired with one another. Sums,
-//                cells, sorts, pairs and queries run in fixed chunks, in parallel when asked
+//                cell x before the sort by row, so no row needs sorting). A box that spans three or four cells along
+//                some axis (a fast particle's) is entered as up to kMaxPieces pieces of two cells, two cells apart,
+//                which cover it: a box that overlaps it overlaps a piece, and no two pieces of one box are paired
+//                (a pair may be found through two pieces: the output drops the repeat). Two small boxes that overlap
+//                have lower corners at most one cell apart along each axis, so each entry is paired with the entries
+//                of its own row in its cell (after it) and the next, and with those of the rows (y + 1, z),
+//                (y − 1, z + 1), (y, z + 1), (y + 1, z + 1) within one cell along x, walked along with its own row:
+//                the 13 of the 26 neighbouring cells that come after its own, so each pair once. A larger box is
+//                paired with the entries whose lower corners lie in its cells or one cell below them (or with all of
+//                them, over kMaxRows rows). The larger boxes then form the next level, with cells at least twice as
+//                wide, until every box is entered or at most kBruteForce boxes are left, which are paired with one
+//                another. Sums, cells, sorts, pairs and queries run in fixed chunks, in parallel when asked
 //   4. pairs     a box's candidates from its neighbouring cells are gathered (a row's are consecutive: counted four
 //                at a time without a branch) and tested together, eight at a time with AVX2, four with SSE2, one at a
 //                time otherwise, all giving the same bits: a pair is kept when the relative path
@@ -28,7 +33,7 @@
 //                boxes. Candidates joined to the particle by a constraint are masked out together (four at a time
 //                against its row of joined particles: a cloth's near pairs are nearly all its neighbours); then pairs
 //                of one body that does not self-collide or of two pinned particles are dropped
-//   5. output    sorted by pair (i, j), i < j: the same list for any thread count and any cells
+//   5. output    sorted by pair (i, j), i < j, each once: the same list for any thread count, cells or frame
 // A world without contact bodies of non-zero radius runs none of this.
 #include "pbd/constraints/particle_contact.hpp"
 #include "pbd/detail/model.hpp"
@@ -39,7 +44,8 @@
 
 namespace pbd::detail {
 
-/// Scratch of the broad phase, kept between sub-steps so that nothing is reallocated.
+/// Scratch of the broad phase, kept between sub-steps so that nothing is reallocated; also the last sub-step's frame
+/// and cell widths (step 2).
 template <class Real> struct ParticleGrid {
   using Cell = std::array<std::int32_t, 3>;
   std::uint64_t joined_edits = ~std::uint64_t(0);  // Model::edits the exclusions below were built at
@@ -70,7 +76,7 @@ template <class Real> struct ParticleGrid {
     std::vector<Index> members;                    //   its particles, ascending
     std::vector<Cell> lo, hi;                      //   per member: the cells of its box's corners
     std::vector<std::uint32_t> key;                //   per member: small, in pieces or large; then per slot: its bucket
-    std::vector<Slot> slots;                       //   the grid's entries: the small boxes and the pieces of some larger
+    std::vector<Slot> slots;                       //   the grid's entries: small boxes, pieces of larger ones
     std::vector<Index> large;                      //   its particles whose boxes span more than two cells
     std::vector<std::pair<Cell, Cell>> bounds;     //   per chunk: the range of its small members' lower cells
     std::vector<Eigen::Vector3d> extent;           //   per chunk: the sum of its large members' box sizes
