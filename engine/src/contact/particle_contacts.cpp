@@ -216,7 +216,7 @@ constexpr std::uint64_t kMaxRows = 4096;   // a larger box whose query spans mor
 constexpr Index kBruteForce = 64;          // at most this many boxes left: paired with one another
 constexpr std::uint32_t kLarge = ~std::uint32_t(0);
 constexpr std::uint32_t kSplit = kLarge - 1;  // a box entered as a few small ones (see generate_particle_contacts)
-constexpr int kMaxPieces = 4;                 // at most this many
+constexpr int kMaxPieces = 4;                 // pieces a box is entered as at most (else it is large)
 // Cells as wide as the boxes are on average along each axis (chosen by measurement on bench_contacts' draped cloth
 // and grain lattice: wider cells hold more boxes to pair, narrower ones leave more boxes large). The boxes alone
 // decide which pairs are tested, and the test alone which are kept, so the cells change only the cost.
