@@ -545,13 +545,13 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
           else sort_bucket(E + start[b], E + start[b + 1], before);
         }
       });
-    lv.cell_x.resize(std::size_t(small) + 4);
-    lv.particle.resize(std::size_t(small) + 4);
+    lv.cell_x.resize(std::size_t(small) + 8);
+    lv.particle.resize(std::size_t(small) + 8);
     for (Index k = 0; k < small; ++k) {
       lv.cell_x[k] = E[k].cell[0];
       lv.particle[k] = E[k].particle;
     }
-    for (Index k = small; k < small + 4; ++k) {
+    for (Index k = small; k < small + 8; ++k) {
       lv.cell_x[k] = std::numeric_limits<std::int32_t>::max();
       lv.particle[k] = small > 0 ? E[0].particle : 0;
     }
@@ -565,33 +565,42 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       return Index(std::lower_bound(E + start[nb], E + start[nb + 1], probe, before) - E);
     };
     auto in_row = [&](const Slot& e, std::int32_t y, std::int32_t z) { return e.cell[1] == y && e.cell[2] == z; };
-    // Entries [from, end) whose cells along x are at most `top`: counted four at a time without a branch (the
-    // arrays run four past the last entry), as the rows hold one or two boxes per cell.
-    // With `below` < `top`, also those whose cells are at most `below` (a prefix: the row is sorted).
+    // Entries [from, end) whose cells along x are at most `top`: counted eight at a time without a branch (the
+    // arrays run eight past the last entry), as the rows hold one or two boxes per cell, so that one probe nearly
+    // always ends the count. With `below` < `top`, also those whose cells are at most `below` (a prefix: the row
+    // is sorted).
     auto upto = [&](Index from, Index end, std::int32_t below, std::int32_t top) {
       Index n = 0, under = 0;
       for (;;) {
-        Index k4 = 0;
+        Index k8 = 0;
 #if defined(__SSE2__)
         const Index at = from + n;  // indices and cells fit in 31 bits: signed compares
-        const __m128i cells = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cx + at));
-        const __m128i inside = _mm_and_si128(
-            _mm_cmplt_epi32(_mm_add_epi32(_mm_set1_epi32(std::int32_t(at)), _mm_setr_epi32(0, 1, 2, 3)),
-                            _mm_set1_epi32(std::int32_t(end))),
-            _mm_cmplt_epi32(cells, _mm_set1_epi32(top + 1)));
-        const __m128i low = _mm_and_si128(inside, _mm_cmplt_epi32(cells, _mm_set1_epi32(below + 1)));
-        k4 = Index(__builtin_ctz(~unsigned(_mm_movemask_ps(_mm_castsi128_ps(inside)))));  // prefixes: a row is sorted
-        under += Index(__builtin_ctz(~unsigned(_mm_movemask_ps(_mm_castsi128_ps(low)))));
+        const __m128i last = _mm_set1_epi32(std::int32_t(end)), high = _mm_set1_epi32(top + 1);
+        const __m128i low_end = _mm_set1_epi32(below + 1);
+        const __m128i index = _mm_add_epi32(_mm_set1_epi32(std::int32_t(at)), _mm_setr_epi32(0, 1, 2, 3));
+        const __m128i c0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cx + at));
+        const __m128i c1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cx + at + 4));
+        const __m128i in0 = _mm_and_si128(_mm_cmplt_epi32(index, last), _mm_cmplt_epi32(c0, high));
+        const __m128i in1 = _mm_and_si128(_mm_cmplt_epi32(_mm_add_epi32(index, _mm_set1_epi32(4)), last),
+                                          _mm_cmplt_epi32(c1, high));
+        const __m128i lo0 = _mm_and_si128(in0, _mm_cmplt_epi32(c0, low_end));
+        const __m128i lo1 = _mm_and_si128(in1, _mm_cmplt_epi32(c1, low_end));
+        const unsigned inside = unsigned(_mm_movemask_ps(_mm_castsi128_ps(in0))) |
+                                unsigned(_mm_movemask_ps(_mm_castsi128_ps(in1))) << 4;
+        const unsigned lower = unsigned(_mm_movemask_ps(_mm_castsi128_ps(lo0))) |
+                               unsigned(_mm_movemask_ps(_mm_castsi128_ps(lo1))) << 4;
+        k8 = Index(__builtin_ctz(~inside));  // prefixes: a row is sorted
+        under += Index(__builtin_ctz(~lower));
 #else
-        for (Index k = 0; k < 4; ++k) {
+        for (Index k = 0; k < 8; ++k) {
           const Index at = from + n + k;
           const bool in = (at < end) & (cx[at] <= top);
-          k4 += Index(in);
+          k8 += Index(in);
           under += Index(in & (cx[at] <= below));
         }
 #endif
-        n += k4;
-        if (k4 < 4) return std::pair<Index, Index>(under, n);
+        n += k8;
+        if (k8 < 8) return std::pair<Index, Index>(under, n);
       }
     };
     // small with small: each box with those after it in its cell and the next cell along x, and with those in the
@@ -613,8 +622,8 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
             return;
           }
           Index* to = o.of.data() + size;
-          std::memcpy(to, pid + from, 4 * sizeof(Index));  // four at once; `count` of them kept
-          for (Index k = 4; k < count; ++k) to[k] = pid[from + k];
+          std::memcpy(to, pid + from, 8 * sizeof(Index));  // eight at once; `count` of them kept
+          for (Index k = 8; k < count; ++k) to[k] = pid[from + k];
           size += count;
         };
         for (Index b = lv.cut[ch]; b < lv.cut[ch + 1]; ++b) {
@@ -639,7 +648,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
             for (Index s = r0; s < r1; ++s) {
               const std::int32_t x = cx[s];
               o.a = pid[s];
-              if (any_self) __builtin_prefetch(g.joined.data() + g.joined_offsets[pid[s + 2]]);  // pid runs 4 past
+              if (any_self) __builtin_prefetch(g.joined.data() + g.joined_offsets[pid[s + 2]]);  // pid runs 8 past
               std::uint32_t size = 0;
               take(s + 1, upto(s + 1, r1, x, x + 1).second, size);  // its own cell (after s) and the next along x
               for (std::size_t q = 0; q < rows; ++q) {  // the neighbouring rows' cells x − 1, x, x + 1

@@ -25,8 +25,8 @@
 //                them, over kMaxRows rows). The larger boxes then form the next level, with cells at least twice as
 //                wide, until every box is entered or at most kBruteForce boxes are left, which are paired with one
 //                another. Sums, cells, sorts, pairs and queries run in fixed chunks, in parallel when asked
-//   4. pairs     a box's candidates from its neighbouring cells are gathered (a row's are consecutive: counted four
-//                at a time without a branch) and tested together, eight at a time with AVX2, four with SSE2, one at a
+//   4. pairs     a box's candidates from its neighbouring cells are gathered (a row's are consecutive: counted and
+//                copied eight at a time without a branch) and tested together, eight at a time with AVX2, four with SSE2, one at a
 //                time otherwise, all giving the same bits: a pair is kept when the relative path
 //                (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous, so nothing passes through
 //                anything within a sub-step. The boxes are not compared first: paths within reach have overlapping
@@ -85,8 +85,8 @@ template <class Real> struct ParticleGrid {
     std::vector<Index> x_start;                    //   dense: per cell along x + 1, the first counting sort's starts
     std::vector<Index> by_x;                       //   dense: the small members by cell along x, then particle
     std::vector<Slot> entries;                     //   the small members, bucket by bucket, by (cell z, y, x, particle)
-    std::vector<std::int32_t> cell_x;              //   per entry (+ 4 past the end): its cell along x
-    std::vector<Index> particle;                   //   per entry (+ 4 past the end): its particle
+    std::vector<std::int32_t> cell_x;              //   per entry (+ 8 past the end): its cell along x
+    std::vector<Index> particle;                   //   per entry (+ 8 past the end): its particle
     std::vector<Index> cut;                        //   per chunk + 1: its first bucket
   };
   std::vector<Level> levels;
