@@ -48,17 +48,22 @@ using Cell = std::array<std::int32_t, 3>;
 
 inline bool same(const Cell& a, const Cell& b) { return ((a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2])) == 0; }
 
+#if defined(__SSE2__)
+// The cells of q (lanes 0-2) with widths 1/inv: floor(q·inv), clamped, three axes at once.
+inline Cell cell_of4(__m128 q, __m128 inv) {
+  const __m128 c = _mm_max_ps(_mm_min_ps(_mm_mul_ps(q, inv), _mm_set1_ps(1e9f)), _mm_set1_ps(-1e9f));
+  const __m128i t = _mm_cvttps_epi32(c);  // toward zero, then one down where that rounded up
+  const __m128i f = _mm_add_epi32(t, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(t), c)));
+  alignas(16) std::int32_t out[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(out), f);
+  return {out[0], out[1], out[2]};
+}
+#endif
+
 template <class Real> inline Cell cell_of(const Vec3<Real>& q, const Vec3<Real>& inv) {
 #if defined(__SSE2__)
-  if constexpr (std::is_same_v<Real, float>) {  // the same cells, three axes at once: floor(q·inv), clamped
-    const __m128 v = _mm_mul_ps(_mm_setr_ps(q[0], q[1], q[2], 0.0f), _mm_setr_ps(inv[0], inv[1], inv[2], 0.0f));
-    const __m128 c = _mm_max_ps(_mm_min_ps(v, _mm_set1_ps(1e9f)), _mm_set1_ps(-1e9f));
-    const __m128i t = _mm_cvttps_epi32(c);  // toward zero, then one down where that rounded up
-    const __m128i f = _mm_add_epi32(t, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(t), c)));
-    alignas(16) std::int32_t out[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(out), f);
-    return {out[0], out[1], out[2]};
-  }
+  if constexpr (std::is_same_v<Real, float>)  // the same cells, three axes at once
+    return cell_of4(_mm_setr_ps(q[0], q[1], q[2], 0.0f), _mm_setr_ps(inv[0], inv[1], inv[2], 0.0f));
 #endif
   auto axis = [&](int d) {  // clamped so that a far particle cannot overflow (it only shares a cell more often)
     return std::int32_t(std::clamp(std::floor(q[d] * inv[d]), Real(-1e9), Real(1e9)));
@@ -285,9 +290,8 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     hi = {bottom, bottom, bottom};
     sum.setZero();
   };
-  auto classify = [&](Level& lv, Index k, const Box& box, const Vec3<Real>& inv, Cell& lo, Cell& hi,
-                      Eigen::Vector3d& sum) {
-    const Cell a = cell_of<Real>(box.lo, inv), z = cell_of<Real>(box.hi, inv);
+  auto classify_cells = [&](Level& lv, Index k, const Cell& a, const Cell& z, const Box& box, Cell& lo, Cell& hi,
+                            Eigen::Vector3d& sum) {
     lv.lo[k] = a;
     lv.hi[k] = z;
     // pieces along each axis: blocks of two cells from the lower corner's (cells are clamped to ±1e9: no
@@ -313,6 +317,10 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       hi[d] = std::max(hi[d], top_corner[d]);
     }
   };
+  auto classify = [&](Level& lv, Index k, const Box& box, const Vec3<Real>& inv, Cell& lo, Cell& hi,
+                      Eigen::Vector3d& sum) {
+    classify_cells(lv, k, cell_of<Real>(box.lo, inv), cell_of<Real>(box.hi, inv), box, lo, hi, sum);
+  };
   if (g.levels.empty()) g.levels.resize(1);
   Level& top = g.levels[0];
   top.members.assign(active.begin(), active.end());
@@ -331,6 +339,44 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     Eigen::Vector3d sum = Eigen::Vector3d::Zero(), path = Eigen::Vector3d::Zero(), large;
     Cell lo, hi;
     open_range(lo, hi, large);
+#if defined(__SSE2__)
+    if constexpr (std::is_same_v<Real, float>) {  // the same boxes and movers, a particle's three axes at once
+      const __m128 frame = _mm_setr_ps(shared[0], shared[1], shared[2], 0.0f);
+      const __m128 inv4 = _mm_setr_ps(inv0[0], inv0[1], inv0[2], 0.0f);
+      __m128 size4 = _mm_setzero_ps(), path4 = _mm_setzero_ps();  // this chunk's sums (they only size the cells)
+      auto load3 = [](const float* q) {  // q[0..2], 0
+        return _mm_movelh_ps(_mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(q)), _mm_load_ss(q + 2));
+      };
+      auto with_w = [](__m128 q, float w) {  // q[0..2], w
+        const __m128 tail = _mm_shuffle_ps(q, _mm_set_ss(w), _MM_SHUFFLE(0, 0, 2, 2));  // q2, q2, w, w
+        return _mm_shuffle_ps(q, tail, _MM_SHUFFLE(2, 0, 1, 0));
+      };
+      for (Index k = b; k < e; ++k) {
+        const Index i = active[k];
+        const __m128 from = load3(x.data() + 3 * std::size_t(i)), at = load3(p.data() + 3 * std::size_t(i));
+        const __m128 to = _mm_sub_ps(at, frame), grow = _mm_set1_ps(c.radius[i] + 0.5f * margin);
+        _mm_store_ps(g.movers[i].x, with_w(from, c.radius[i]));
+        _mm_store_ps(g.movers[i].p, with_w(at, m.inverse_mass[i] == 0.0f ? 1.0f : 0.0f));
+        const __m128 lo4 = _mm_sub_ps(_mm_min_ps(from, to), grow), hi4 = _mm_add_ps(_mm_max_ps(from, to), grow);
+        alignas(16) float corner[2][4];
+        _mm_store_ps(corner[0], lo4);
+        _mm_store_ps(corner[1], hi4);
+        Box& box = g.boxes[i];
+        box.lo = Vec3<Real>(corner[0][0], corner[0][1], corner[0][2]);
+        box.hi = Vec3<Real>(corner[1][0], corner[1][1], corner[1][2]);
+        const Index body = c.body_of[i];
+        box.group = c.bodies[body].self_collision ? ContactBodies<Real>::kNone : body;
+        size4 = _mm_add_ps(size4, _mm_sub_ps(hi4, lo4));
+        path4 = _mm_add_ps(path4, _mm_sub_ps(at, from));
+        if (known) classify_cells(top, k, cell_of4(lo4, inv4), cell_of4(hi4, inv4), box, lo, hi, large);
+      }
+      alignas(16) float sums[2][4];
+      _mm_store_ps(sums[0], size4);
+      _mm_store_ps(sums[1], path4);
+      sum = Eigen::Vector3d(sums[0][0], sums[0][1], sums[0][2]);
+      path = Eigen::Vector3d(sums[1][0], sums[1][1], sums[1][2]);
+    } else
+#endif
     for (Index k = b; k < e; ++k) {
       const Index i = active[k];
       const Vec3<Real> from = x.col(i), to = p.col(i) - shared;
