@@ -1,7 +1,8 @@
 // The particle contacts' broad phase (engine/src/contact/particle_contacts.hpp) against brute force: on random
 // layouts that take each of its paths (a dense cluster: the dense grid; particles scattered over a wide space: the
 // hash table; a few particles far faster than the rest: boxes paired with every box; a third of the particles a few
-// times faster: grids of wider cells for them; self-colliding bodies whose joined pairs are excluded; pinned
+// times faster: grids of wider cells for them; self-colliding bodies whose joined pairs are excluded (also when a
+// particle is joined to dozens of particles within reach); pinned
 // particles; hundreds of boxes in one cell: more candidates than a particle's batch holds), it finds exactly the pairs whose relative path comes within
 // r_a + r_b + margin, each once, in the order of the pairs, and the same list with and without threads, and from a
 // grid that kept another sub-step's frame and cells.
@@ -29,6 +30,7 @@ struct Layout {
   bool self = false;  // one self-colliding body whose consecutive particles are joined by stretch constraints
   double faster = 1000;
   double width = 0.3;  // of a cluster, m
+  int joins = 0;       // self: > 0, each particle joined to the next `joins` of its cluster (else to one neighbour)
 };
 
 template <class Real> struct Case {
@@ -59,7 +61,12 @@ template <class Real> Case<Real> make(const Layout& l, std::uint32_t seed) {
   if (l.self) {
     c.model.contact.bodies.push_back({0, n, Real(0.01), ContactMaterial<Real>{}, true});
     auto& stretch = c.model.template store<StretchConstraint<Real>>().items;
-    for (Index i = 0; i + 1 < n; i += 2) stretch.push_back({{i, i + 1}, 0, Real(0.02)});
+    if (l.joins == 0)
+      for (Index i = 0; i + 1 < n; i += 2) stretch.push_back({{i, i + 1}, 0, Real(0.02)});
+    const Index stride = Index(std::max(1, l.clusters));  // particle i is in cluster i % clusters
+    for (Index i = 0; i < n; ++i)
+      for (Index k = 1; k <= Index(l.joins) && i + k * stride < n; ++k)
+        stretch.push_back({{i, i + k * stride}, 0, Real(0.02)});
   } else {  // three bodies of different radii; the last has none (it touches nothing)
     const Index a = n / 2, b = n / 4;
     c.model.contact.bodies.push_back({0, a, Real(0.01), ContactMaterial<Real>{}, false});
@@ -73,8 +80,10 @@ template <class Real> Case<Real> make(const Layout& l, std::uint32_t seed) {
 
 // Pairs (a < b) whose relative path (x_a − x_b) → (p_a − p_b) comes within r_a + r_b + margin, from every pair,
 // in double: the same criterion the broad phase applies, without its grid.
-template <class Real> std::set<std::pair<Index, Index>> brute_force(const Case<Real>& c, double margin, const Layout& l) {
-  std::set<std::pair<Index, Index>> pairs;
+template <class Real> std::set<std::pair<Index, Index>> brute_force(const Case<Real>& c, double margin) {
+  std::set<std::pair<Index, Index>> pairs, joined;
+  for (const auto& con : c.model.template store<StretchConstraint<Real>>().items)
+    joined.insert(std::minmax(con.particles[0], con.particles[1]));
   const ContactBodies<Real>& cb = c.model.contact;
   const Index n = c.model.num_particles();
   for (Index a = 0; a < n; ++a)
@@ -82,7 +91,7 @@ template <class Real> std::set<std::pair<Index, Index>> brute_force(const Case<R
       if (cb.radius[a] == Real(0) || cb.radius[b] == Real(0)) continue;
       if (c.model.inverse_mass[a] == Real(0) && c.model.inverse_mass[b] == Real(0)) continue;
       if (cb.body_of[a] == cb.body_of[b] && !cb.bodies[cb.body_of[a]].self_collision) continue;
-      if (l.self && a % 2 == 0 && b == a + 1) continue;  // joined by a stretch constraint
+      if (joined.count({a, b}) > 0) continue;  // joined by a stretch constraint (self-colliding bodies)
       const Eigen::Vector3d d0 = (c.x.col(a) - c.x.col(b)).template cast<double>();
       const Eigen::Vector3d d1 = (c.p.col(a) - c.p.col(b)).template cast<double>();
       const Eigen::Vector3d e = d1 - d0;
@@ -107,13 +116,16 @@ TYPED_TEST(ParticleContacts, FindExactlyThePairsWhosePathsComeWithinReach) {
       {"self-colliding, joined pairs", 3000, 0.5, 0.01, 0, 0, true},
       {"still", 1500, 0.4, 0.0, 0},
       {"crowded cells (hundreds of boxes in a cell)", 900, 0.5, 0.001, 0, 3, false, 1000, 0.01},
+      // each particle joined to 24 others within reach: more than the first groups of its row of joined particles
+      // hold (joined_bits), so the rest of the row decides
+      {"crowded, self-colliding, many joined pairs", 900, 0.5, 0.001, 0, 3, true, 1000, 0.01, 12},
   };
   const double margin = 0.004;
   for (const Layout& l : layouts)
     for (std::uint32_t seed : {1u, 2u, 3u}) {
       SCOPED_TRACE(std::string(l.name) + " seed " + std::to_string(seed));
       Case<Real> c = make<Real>(l, seed);
-      const auto expected = brute_force(c, margin, l);
+      const auto expected = brute_force(c, margin);
       ParticleGrid<Real> grid;
       std::vector<ParticleContact<Real>> found;
       generate_particle_contacts(c.model, c.x, c.p, c.v, Real(margin), false, grid, found);

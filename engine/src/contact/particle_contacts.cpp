@@ -79,7 +79,7 @@ inline std::uint32_t hash_cell(std::int32_t x, std::int32_t y, std::int32_t z, s
 // Particles joined to one another by a built-in constraint, both in the same self-colliding body: never in contact.
 // Each particle's row lists all the particles joined to it (a candidate is tested against its row, whichever of the
 // two is lower).
-template <class Real> void build_exclusions(const Model<Real>& m, ParticleGrid<Real>& g) {
+template <class Real> void build_exclusions(const Model<Real>& m, const Matrix3X<Real>& x, ParticleGrid<Real>& g) {
   const ContactBodies<Real>& c = m.contact;
   const Index n = m.num_particles();
   std::vector<std::pair<Index, Index>> pairs;
@@ -94,6 +94,12 @@ template <class Real> void build_exclusions(const Model<Real>& m, ParticleGrid<R
   });
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  // each row nearest first (at x): the pairs found near are nearly always the nearest joined ones (a cloth's edges),
+  // so the row's first groups decide them (joined_bits); the order changes only the cost
+  auto gap = [&](const std::pair<Index, Index>& e) { return (x.col(e.first) - x.col(e.second)).squaredNorm(); };
+  std::stable_sort(pairs.begin(), pairs.end(), [&](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : gap(a) < gap(b);
+  });
   // rows padded to whole groups of four with kNone (no particle), so that a row is compared four at a time
   g.joined_offsets.assign(std::size_t(n) + 1, 0);
   for (const auto& [u, v] : pairs) ++g.joined_offsets[u + 1];
@@ -134,23 +140,31 @@ struct Others {
   std::array<Index, kSize + 8> of;  // [size, size + 8) padded with a, for the four- or eight-lane test
 };
 
-// Bit k set when o.of[k] is in a's row of joined particles [first, last) (a whole number of groups of four, padded
-// with kNone), k < o.size; o.of is padded with o.a past o.size (near_bits), which is never in its own row.
-inline std::uint64_t joined_bits(const Index* first, const Index* last, const Others& o) {
+// Of the candidates `near` marks (bit k for o.of[k], k < o.size), those in a's row of joined particles [first, last)
+// (a whole number of groups of four, padded with kNone, nearest first). The row's first kFirstGroups groups are
+// compared with every candidate; the rest of the row only when a near candidate is left unmatched. o.of is padded
+// with o.a past o.size (near_bits), which is never in its own row.
+constexpr std::ptrdiff_t kFirstGroups = 2;
+inline std::uint64_t joined_bits(const Index* first, const Index* last, const Others& o, std::uint64_t near) {
   std::uint64_t bits = 0;
   if (first == last) return bits;
 #if defined(__SSE2__)
-  for (std::uint32_t k = 0; k < o.size; k += 4) {  // four candidates against four of the row's at a time, rotated
-    const __m128i of = _mm_loadu_si128(reinterpret_cast<const __m128i*>(o.of.data() + k));
-    __m128i any = _mm_setzero_si128();
-    for (const Index* q = first; q < last; q += 4) {
-      const __m128i r = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q));
-      any = _mm_or_si128(any, _mm_or_si128(_mm_cmpeq_epi32(of, r), _mm_cmpeq_epi32(of, _mm_shuffle_epi32(r, 0x39))));
-      any = _mm_or_si128(any, _mm_or_si128(_mm_cmpeq_epi32(of, _mm_shuffle_epi32(r, 0x4e)),
-                                           _mm_cmpeq_epi32(of, _mm_shuffle_epi32(r, 0x93))));
+  auto compare = [&](const Index* from, const Index* to) {  // four candidates against four of the row's, rotated
+    for (std::uint32_t k = 0; k < o.size; k += 4) {
+      const __m128i of = _mm_loadu_si128(reinterpret_cast<const __m128i*>(o.of.data() + k));
+      __m128i any = _mm_setzero_si128();
+      for (const Index* q = from; q < to; q += 4) {
+        const __m128i r = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q));
+        any = _mm_or_si128(any, _mm_or_si128(_mm_cmpeq_epi32(of, r), _mm_cmpeq_epi32(of, _mm_shuffle_epi32(r, 0x39))));
+        any = _mm_or_si128(any, _mm_or_si128(_mm_cmpeq_epi32(of, _mm_shuffle_epi32(r, 0x4e)),
+                                             _mm_cmpeq_epi32(of, _mm_shuffle_epi32(r, 0x93))));
+      }
+      bits |= std::uint64_t(unsigned(_mm_movemask_ps(_mm_castsi128_ps(any)))) << k;
     }
-    bits |= std::uint64_t(unsigned(_mm_movemask_ps(_mm_castsi128_ps(any)))) << k;
-  }
+  };
+  const Index* split = last - first > 4 * kFirstGroups ? first + 4 * kFirstGroups : last;
+  compare(first, split);
+  if ((near & ~bits) != 0 && split < last) compare(split, last);
 #else
   for (std::uint32_t k = 0; k < o.size; ++k) {
     bool found = false;
@@ -158,7 +172,7 @@ inline std::uint64_t joined_bits(const Index* first, const Index* last, const Ot
     bits |= std::uint64_t(found) << k;
   }
 #endif
-  return bits;
+  return bits & near;
 }
 
 // Whether the relative path (x_a − x_b) → (p_a − p_b) comes within r_a + r_b + margin at its closest, t ∈ [0, 1]:
@@ -256,7 +270,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   for (const auto& b : c.bodies) any_self = any_self || (b.self_collision && b.radius > Real(0));
   if (any_self && (g.joined_edits != m.edits || g.joined_bodies != c.bodies.size() ||
                    g.joined_offsets.size() != std::size_t(n) + 1))
-    build_exclusions(m, g);
+    build_exclusions(m, x, g);
   const std::vector<Index>& active = c.active;
   const Index count = Index(active.size());
   if (count == 0) return;
@@ -418,7 +432,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   auto flush = [&](Others& o, std::vector<ParticleContact<Real>>& mine) {
     std::uint64_t bits = o.size > 0 ? near_bits(P, o, margin, avx2) : 0;
     if (bits != 0 && any_self)  // joined by a constraint (the near pairs of a cloth are nearly all its neighbours)
-      bits &= ~joined_bits(g.joined.data() + g.joined_offsets[o.a], g.joined.data() + g.joined_offsets[o.a + 1], o);
+      bits &= ~joined_bits(g.joined.data() + g.joined_offsets[o.a], g.joined.data() + g.joined_offsets[o.a + 1], o, bits);
     for (; bits != 0; bits &= bits - 1) {
       const Index other = o.of[std::size_t(__builtin_ctzll(bits))];
       const Index i = std::min(o.a, other), j = std::max(o.a, other);

@@ -51,8 +51,8 @@ template <class Real> struct ParticleGrid {
   std::uint64_t joined_edits = ~std::uint64_t(0);  // Model::edits the exclusions below were built at
   std::size_t joined_bodies = 0;                   // contact bodies then
   std::vector<Index> joined_offsets;               // CSR per particle: the particles joined to it by a constraint
-  std::vector<Index> joined;                       //   (ascending, each row padded to whole groups of four with
-                                                   //   kNone; only in self-colliding bodies)
+  std::vector<Index> joined;                       //   (nearest first when built, each row padded to whole
+                                                   //   groups of four with kNone; only in self-colliding bodies)
   std::vector<Eigen::Vector3d> partial;            // per chunk: its part of a sum over the particles
   std::vector<Eigen::Vector3d> partial_path;       //   and of the sum of their paths
   Index known = 0;                                 // the particles of the last sub-step (0: none yet), for which
