@@ -1,5 +1,6 @@
-// AVX2 build of the particle contacts' pair test (near_avx2.hpp). This file alone among the contact files is compiled
-// with -mavx2 -mno-fma (engine/CMakeLists.txt); it instantiates no inline function another file does.
+// AVX2 build of the particle contacts' walk over a dense grid and its pair test (near_avx2.hpp). This file alone among
+// the contact files is compiled with -mavx2 -mno-fma (engine/CMakeLists.txt); it instantiates no inline function another
+// file does (no standard container: the pairs leave through the caller's sink).
 #include "near_avx2.hpp"
 
 #include <cstdlib>
@@ -31,10 +32,9 @@ namespace {
   return _mm256_add_ps(_mm256_mul_ps(ax, bx), _mm256_add_ps(_mm256_mul_ps(ay, by), _mm256_mul_ps(az, bz)));
 }
 
-}  // namespace
-
-std::uint64_t near_bits_avx2(const float* movers, Index a, const Index* others, std::uint32_t count, float margin) {
-  const float* A = movers + 8 * std::size_t(a);
+// near_bits_avx2's test (below), for others[0, count) and a's eight floats at A
+[[gnu::always_inline]] inline std::uint64_t near8(const float* movers, const float* A, const Index* others,
+                                                  std::uint32_t count, float margin) {
   const __m256 ax = _mm256_set1_ps(A[0]), ay = _mm256_set1_ps(A[1]), az = _mm256_set1_ps(A[2]);
   const __m256 ar = _mm256_set1_ps(A[3]), px = _mm256_set1_ps(A[4]), py = _mm256_set1_ps(A[5]);
   const __m256 pz = _mm256_set1_ps(A[6]), m = _mm256_set1_ps(margin), zero = _mm256_setzero_ps();
@@ -66,8 +66,120 @@ std::uint64_t near_bits_avx2(const float* movers, Index a, const Index* others, 
   }
   return count == 64 ? bits : bits & ((std::uint64_t(1) << count) - 1);
 }
-#else  // not built for AVX2: avx2_enabled() is false, this is never called
+
+}  // namespace
+
+std::uint64_t near_bits_avx2(const float* movers, Index a, const Index* others, std::uint32_t count, float margin) {
+  return near8(movers, movers + 8 * std::size_t(a), others, count, margin);
+}
+
+void walk_dense_avx2(const DenseWalk& w, Index first, Index last, NearSink sink, void* context) {
+  constexpr std::uint32_t kSize = 64;  // candidates tested together at most
+  alignas(32) Index of[kSize + 8];
+  constexpr std::size_t kPairs = 64;   // near pairs handed to the sink at a time
+  Index pairs[2 * kPairs];
+  std::size_t found = 0;
+  std::uint32_t size = 0;
+  Index a = 0;
+  const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  // of[0, size) against a: near, and not joined to it (joined_bits' rule: the row's first two groups, the rest only
+  // when a near candidate is left unmatched); each such pair appended to `near`
+  auto flush = [&] {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(of + size), _mm256_set1_epi32(std::int32_t(a)));
+    std::uint64_t bits = size > 0 ? near8(w.movers, w.movers + 8 * std::size_t(a), of, size, w.margin) : 0;
+    if (bits != 0 && w.joined) {
+      const Index* row = w.joined + w.joined_offsets[a];
+      const Index* end = w.joined + w.joined_offsets[std::size_t(a) + 1];
+      std::uint64_t joined = 0;
+      auto compare = [&](const Index* from, const Index* to) {  // eight candidates against four of the row's, rotated
+        for (std::uint32_t k = 0; k < size; k += 8) {
+          const __m256i c = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(of + k));
+          __m256i any = _mm256_setzero_si256();
+          for (const Index* q = from; q < to; q += 4) {
+            const __m256i r = _mm256_broadcastsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q)));
+            any = _mm256_or_si256(any, _mm256_or_si256(_mm256_cmpeq_epi32(c, r),
+                                                       _mm256_cmpeq_epi32(c, _mm256_shuffle_epi32(r, 0x39))));
+            any = _mm256_or_si256(any, _mm256_or_si256(_mm256_cmpeq_epi32(c, _mm256_shuffle_epi32(r, 0x4e)),
+                                                       _mm256_cmpeq_epi32(c, _mm256_shuffle_epi32(r, 0x93))));
+          }
+          joined |= std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(any)))) << k;
+        }
+      };
+      const Index* split = end - row > 4 * kJoinedFirstGroups ? row + 4 * kJoinedFirstGroups : end;
+      compare(row, split);
+      if ((bits & ~joined) != 0 && split < end) compare(split, end);
+      bits &= ~joined;
+    }
+    for (; bits != 0; bits &= bits - 1) {
+      if (found == kPairs) {
+        sink(context, pairs, found);
+        found = 0;
+      }
+      pairs[2 * found] = a;
+      pairs[2 * found + 1] = of[__builtin_ctzll(bits)];
+      ++found;
+    }
+    size = 0;
+  };
+  // entries [from, end) whose cells along x are at most `top`, eight at a time (the arrays run eight past the last
+  // entry); of those, the prefix whose cells are at most `below`
+  auto upto = [&](Index from, Index end, std::int32_t below, std::int32_t top, Index& under) {
+    Index n = 0;
+    under = 0;
+    const __m256i high = _mm256_set1_epi32(top + 1), low_end = _mm256_set1_epi32(below + 1);
+    const __m256i stop = _mm256_set1_epi32(std::int32_t(end));
+    for (;;) {
+      const Index at = from + n;  // indices and cells fit in 31 bits: signed compares
+      const __m256i cells = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(w.cx + at));
+      const __m256i index = _mm256_add_epi32(_mm256_set1_epi32(std::int32_t(at)), lanes);
+      const __m256i inside = _mm256_and_si256(_mm256_cmpgt_epi32(stop, index), _mm256_cmpgt_epi32(high, cells));
+      const __m256i lower = _mm256_and_si256(inside, _mm256_cmpgt_epi32(low_end, cells));
+      const Index k8 = Index(__builtin_ctz(~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(inside)))));
+      under += Index(__builtin_ctz(~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(lower)))));
+      n += k8;
+      if (k8 < 8) return n;
+    }
+  };
+  auto take = [&](Index from, Index count) {  // entries [from, from + count) join a's candidates
+    if (size + count > kSize) {  // a crowded cell: one at a time
+      for (Index k = 0; k < count; ++k) {
+        if (size == kSize) flush();
+        of[size++] = w.pid[from + k];
+      }
+      return;
+    }
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(of + size),
+                        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(w.pid + from)));
+    for (Index k = 8; k < count; ++k) of[size + k] = w.pid[from + k];
+    size += count;
+  };
+  for (Index b = first; b < last; ++b) {
+    const Index r0 = w.start[b], r1 = w.start[b + 1];
+    if (r0 == r1) continue;
+    Index nw[4], nw1[4];  // the neighbouring rows' entries, walked along with this row
+    for (int q = 0; q < 4; ++q) {
+      nw[q] = w.start[b + w.row_step[q]];
+      nw1[q] = w.start[b + w.row_step[q] + 1];
+    }
+    for (Index s = r0; s < r1; ++s) {
+      const std::int32_t x = w.cx[s];
+      a = w.pid[s];
+      if (w.joined) __builtin_prefetch(w.joined + w.joined_offsets[w.pid[s + 2]]);  // pid runs 8 past
+      Index under;
+      take(s + 1, upto(s + 1, r1, x, x + 1, under));  // its own cell (after s) and the next along x
+      for (int q = 0; q < 4; ++q) {  // the neighbouring rows' cells x − 1, x, x + 1
+        const Index n = upto(nw[q], nw1[q], x - 2, x + 1, under);
+        nw[q] += under;
+        take(nw[q], n - under);
+      }
+      flush();
+    }
+  }
+  if (found > 0) sink(context, pairs, found);
+}
+#else  // not built for AVX2: avx2_enabled() is false, these are never called
 std::uint64_t near_bits_avx2(const float*, Index, const Index*, std::uint32_t, float) { std::abort(); }
+void walk_dense_avx2(const DenseWalk&, Index, Index, NearSink, void*) { std::abort(); }
 #endif
 
 }  // namespace pbd::detail

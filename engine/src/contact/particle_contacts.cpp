@@ -141,10 +141,9 @@ struct Others {
 };
 
 // Of the candidates `near` marks (bit k for o.of[k], k < o.size), those in a's row of joined particles [first, last)
-// (a whole number of groups of four, padded with kNone, nearest first). The row's first kFirstGroups groups are
+// (a whole number of groups of four, padded with kNone, nearest first). The row's first kJoinedFirstGroups groups are
 // compared with every candidate; the rest of the row only when a near candidate is left unmatched. o.of is padded
 // with o.a past o.size (near_bits), which is never in its own row.
-constexpr std::ptrdiff_t kFirstGroups = 2;
 inline std::uint64_t joined_bits(const Index* first, const Index* last, const Others& o, std::uint64_t near) {
   std::uint64_t bits = 0;
   if (first == last) return bits;
@@ -162,7 +161,7 @@ inline std::uint64_t joined_bits(const Index* first, const Index* last, const Ot
       bits |= std::uint64_t(unsigned(_mm_movemask_ps(_mm_castsi128_ps(any)))) << k;
     }
   };
-  const Index* split = last - first > 4 * kFirstGroups ? first + 4 * kFirstGroups : last;
+  const Index* split = last - first > 4 * kJoinedFirstGroups ? first + 4 * kJoinedFirstGroups : last;
   compare(first, split);
   if ((near & ~bits) != 0 && split < last) compare(split, last);
 #else
@@ -429,25 +428,25 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   using Mover = typename ParticleGrid<Real>::Mover;
   const Mover* P = g.movers.data();
   const bool avx2 = avx2_enabled();
+  auto keep = [&](Index first, Index other, std::vector<ParticleContact<Real>>& mine) {  // a near pair, not joined
+    const Index i = std::min(first, other), j = std::max(first, other);
+    const Mover& a = P[i];
+    const Mover& b = P[j];
+    if (a.p[3] != Real(0) && b.p[3] != Real(0)) return;
+    const Index group = g.boxes[i].group;
+    if (group != ContactBodies<Real>::kNone && group == g.boxes[j].group) return;  // one body, no self-collision
+    const Real R = a.x[3] + b.x[3];
+    const Vec3<Real> d0(a.x[0] - b.x[0], a.x[1] - b.x[1], a.x[2] - b.x[2]);
+    const Vec3<Real> d1(a.p[0] - b.p[0], a.p[1] - b.p[1], a.p[2] - b.p[2]);
+    const Vec3<Real> nrm = first_contact_normal(d0, d1, R);
+    mine.push_back({{i, j}, nrm, R, d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))),
+                    mix_materials(c.material[i], c.material[j])});
+  };
   auto flush = [&](Others& o, std::vector<ParticleContact<Real>>& mine) {
     std::uint64_t bits = o.size > 0 ? near_bits(P, o, margin, avx2) : 0;
     if (bits != 0 && any_self)  // joined by a constraint (the near pairs of a cloth are nearly all its neighbours)
       bits &= ~joined_bits(g.joined.data() + g.joined_offsets[o.a], g.joined.data() + g.joined_offsets[o.a + 1], o, bits);
-    for (; bits != 0; bits &= bits - 1) {
-      const Index other = o.of[std::size_t(__builtin_ctzll(bits))];
-      const Index i = std::min(o.a, other), j = std::max(o.a, other);
-      const Mover& a = P[i];
-      const Mover& b = P[j];
-      if (a.p[3] != Real(0) && b.p[3] != Real(0)) continue;
-      const Index group = g.boxes[i].group;
-      if (group != ContactBodies<Real>::kNone && group == g.boxes[j].group) continue;  // one body, no self-collision
-      const Real R = a.x[3] + b.x[3];
-      const Vec3<Real> d0(a.x[0] - b.x[0], a.x[1] - b.x[1], a.x[2] - b.x[2]);
-      const Vec3<Real> d1(a.p[0] - b.p[0], a.p[1] - b.p[1], a.p[2] - b.p[2]);
-      const Vec3<Real> nrm = first_contact_normal(d0, d1, R);
-      mine.push_back({{i, j}, nrm, R, d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))),
-                      mix_materials(c.material[i], c.material[j])});
-    }
+    for (; bits != 0; bits &= bits - 1) keep(o.a, o.of[std::size_t(__builtin_ctzll(bits))], mine);
     o.size = 0;
   };
   auto candidate = [&](Index b, Others& o, std::vector<ParticleContact<Real>>& mine) {  // b joins a's candidates
@@ -669,59 +668,87 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     if (small > 1) {
       static constexpr std::array<std::array<std::int32_t, 2>, 4> kRows = {{{1, 0}, {-1, 1}, {0, 1}, {1, 1}}};
       const std::size_t first = take_lists(std::size_t(small_chunks));
-      over_chunks(small_chunks, fork(small), [&](Index ch, Index, Index) {
-        std::vector<ParticleContact<Real>>& mine = g.lists[first + ch];
-        Others o;
-        // b's candidates from row entries [from, from + count), counted in `size` (o.size once they are all taken:
-        // a local count stays in a register)
-        auto take = [&](Index from, Index count, std::uint32_t& size) {
-          if (size + count > Others::kSize) {  // a crowded cell: one at a time
-            o.size = size;
-            for (Index k = 0; k < count; ++k) candidate(pid[from + k], o, mine);
-            size = o.size;
-            return;
+      if (std::is_same_v<Real, float> && dense && avx2) {
+        if constexpr (std::is_same_v<Real, float>) {  // the same walk and pairs, eight entries at a time (near_avx2.hpp)
+          DenseWalk walk;
+          walk.cx = cx;
+          walk.pid = pid;
+          walk.start = start;
+          for (std::size_t q = 0; q < kRows.size(); ++q) walk.row_step[q] = Index(kRows[q][0] + kRows[q][1] * dims[1]);
+          walk.movers = P[0].x;
+          walk.margin = margin;
+          if (any_self) {
+            walk.joined = g.joined.data();
+            walk.joined_offsets = g.joined_offsets.data();
           }
-          Index* to = o.of.data() + size;
-          std::memcpy(to, pid + from, 8 * sizeof(Index));  // eight at once; `count` of them kept
-          for (Index k = 8; k < count; ++k) to[k] = pid[from + k];
-          size += count;
-        };
-        for (Index b = lv.cut[ch]; b < lv.cut[ch + 1]; ++b) {
-          const Index s1 = start[b + 1];
-          for (Index r0 = start[b], r1; r0 < s1; r0 = r1) {  // one row at a time: [r0, r1)
-            const std::int32_t y = E[r0].cell[1], z = E[r0].cell[2];
-            if (dense) r1 = s1;  // the bucket is the row
-            else for (r1 = r0 + 1; r1 < s1 && in_row(E[r1], y, z); ++r1) {}
-            std::array<Index, 4> w, w1;  // each neighbouring row that holds boxes, walked along with this one: [w, w1)
-            std::size_t rows = 0;
-            for (std::size_t q = 0; q < kRows.size(); ++q) {
-              const std::int32_t ny = y + kRows[q][0], nz = z + kRows[q][1];
-              const std::uint32_t nb = bucket_of(ny, nz);
-              w[rows] = start[nb];  // dense: the bucket is the row
-              w1[rows] = start[nb + 1];
-              if (!dense) {
-                w[rows] = row_from(nb, ny, nz, E[r0].cell[0] - 1);
-                for (w1[rows] = w[rows]; w1[rows] < start[nb + 1] && in_row(E[w1[rows]], ny, nz); ++w1[rows]) {}
-              }
-              rows += w[rows] < w1[rows] ? 1 : 0;  // an empty row (a flat cloth's rows above it) is not walked
-            }
-            for (Index s = r0; s < r1; ++s) {
-              const std::int32_t x = cx[s];
-              o.a = pid[s];
-              if (any_self) __builtin_prefetch(g.joined.data() + g.joined_offsets[pid[s + 2]]);  // pid runs 8 past
-              std::uint32_t size = 0;
-              take(s + 1, upto(s + 1, r1, x, x + 1).second, size);  // its own cell (after s) and the next along x
-              for (std::size_t q = 0; q < rows; ++q) {  // the neighbouring rows' cells x − 1, x, x + 1
-                const auto [skip, n] = upto(w[q], w1[q], x - 2, x + 1);
-                w[q] += skip;
-                take(w[q], n - skip, size);
-              }
-              o.size = size;
-              flush(o, mine);
-            }
-          }
+          struct Sink {
+            decltype(keep)* pair;  // keep
+            std::vector<ParticleContact<Real>>* mine;
+          };
+          const NearSink sink = [](void* context, const Index* pairs, std::size_t count) {
+            const Sink& to = *static_cast<const Sink*>(context);
+            for (std::size_t k = 0; k < count; ++k) (*to.pair)(pairs[2 * k], pairs[2 * k + 1], *to.mine);
+          };
+          over_chunks(small_chunks, fork(small), [&](Index ch, Index, Index) {
+            Sink to{&keep, &g.lists[first + ch]};
+            walk_dense_avx2(walk, lv.cut[ch], lv.cut[ch + 1], sink, &to);
+          });
         }
-      });
+      } else {
+        over_chunks(small_chunks, fork(small), [&](Index ch, Index, Index) {
+          std::vector<ParticleContact<Real>>& mine = g.lists[first + ch];
+          Others o;
+          // b's candidates from row entries [from, from + count), counted in `size` (o.size once they are all taken:
+          // a local count stays in a register)
+          auto take = [&](Index from, Index count, std::uint32_t& size) {
+            if (size + count > Others::kSize) {  // a crowded cell: one at a time
+              o.size = size;
+              for (Index k = 0; k < count; ++k) candidate(pid[from + k], o, mine);
+              size = o.size;
+              return;
+            }
+            Index* to = o.of.data() + size;
+            std::memcpy(to, pid + from, 8 * sizeof(Index));  // eight at once; `count` of them kept
+            for (Index k = 8; k < count; ++k) to[k] = pid[from + k];
+            size += count;
+          };
+          for (Index b = lv.cut[ch]; b < lv.cut[ch + 1]; ++b) {
+            const Index s1 = start[b + 1];
+            for (Index r0 = start[b], r1; r0 < s1; r0 = r1) {  // one row at a time: [r0, r1)
+              const std::int32_t y = E[r0].cell[1], z = E[r0].cell[2];
+              if (dense) r1 = s1;  // the bucket is the row
+              else for (r1 = r0 + 1; r1 < s1 && in_row(E[r1], y, z); ++r1) {}
+              std::array<Index, 4> w, w1;  // each neighbouring row that holds boxes, walked along with this one: [w, w1)
+              std::size_t rows = 0;
+              for (std::size_t q = 0; q < kRows.size(); ++q) {
+                const std::int32_t ny = y + kRows[q][0], nz = z + kRows[q][1];
+                const std::uint32_t nb = bucket_of(ny, nz);
+                w[rows] = start[nb];  // dense: the bucket is the row
+                w1[rows] = start[nb + 1];
+                if (!dense) {
+                  w[rows] = row_from(nb, ny, nz, E[r0].cell[0] - 1);
+                  for (w1[rows] = w[rows]; w1[rows] < start[nb + 1] && in_row(E[w1[rows]], ny, nz); ++w1[rows]) {}
+                }
+                rows += w[rows] < w1[rows] ? 1 : 0;  // an empty row (a flat cloth's rows above it) is not walked
+              }
+              for (Index s = r0; s < r1; ++s) {
+                const std::int32_t x = cx[s];
+                o.a = pid[s];
+                if (any_self) __builtin_prefetch(g.joined.data() + g.joined_offsets[pid[s + 2]]);  // pid runs 8 past
+                std::uint32_t size = 0;
+                take(s + 1, upto(s + 1, r1, x, x + 1).second, size);  // its own cell (after s) and the next along x
+                for (std::size_t q = 0; q < rows; ++q) {  // the neighbouring rows' cells x − 1, x, x + 1
+                  const auto [skip, n] = upto(w[q], w1[q], x - 2, x + 1);
+                  w[q] += skip;
+                  take(w[q], n - skip, size);
+                }
+                o.size = size;
+                flush(o, mine);
+              }
+            }
+          }
+        });
+      }
     }
     // large with entered: each large box with the entries whose lower corners lie in its cells or one cell below (an
     // entry that overlaps it has its lower corner there), or with every entry when that is too many rows

@@ -26,13 +26,15 @@
 //                wide, until every box is entered or at most kBruteForce boxes are left, which are paired with one
 //                another. Sums, cells, sorts, pairs and queries run in fixed chunks, in parallel when asked
 //   4. pairs     a box's candidates from its neighbouring cells are gathered (a row's are consecutive: counted and
-//                copied eight at a time without a branch) and tested together, eight at a time with AVX2, four with SSE2, one at a
-//                time otherwise, all giving the same bits: a pair is kept when the relative path
+//                copied eight at a time without a branch) and tested together, eight at a time with AVX2, four with
+//                SSE2, one at a time otherwise, all giving the same bits: a pair is kept when the relative path
 //                (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous, so nothing passes through
 //                anything within a sub-step. The boxes are not compared first: paths within reach have overlapping
-//                boxes. Candidates joined to the particle by a constraint are masked out together (four at a time
-//                against its row of joined particles: a cloth's near pairs are nearly all its neighbours); then pairs
-//                of one body that does not self-collide or of two pinned particles are dropped
+//                boxes. Near candidates joined to the particle by a constraint are masked out together, against its
+//                row of joined particles, nearest first: its first two groups of four with every candidate, the rest
+//                only when a near candidate is left unmatched (a cloth's near pairs are nearly all its edges); then
+//                pairs of one body that does not self-collide or of two pinned particles are dropped. A dense float
+//                grid on a CPU with AVX2 is walked by near_avx2.hpp's build of this step (the same pairs)
 //   5. output    sorted by pair (i, j), i < j, each once: the same list for any thread count, cells or frame
 // A world without contact bodies of non-zero radius runs none of this.
 #include "pbd/constraints/particle_contact.hpp"
