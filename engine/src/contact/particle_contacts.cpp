@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 
@@ -94,12 +95,16 @@ template <class Real> void build_exclusions(const Model<Real>& m, const Matrix3X
   });
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  // each row nearest first (at x): the pairs found near are nearly always the nearest joined ones (a cloth's edges),
-  // so the row's first groups decide them (joined_bits); the order changes only the cost
-  auto gap = [&](const std::pair<Index, Index>& e) { return (x.col(e.first) - x.col(e.second)).squaredNorm(); };
-  std::stable_sort(pairs.begin(), pairs.end(), [&](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first < b.first : gap(a) < gap(b);
-  });
+  // each row nearest first (at x; a non-finite distance last): the pairs found near are nearly always the nearest
+  // joined ones (a cloth's edges), so the row's first groups decide them (joined_bits); the order changes only the cost
+  std::vector<std::tuple<Index, Real, Index>> rows(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const auto [u, v] = pairs[k];
+    const Real gap = (x.col(u) - x.col(v)).squaredNorm();
+    rows[k] = {u, std::isfinite(gap) ? gap : std::numeric_limits<Real>::infinity(), v};
+  }
+  std::sort(rows.begin(), rows.end());
+  for (std::size_t k = 0; k < pairs.size(); ++k) pairs[k] = {std::get<0>(rows[k]), std::get<2>(rows[k])};
   // rows padded to whole groups of four with kNone (no particle), so that a row is compared four at a time
   g.joined_offsets.assign(std::size_t(n) + 1, 0);
   for (const auto& [u, v] : pairs) ++g.joined_offsets[u + 1];
