@@ -10,6 +10,8 @@
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
 
+#include <oneapi/tbb/parallel_invoke.h>
+
 #include <chrono>
 #include <type_traits>
 #include <cmath>
@@ -145,13 +147,23 @@ template <class Real> void World<Real>::advance(const Real* forces) {
       const ParticleSurfaces<Real> surfaces =
           model_.contact.empty() ? ParticleSurfaces<Real>{}
                                  : ParticleSurfaces<Real>{model_.contact.radius.data(), model_.contact.material.data()};
-      if (!model_.colliders.empty())
+      auto colliders = [&] {
         detail::generate_collisions_chunked(model_.colliders, state_.x, k.p, state_.v, model_.inverse_mass,
                                             params_.collision_margin, surfaces, parallel, k.collision_chunks,
                                             k.collisions.items);
-      if (model_.contact.particle_contacts())
+      };
+      auto contacts = [&] {
         detail::generate_particle_contacts(model_, state_.x, k.p, state_.v, params_.collision_margin, parallel, k.grid,
                                            k.particle_contacts.items);
+      };
+      // Both at once when both run in parallel: their outputs are apart, and the colliders' chunks fill the other
+      // threads while the broad phase runs its serial passes.
+      const bool with_colliders = !model_.colliders.empty(), with_contacts = model_.contact.particle_contacts();
+      if (with_colliders && with_contacts && parallel) tbb::parallel_invoke(colliders, contacts);
+      else {
+        if (with_colliders) colliders();
+        if (with_contacts) contacts();
+      }
       const auto t3 = clock::now();
       // 4. solve (symmetric order: odd sub-steps, numbered from the world's time, sweep backwards)
       const long long substep = std::llround(state_.time / double(params_.dt)) * params_.substeps + s;

@@ -552,24 +552,42 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       if (dense) return std::uint32_t((std::int64_t(z) - base[2]) * dims[1] + (std::int64_t(y) - base[1]));
       return hash_cell(0, y, z, mask);
     };
-    lv.key.resize(std::size_t(small));
-    if (small > 0)
-      over_chunks(small, fork(small), [&](Index, Index b, Index e) {
-        for (Index t = b; t < e; ++t) lv.key[t] = bucket_of(lv.slots[t].cell[1], lv.slots[t].cell[2]);
-      });
     // counting sort of the small boxes by bucket, then each bucket sorted by (cell z, y, x, particle). Dense, and
     // when the cells along x are not too many: a counting sort by cell x first, so that the one by bucket (stable)
-    // leaves each row in (x, particle) order with no sort (members are ascending).
+    // leaves each row in (x, particle) order with no sort (members are ascending). One pass finds each box's bucket
+    // and counts both sorts' keys.
     const bool by_x = dense && dims[0] <= 4 * std::int64_t(small) + 64;
+    lv.key.resize(std::size_t(small));
     lv.bucket_start.assign(std::size_t(buckets) + 1, 0);
-    for (Index t = 0; t < small; ++t) ++lv.bucket_start[lv.key[t] + 1];
-    for (std::uint32_t b = 0; b < buckets; ++b) lv.bucket_start[b + 1] += lv.bucket_start[b];
-    lv.entries.resize(small);
-    lv.fill.assign(lv.bucket_start.begin(), lv.bucket_start.end() - 1);
-    auto enter = [&](Index t) { lv.entries[lv.fill[lv.key[t]]++] = lv.slots[t]; };
     if (by_x) {
       lv.x_start.assign(std::size_t(dims[0]) + 1, 0);
-      for (Index t = 0; t < small; ++t) ++lv.x_start[lv.slots[t].cell[0] - base[0] + 1];
+      for (Index t = 0; t < small; ++t) {
+        const Cell& cell = lv.slots[t].cell;
+        const std::uint32_t key = bucket_of(cell[1], cell[2]);
+        lv.key[t] = key;
+        ++lv.bucket_start[key + 1];
+        ++lv.x_start[cell[0] - base[0] + 1];
+      }
+    } else {
+      for (Index t = 0; t < small; ++t) {
+        const std::uint32_t key = bucket_of(lv.slots[t].cell[1], lv.slots[t].cell[2]);
+        lv.key[t] = key;
+        ++lv.bucket_start[key + 1];
+      }
+    }
+    for (std::uint32_t b = 0; b < buckets; ++b) lv.bucket_start[b + 1] += lv.bucket_start[b];
+    lv.entries.resize(small);
+    lv.cell_x.resize(std::size_t(small) + 8);
+    lv.particle.resize(std::size_t(small) + 8);
+    lv.fill.assign(lv.bucket_start.begin(), lv.bucket_start.end() - 1);
+    auto enter = [&](Index t) {  // also the walk's copies of the entries' cells along x and particles
+      const Slot& slot = lv.slots[t];
+      const Index at = lv.fill[lv.key[t]]++;
+      lv.entries[at] = slot;
+      lv.cell_x[at] = slot.cell[0];
+      lv.particle[at] = slot.particle;
+    };
+    if (by_x) {
       for (std::int64_t x = 0; x < dims[0]; ++x) lv.x_start[x + 1] += lv.x_start[x];
       lv.by_x.resize(small);
       for (Index t = 0; t < small; ++t) lv.by_x[lv.x_start[lv.slots[t].cell[0] - base[0]]++] = t;
@@ -609,12 +627,11 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
           else sort_bucket(E + start[b], E + start[b + 1], before);
         }
       });
-    lv.cell_x.resize(std::size_t(small) + 8);
-    lv.particle.resize(std::size_t(small) + 8);
-    for (Index k = 0; k < small; ++k) {
-      lv.cell_x[k] = E[k].cell[0];
-      lv.particle[k] = E[k].particle;
-    }
+    if (small > 1 && !by_x)  // the buckets' sorts moved entries: copy them again
+      for (Index k = 0; k < small; ++k) {
+        lv.cell_x[k] = E[k].cell[0];
+        lv.particle[k] = E[k].particle;
+      }
     for (Index k = small; k < small + 8; ++k) {
       lv.cell_x[k] = std::numeric_limits<std::int32_t>::max();
       lv.particle[k] = small > 0 ? E[0].particle : 0;
