@@ -15,6 +15,11 @@
 #include <benchmark/benchmark.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include <algorithm>
+#include <chrono>
+#include <thread>
+#include <vector>
+
 namespace {
 
 using Real = float;
@@ -44,21 +49,23 @@ World<Real> draped_cloth(int n) {
 }
 
 // Steps w once per benchmark iteration; counters: the share of the step and the ns per particle spent in the broad
-// phase and contact generation, the step's ns per particle, and the particle contacts per particle.
+// phase and contact generation, the step's ns per particle, and the particle and collider contacts per particle.
 void measure(benchmark::State& state, tbb::task_arena& arena, World<Real>& w) {
   double total = 0, broad = 0;
-  std::size_t contacts = 0;
+  std::size_t contacts = 0, colls = 0;
   for (auto _ : state) {
     arena.execute([&] { w.step(); });
     total += w.last_step_stats().seconds;
     broad += w.last_step_stats().seconds_collisions;
     contacts += w.last_particle_contacts().size();
+    colls += w.last_collisions().size();
   }
   const double steps = double(state.iterations()), n = double(w.num_particles());
   state.counters["broad_phase_share"] = broad / total;
   state.counters["broad_phase_ns_per_particle"] = 1e9 * broad / steps / n;
   state.counters["step_ns_per_particle"] = 1e9 * total / steps / n;
   state.counters["particle_contacts_per_particle"] = double(contacts) / steps / n;
+  state.counters["collider_contacts_per_particle"] = double(colls) / steps / n;
 }
 
 void BM_SelfCollidingClothStep(benchmark::State& state) {
@@ -66,6 +73,65 @@ void BM_SelfCollidingClothStep(benchmark::State& state) {
   tbb::task_arena arena(threads);
   World<Real> w = arena.execute([&] { return draped_cloth(n); });
   measure(state, arena, w);
+}
+
+// One world stepped on 1 thread against an equal one on 2, paired step by step (the order alternating), beside the
+// same run's ceiling: two more pairs of cloths, each pair stepped one after the other on one thread, or at once, one
+// cloth per thread, each in an arena of its own (shared nothing). Counters: the broad phase's share at 1 and 2
+// threads, the 2T/1T speed-ups of the broad phase and of the step (medians of the paired ratios), and the ceiling's.
+// The solver's bits do not depend on the thread count, so the two worlds must stay bitwise equal; checked at the end.
+void BM_SelfCollidingClothScaling(benchmark::State& state) {
+  const int n = int(state.range(0));
+  tbb::task_arena one(1), two(2), own[2] = {tbb::task_arena(1), tbb::task_arena(1)};
+  World<Real> w[2] = {one.execute([&] { return draped_cloth(n); }), two.execute([&] { return draped_cloth(n); })};
+  World<Real> apart[4] = {draped_cloth(n), draped_cloth(n), draped_cloth(n), draped_cloth(n)};
+  using clock = std::chrono::steady_clock;
+  auto seconds = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+  std::vector<double> broad_speedup, step_speedup, ceiling;
+  double total[2] = {0, 0}, broad[2] = {0, 0};
+  int turn = 0;
+  for (auto _ : state) {
+    double step[2], collide[2];
+    for (int k = 0; k < 2; ++k) {
+      const int t = (k + turn) & 1;  // 1 then 2 threads, then 2 then 1
+      (t == 0 ? one : two).execute([&] { w[t].step(); });
+      step[t] = w[t].last_step_stats().seconds;
+      collide[t] = w[t].last_step_stats().seconds_collisions;
+      total[t] += step[t];
+      broad[t] += collide[t];
+    }
+    double serial = 0, both = 0;
+    for (int k = 0; k < 2; ++k) {
+      if (((k + turn) & 1) == 0) {
+        const auto a = clock::now();
+        own[0].execute([&] {
+          apart[0].step();
+          apart[1].step();
+        });
+        serial = seconds(a, clock::now());
+      } else {
+        const auto a = clock::now();
+        std::thread other([&] { own[1].execute([&] { apart[3].step(); }); });
+        own[0].execute([&] { apart[2].step(); });
+        other.join();
+        both = seconds(a, clock::now());
+      }
+    }
+    turn ^= 1;
+    broad_speedup.push_back(collide[0] / collide[1]);
+    step_speedup.push_back(step[0] / step[1]);
+    ceiling.push_back(serial / both);
+  }
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  if (w[0].positions() != w[1].positions()) state.SkipWithError("1-thread and 2-thread positions differ");
+  state.counters["broad_phase_share_1T"] = broad[0] / total[0];
+  state.counters["broad_phase_share_2T"] = broad[1] / total[1];
+  state.counters["broad_phase_speedup"] = median(broad_speedup);
+  state.counters["step_speedup"] = median(step_speedup);
+  state.counters["shared_nothing_speedup"] = median(ceiling);
 }
 
 World<Real> grain_lattice(int side) {
@@ -124,4 +190,5 @@ BENCHMARK(BM_SelfCollidingClothStep)->ArgNames({"n", "threads"})->ArgsProduct({{
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SelfCollidingClothStep)->ArgNames({"n", "threads"})->ArgsProduct({{300}, {1, 2}})->Iterations(8)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SelfCollidingClothScaling)->ArgNames({"n"})->Arg(100)->Iterations(120)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();
