@@ -72,6 +72,25 @@ template <class Real> inline Cell cell_of(const Vec3<Real>& q, const Vec3<Real>&
   return {axis(0), axis(1), axis(2)};
 }
 
+#if defined(__SSE2__)
+// A float path's swept box: from x and p (lanes 0-2; lane 3 is ignored) in the frame moving with `frame`, grown by
+// `grow` (lo, hi). The boxes' pass and box_of (generate_particle_contacts) both call it: the same corners.
+inline void swept_corners4(__m128 from, __m128 at, __m128 frame, __m128 grow, __m128& lo, __m128& hi) {
+  const __m128 to = _mm_sub_ps(at, frame);
+  lo = _mm_sub_ps(_mm_min_ps(from, to), grow);
+  hi = _mm_add_ps(_mm_max_ps(from, to), grow);
+}
+#endif
+
+// The same for any Real, an axis at a time (the corners of the float path's box for float).
+template <class Real>
+inline void swept_corners(const Vec3<Real>& from, const Vec3<Real>& at, const Vec3<Real>& frame, Real grow, Vec3<Real>& lo,
+                          Vec3<Real>& hi) {
+  const Vec3<Real> to = at - frame;
+  lo = from.cwiseMin(to).array() - grow;
+  hi = from.cwiseMax(to).array() + grow;
+}
+
 inline std::uint32_t hash_cell(std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t mask) {
   const std::uint64_t h = std::uint64_t(x) * 73856093ull ^ std::uint64_t(y) * 19349663ull ^ std::uint64_t(z) * 83492791ull;
   return std::uint32_t((h ^ (h >> 29)) & mask);
@@ -300,7 +319,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     shared = (mean / double(count)).template cast<Real>();
   }
   // A box's cells (the lower and upper corners'), as the level's member k: small (0), in pieces (kSplit) or large
-  // (kLarge); an entry's lower cells widen [lo, hi], a large box's size adds to sum.
+  // (kLarge); an entry's lower cells widen [lo, hi]. True when large (its size then adds to the chunk's sum).
   using Level = typename ParticleGrid<Real>::Level;
   auto open_range = [](Cell& lo, Cell& hi, Eigen::Vector3d& sum) {
     constexpr std::int32_t top = std::numeric_limits<std::int32_t>::max(), bottom = std::numeric_limits<std::int32_t>::min();
@@ -308,8 +327,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     hi = {bottom, bottom, bottom};
     sum.setZero();
   };
-  auto classify_cells = [&](Level& lv, Index k, const Cell& a, const Cell& z, const Box& box, Cell& lo, Cell& hi,
-                            Eigen::Vector3d& sum) {
+  auto classify_cells = [&](Level& lv, Index k, const Cell& a, const Cell& z, Cell& lo, Cell& hi) {
     lv.lo[k] = a;
     lv.hi[k] = z;
     // pieces along each axis: blocks of two cells from the lower corner's (cells are clamped to ±1e9: no
@@ -326,18 +344,17 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       }
     }
     lv.key[k] = pieces == 1 ? 0 : pieces <= kMaxPieces ? kSplit : kLarge;
-    if (pieces > kMaxPieces) {
-      sum += (box.hi - box.lo).template cast<double>();
-      return;
-    }
+    if (pieces > kMaxPieces) return true;
     for (int d = 0; d < 3; ++d) {
       lo[d] = std::min(lo[d], a[d]);
       hi[d] = std::max(hi[d], top_corner[d]);
     }
+    return false;
   };
   auto classify = [&](Level& lv, Index k, const Box& box, const Vec3<Real>& inv, Cell& lo, Cell& hi,
                       Eigen::Vector3d& sum) {
-    classify_cells(lv, k, cell_of<Real>(box.lo, inv), cell_of<Real>(box.hi, inv), box, lo, hi, sum);
+    if (classify_cells(lv, k, cell_of<Real>(box.lo, inv), cell_of<Real>(box.hi, inv), lo, hi))
+      sum += (box.hi - box.lo).template cast<double>();
   };
   if (g.levels.empty()) g.levels.resize(1);
   Level& top = g.levels[0];
@@ -352,7 +369,6 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     top.extent.resize(std::min<Index>(kChunks, count));
   }
   g.movers.resize(n);
-  g.boxes.resize(n);
   over_chunks(count, fork(count), [&](Index ch, Index b, Index e) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero(), path = Eigen::Vector3d::Zero(), large;
     Cell lo, hi;
@@ -372,21 +388,18 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
       for (Index k = b; k < e; ++k) {
         const Index i = active[k];
         const __m128 from = load3(x.data() + 3 * std::size_t(i)), at = load3(p.data() + 3 * std::size_t(i));
-        const __m128 to = _mm_sub_ps(at, frame), grow = _mm_set1_ps(c.radius[i] + 0.5f * margin);
         _mm_store_ps(g.movers[i].x, with_w(from, c.radius[i]));
         _mm_store_ps(g.movers[i].p, with_w(at, m.inverse_mass[i] == 0.0f ? 1.0f : 0.0f));
-        const __m128 lo4 = _mm_sub_ps(_mm_min_ps(from, to), grow), hi4 = _mm_add_ps(_mm_max_ps(from, to), grow);
-        alignas(16) float corner[2][4];
-        _mm_store_ps(corner[0], lo4);
-        _mm_store_ps(corner[1], hi4);
-        Box& box = g.boxes[i];
-        box.lo = Vec3<Real>(corner[0][0], corner[0][1], corner[0][2]);
-        box.hi = Vec3<Real>(corner[1][0], corner[1][1], corner[1][2]);
-        const Index body = c.body_of[i];
-        box.group = c.bodies[body].self_collision ? ContactBodies<Real>::kNone : body;
-        size4 = _mm_add_ps(size4, _mm_sub_ps(hi4, lo4));
+        __m128 lo4, hi4;
+        swept_corners4(from, at, frame, _mm_set1_ps(c.radius[i] + 0.5f * margin), lo4, hi4);
+        const __m128 size = _mm_sub_ps(hi4, lo4);
+        size4 = _mm_add_ps(size4, size);
         path4 = _mm_add_ps(path4, _mm_sub_ps(at, from));
-        if (known) classify_cells(top, k, cell_of4(lo4, inv4), cell_of4(hi4, inv4), box, lo, hi, large);
+        if (known && classify_cells(top, k, cell_of4(lo4, inv4), cell_of4(hi4, inv4), lo, hi)) {
+          alignas(16) float extent[4];
+          _mm_store_ps(extent, size);
+          large += Eigen::Vector3d(extent[0], extent[1], extent[2]);
+        }
       }
       alignas(16) float sums[2][4];
       _mm_store_ps(sums[0], size4);
@@ -397,15 +410,10 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
 #endif
     for (Index k = b; k < e; ++k) {
       const Index i = active[k];
-      const Vec3<Real> from = x.col(i), to = p.col(i) - shared;
-      const Real grow = c.radius[i] + Real(0.5) * margin;
-      const Index body = c.body_of[i];
       g.movers[i] = {{x(0, i), x(1, i), x(2, i), c.radius[i]},
                      {p(0, i), p(1, i), p(2, i), m.inverse_mass[i] == Real(0) ? Real(1) : Real(0)}};
-      Box& box = g.boxes[i];
-      box.lo = from.cwiseMin(to).array() - grow;
-      box.hi = from.cwiseMax(to).array() + grow;
-      box.group = c.bodies[body].self_collision ? ContactBodies<Real>::kNone : body;
+      Box box;
+      swept_corners<Real>(x.col(i), p.col(i), shared, c.radius[i] + Real(0.5) * margin, box.lo, box.hi);
       sum += (box.hi - box.lo).template cast<double>();
       path += (p.col(i) - x.col(i)).template cast<double>();
       if (known) classify(top, k, box, inv0, lo, hi, large);
@@ -433,13 +441,40 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   using Mover = typename ParticleGrid<Real>::Mover;
   const Mover* P = g.movers.data();
   const bool avx2 = avx2_enabled();
+  // A particle's swept box, found again from its mover as the boxes' pass found it (only the few boxes of the levels
+  // after the first and the large ones need it: no pass stores them).
+  auto box_of = [&](Index i) {
+    Box box;
+    const Mover& a = P[i];
+#if defined(__SSE2__)
+    if constexpr (std::is_same_v<Real, float>) {
+      __m128 lo4, hi4;
+      swept_corners4(_mm_load_ps(a.x), _mm_load_ps(a.p), _mm_setr_ps(shared[0], shared[1], shared[2], 0.0f),
+                     _mm_set1_ps(a.x[3] + 0.5f * margin), lo4, hi4);
+      alignas(16) float corner[2][4];
+      _mm_store_ps(corner[0], lo4);
+      _mm_store_ps(corner[1], hi4);
+      box.lo = Vec3<Real>(corner[0][0], corner[0][1], corner[0][2]);
+      box.hi = Vec3<Real>(corner[1][0], corner[1][1], corner[1][2]);
+      return box;
+    }
+#endif
+    swept_corners<Real>(Vec3<Real>(a.x[0], a.x[1], a.x[2]), Vec3<Real>(a.p[0], a.p[1], a.p[2]), shared,
+                        a.x[3] + Real(0.5) * margin, box.lo, box.hi);
+    return box;
+  };
+  // A particle's body when that does not collide with itself, else kNone: two particles of one such group never touch.
+  auto group_of = [&](Index i) {
+    const Index body = c.body_of[i];
+    return c.bodies[body].self_collision ? ContactBodies<Real>::kNone : body;
+  };
   auto keep = [&](Index first, Index other, std::vector<ParticleContact<Real>>& mine) {  // a near pair, not joined
     const Index i = std::min(first, other), j = std::max(first, other);
     const Mover& a = P[i];
     const Mover& b = P[j];
     if (a.p[3] != Real(0) && b.p[3] != Real(0)) return;
-    const Index group = g.boxes[i].group;
-    if (group != ContactBodies<Real>::kNone && group == g.boxes[j].group) return;  // one body, no self-collision
+    const Index group = group_of(i);
+    if (group != ContactBodies<Real>::kNone && group == group_of(j)) return;  // one body, no self-collision
     const Real R = a.x[3] + b.x[3];
     const Vec3<Real> d0(a.x[0] - b.x[0], a.x[1] - b.x[1], a.x[2] - b.x[2]);
     const Vec3<Real> d1(a.p[0] - b.p[0], a.p[1] - b.p[1], a.p[2] - b.p[2]);
@@ -497,7 +532,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
         Cell lo, hi;
         Eigen::Vector3d sum;
         open_range(lo, hi, sum);
-        for (Index k = b; k < e; ++k) classify(lv, k, g.boxes[lv.members[k]], inv, lo, hi, sum);
+        for (Index k = b; k < e; ++k) classify(lv, k, box_of(lv.members[k]), inv, lo, hi, sum);
         lv.bounds[ch] = {lo, hi};
         lv.extent[ch] = sum;
       });
@@ -781,7 +816,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
         std::vector<ParticleContact<Real>>& mine = g.lists[first + ch];
         Others o;
         for (Index k = b; k < e; ++k) {
-          const Box& box = g.boxes[lv.large[k]];
+          const Box box = box_of(lv.large[k]);
           o.a = lv.large[k];
           Cell lo = cell_of<Real>(box.lo, inv), hi = cell_of<Real>(box.hi, inv);
           std::uint64_t rows = 1;

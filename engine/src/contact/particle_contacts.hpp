@@ -7,7 +7,9 @@
 //                are the same in any frame that moves with one, where a falling cloth's boxes stay short) grown by its
 //                radius and half the margin. Δ̄ and level 0's cell widths are the last sub-step's (kept here), so level
 //                0's cells are found in this pass; the first sub-step, or one with a new particle count, finds them
-//                in passes of their own. Neither changes the result, only which pairs are tested
+//                in passes of their own. Neither changes the result, only which pairs are tested. The pass stores
+//                what a pair test reads (movers) and level 0's cells, not the boxes: the few a later level needs are
+//                found again from the movers, the same corners
 //   3. levels    a uniform grid whose cells are as wide as the boxes are on average, along each axis. A box that
 //                spans at most two cells along every axis ("small") is entered once, by the cell of its lower corner,
 //                into the bucket of that cell's row along x (a counting sort into one bucket per row (y, z) of the
@@ -65,11 +67,9 @@ template <class Real> struct ParticleGrid {
     Real p[4];                                     //   predicted, m, then 1 when pinned (inverse mass 0), else 0
   };
   std::vector<Mover> movers;                       // per particle (those with a radius are filled)
-  struct Box {                                     // a particle's swept box
+  struct Box {                                     // a particle's swept box (not stored: found from its mover)
     Vec3<Real> lo, hi;                             //   in the sub-step's moving frame, m
-    Index group;                                   //   its body when that does not self-collide, else kNone
   };
-  std::vector<Box> boxes;                          // per particle (those with a radius are filled)
   struct Slot {                                    // a small box as a grid holds it
     Cell cell;                                     //   the cell of its lower corner
     Index particle;
