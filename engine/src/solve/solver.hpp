@@ -13,7 +13,9 @@
 //                           ends within the margin (colliders.hpp; a contact body's particle by its radius), and,
 //                           when a contact body has a radius, one per pair of particles whose relative path comes
 //                           within their radii and the margin (contact/particle_contacts.hpp: a grid of swept
-//                           boxes); each records its material and approach speed; colored for the colored solvers
+//                           boxes); each records its material and approach speed; colored for the colored solvers.
+//                           A parallel solver generates the two kinds at once (apart outputs): the colliders' chunks
+//                           fill the other threads while the broad phase runs its serial passes
 //   4. solve                `iterations` sweeps (sweep.hpp): each visits the built-in types in solver order
 //                           (constraint_types.hpp), the user-defined types, the volume constraints, the contacts
 //                           (the block solver: every type's block interiors first, then the rest as colored); a
