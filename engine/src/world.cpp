@@ -4,6 +4,7 @@
 
 #include "pbd/detail/message.hpp"
 #include "pbd/metrics.hpp"
+#include "contact/particle_contacts.hpp"
 #include "solve/integrate.hpp"
 #include "solve/restitution.hpp"
 #include "solve/parallel_range.hpp"
@@ -157,10 +158,10 @@ template <class Real> void World<Real>::advance(const Real* forces) {
                                            k.particle_contacts.items);
       };
       // Both at once when both run in parallel: their outputs are apart, and the colliders' chunks fill the other
-      // threads while the broad phase runs its serial passes. Not below 4096 particles, where neither forks: there
-      // the two take tens of microseconds, and waking a second thread costs more than it saves.
+      // threads while the broad phase runs its serial passes. Not below the particles from which the broad phase
+      // forks: there the two take tens of microseconds, and waking a second thread costs more than it saves.
       const bool with_colliders = !model_.colliders.empty(), with_contacts = model_.contact.particle_contacts();
-      if (with_colliders && with_contacts && parallel && n >= 4096) tbb::parallel_invoke(colliders, contacts);
+      if (with_colliders && with_contacts && parallel && n >= detail::kParallelContactsFrom) tbb::parallel_invoke(colliders, contacts);
       else {
         if (with_colliders) colliders();
         if (with_contacts) contacts();

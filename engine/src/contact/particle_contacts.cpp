@@ -299,7 +299,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
   if (count == 0) return;
   // Loops run in fixed chunks (over_chunks): whatever a chunk computes depends on its items only, and chunk results
   // are joined in chunk order, so nothing depends on threads.
-  auto fork = [&](Index items) { return parallel && items >= 4096; };
+  auto fork = [&](Index items) { return parallel && items >= kParallelContactsFrom; };
   // 2. swept boxes in a frame that moves with a mean path Δ̄ (relative paths, all a pair test reads, are the same in
   // any such frame; a falling cloth's boxes stay short there): the last sub-step's when there was one with as many
   // particles, else this one's, from a pass of its own. With the last sub-step's cell widths known as well, level 0's

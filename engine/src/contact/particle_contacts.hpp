@@ -96,6 +96,9 @@ template <class Real> struct ParticleGrid {
   std::vector<std::vector<ParticleContact<Real>>> lists;  // per chunk of each level's work: its contacts
 };
 
+/// Items from which the broad phase's loops run in parallel (fewer take a few microseconds: a fork costs more).
+constexpr Index kParallelContactsFrom = 4096;
+
 /// Brings m.contact's per-particle arrays up to date (after bodies or particles were added).
 template <class Real> void cook_contact_bodies(Model<Real>& m);
 
