@@ -1,6 +1,7 @@
 // `pbd color SCENE`: colors a scene's constraints the way the colored solver will and prints the statistics
 // (colors, lower bound, batch sizes, time) per constraint type and overall; optionally as JSON.
 #include "commands.hpp"
+#include "pbd/io/atomic_file.hpp"
 #include "pbd/io/build_world.hpp"
 #include "scene_dir.hpp"
 
@@ -8,7 +9,6 @@
 #include <pbd/graph_coloring/graph_coloring.hpp>
 
 #include <algorithm>
-#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -67,8 +67,11 @@ void run(const ColorOptions& o) {
                           {"balance", o.balance},
                           {"types", nlohmann::json::array()}};
     for (const auto& r : rows) out["types"].push_back(to_json(r));
-    std::ofstream f(o.json);
-    if (!(f << out.dump(2) << "\n")) throw Error("pbd color: cannot write " + o.json);
+    try {
+      write_file_atomically(o.json, out.dump(2) + "\n");
+    } catch (const Error& e) {
+      throw Error(std::string("--json: ") + e.what());
+    }
   }
 }
 

@@ -1,11 +1,14 @@
-// `pbd run SCENE`: steps a scene and writes its frames as OBJ files; prints the time per step and, for every
-// volume constraint, the volume reached against its target.
+// `pbd run SCENE`: steps a scene and writes its frames as OBJ files; prints the time per step, for every volume
+// constraint the volume reached against its target, and the final state hash (a determinism check with
+// --expect-hash); --stats writes each step's phase times as CSV.
 #include "commands.hpp"
+#include "pbd/io/atomic_file.hpp"
 #include "pbd/io/build_world.hpp"
 #include "pbd/io/frame_writer.hpp"
 #include "pbd/metrics.hpp"
 #include "scene_dir.hpp"
 
+#include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
@@ -14,6 +17,7 @@
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <sstream>
 #include <vector>
 
 namespace pbd::cli {
@@ -27,11 +31,32 @@ struct RunOptions {
   std::string solver = "colored";
   std::string sweep_order;  // empty: the scene's own
   int threads = 0;  // 0: the arena's default
+  std::string expect_hash;  // empty: no check
+  std::string stats;        // --stats FILE: per-step phase times as CSV
   std::string precision = "float";
   std::optional<double> chebyshev_rho;  // --chebyshev: accelerate with this ρ (0: estimated)
 };
 
-template <class Real> void run(const Scene& scene, const RunOptions& o, int steps) {
+// The state hash as `pbd run` prints it and --expect-hash takes it: 16 lowercase hex digits.
+std::string hex(std::uint64_t h) {
+  char s[17];
+  std::snprintf(s, sizeof s, "%016llx", static_cast<unsigned long long>(h));
+  return s;
+}
+
+// One CSV row of a step's statistics (the header is kStatsHeader).
+constexpr const char* kStatsHeader =
+    "step,time_s,seconds,seconds_integrate,seconds_collisions,seconds_coloring,seconds_solve,seconds_waiting,"
+    "solve_threads,substeps,sweeps,colors,collisions\n";
+void stats_row(std::ostringstream& csv, int step, double time, const StepStats& s) {
+  char line[320];
+  std::snprintf(line, sizeof line, "%d,%.9g,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%d,%d,%d,%u,%zu\n", step, time, s.seconds,
+                s.seconds_integrate, s.seconds_collisions, s.seconds_coloring, s.seconds_solve, s.seconds_waiting,
+                s.solve_threads, s.substeps, s.sweeps, unsigned(s.colors), s.collisions);
+  csv << line;
+}
+
+template <class Real> void run(const Scene& scene, const RunOptions& o, int steps, int threads) {
   World<Real> world = build_world<Real>(scene.world);
   StepParams<Real> params = world.params();
   params.solver = *parse_solver(o.solver);
@@ -64,8 +89,10 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
               world.template constraints<AreaConstraint<Real>>().size(), volumes.size(),
               world.template constraints<AnchorConstraint<Real>>().size());
   std::printf("# solver %s on %d threads, %s, dt %.6g s, %d substeps x %d iterations, %d steps\n", o.solver.c_str(),
-              tbb::this_task_arena::max_concurrency(), sizeof(Real) == 4 ? "float" : "double", double(params.dt),
+              is_parallel(params.solver) ? threads : 1, sizeof(Real) == 4 ? "float" : "double", double(params.dt),
               params.substeps, params.iterations, steps);
+  std::ostringstream csv;
+  if (!o.stats.empty()) csv << kStatsHeader;
   frame(0);
   std::vector<double> ms;
   auto last_report = std::chrono::steady_clock::now();
@@ -74,6 +101,7 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     world.step();
     const auto t1 = std::chrono::steady_clock::now();
     ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    if (!o.stats.empty()) stats_row(csv, s, world.time(), world.last_step_stats());
     frame(s);
     if (std::chrono::duration<double>(t1 - last_report).count() > 1.0) {
       std::fprintf(stderr, "pbd run: step %d of %d\n", s, steps);
@@ -99,6 +127,21 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
                 vc.pressure.at(world.time()), 100.0 * (now / target - 1.0));
   }
   if (written) std::printf("wrote %d frames to %s\n", written, dir.string().c_str());
+  if (!o.stats.empty()) {
+    write_file_atomically(o.stats, csv.str());
+    std::printf("wrote per-step statistics to %s\n", o.stats.c_str());
+  }
+  const std::string hash = hex(position_hash(world));
+  std::printf("state hash: %s\n", hash.c_str());
+  if (!o.expect_hash.empty() && hash != o.expect_hash)
+    throw Error("--expect-hash: the final state hash is " + hash + ", expected " + o.expect_hash);
+}
+
+// The threads an arena of `requested` threads really runs: oneTBB runs at most its max_allowed_parallelism (the
+// machine's cores unless a host lowered it).
+int actual_threads(int requested) {
+  const int allowed = int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  return requested > 0 ? std::min(requested, allowed) : allowed;
 }
 
 }  // namespace
@@ -118,17 +161,36 @@ void add_run_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 0.999999));
   cmd->add_option("--sweep-order", o->sweep_order, "forward or symmetric (default: the scene's own)")
       ->check(CLI::IsMember({"forward", "symmetric"}));
-  cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--threads", o->threads, "Worker threads (default: all cores; at most what the machine gives)")
+      ->check(CLI::Range(1, 1024));
+  cmd->add_option("--expect-hash", o->expect_hash,
+                  "Exit with an error unless the final state hash (printed last) equals this one (16 hex digits)")
+      ->check([](const std::string& h) {
+        return h.size() == 16 && h.find_first_not_of("0123456789abcdef") == std::string::npos
+                   ? std::string()
+                   : "a state hash is 16 lowercase hex digits, as `pbd run` prints it";
+      });
+  cmd->add_option("--stats", o->stats, "Write each step's phase times (s) and counts to this CSV file");
   cmd->add_option("--precision", o->precision, "float or double")
       ->check(CLI::IsMember({"float", "double"}))
       ->capture_default_str();
   cmd->callback([o] {
+    if (!o->stats.empty()) {  // refused before the run, not after it
+      const std::filesystem::path folder = std::filesystem::absolute(o->stats).parent_path();
+      std::error_code ec;
+      if (!std::filesystem::is_directory(folder, ec))
+        throw Error("--stats: " + o->stats + ": the folder " + folder.string() + " does not exist");
+    }
     const Scene scene = load_builtin_scene(o->scene);
     const int steps = o->steps > 0 ? o->steps : scene.steps;
-    tbb::task_arena arena(o->threads > 0 ? o->threads : tbb::task_arena::automatic);
+    const int threads = actual_threads(o->threads);
+    if (o->threads > threads)
+      std::fprintf(stderr, "pbd run: --threads %d: this machine runs at most %d threads; running on %d\n", o->threads,
+                   threads, threads);
+    tbb::task_arena arena(threads);
     arena.execute([&] {
-      if (o->precision == "double") run<double>(scene, *o, steps);
-      else run<float>(scene, *o, steps);
+      if (o->precision == "double") run<double>(scene, *o, steps, threads);
+      else run<float>(scene, *o, steps, threads);
     });
   });
 }

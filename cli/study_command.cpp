@@ -5,6 +5,7 @@
 // converged reference), and reports them as a table, CSV or JSON on stdout, a JSON file and plots.
 #include "commands.hpp"
 #include "pbd/error.hpp"
+#include "pbd/io/atomic_file.hpp"
 #include "study_environment.hpp"
 #include "study_options.hpp"
 #include "study_report.hpp"
@@ -21,26 +22,15 @@
 namespace pbd::cli {
 namespace {
 
-// Writes `text` to `file` through a temporary name in the same folder, renamed when complete: a failed write
-// leaves no file, and never half of one.
+// Writes `text` to `file` whole or not at all (write_file_atomically), creating its folder; errors name `flag`.
 void write_file(const std::filesystem::path& file, const std::string& text, const std::string& flag) {
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
-  const std::filesystem::path tmp = file.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    f.flush();
-    if (!f) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw Error(flag + ": cannot write " + file.string());
-    }
-  }
   std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(flag + ": cannot write " + file.string() + " (" + ec.message() + ")");
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
+  if (ec) throw Error(flag + ": " + file.parent_path().string() + ": cannot create the folder (" + ec.message() + ")");
+  try {
+    write_file_atomically(file, text);
+  } catch (const Error& e) {
+    throw Error(flag + ": " + e.what());
   }
 }
 
