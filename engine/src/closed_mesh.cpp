@@ -84,15 +84,17 @@ EdgeGroups group_edges(std::span<const std::array<Index, 3>> tris) {
 
 }  // namespace
 
-std::optional<std::string> closed_mesh_defect(std::span<const std::array<Index, 3>> triangles, Index num_vertices) {
+std::optional<std::string> closed_mesh_defect(std::span<const std::array<Index, 3>> triangles, Index num_vertices,
+                                              Index first_number) {
+  const std::uint64_t base = first_number;
   if (triangles.empty()) return std::string("the mesh has no triangles");
   for (std::size_t t = 0; t < triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       if (triangles[t][k] >= num_vertices)
-        return detail::message("triangle ", t, ": vertex index ", triangles[t][k], " out of range (", num_vertices,
-                               " vertices)");
+        return detail::message("triangle ", t + base, ": vertex ", triangles[t][k] + base, " out of range (",
+                               num_vertices, " vertices)");
       if (triangles[t][k] == triangles[t][(k + 1) % 3])
-        return detail::message("triangle ", t, " names vertex ", triangles[t][k], " twice");
+        return detail::message("triangle ", t + base, " names vertex ", triangles[t][k] + base, " twice");
     }
   if (3 * triangles.size() >= std::size_t(UINT32_MAX))
     return detail::message("the mesh has ", triangles.size(), " triangles, too many to check");
@@ -103,7 +105,7 @@ std::optional<std::string> closed_mesh_defect(std::span<const std::array<Index, 
     const auto& c = g.count[g.group[h]];
     const std::uint32_t forward = c[a < b ? 0 : 1], backward = c[a < b ? 1 : 0];
     if (forward == 1 && backward == 1) continue;
-    const std::string edge = detail::message("edge (", a, ", ", b, ")");
+    const std::string edge = detail::message("edge (", a + base, ", ", b + base, ")");
     if (forward + backward == 1) return edge + " belongs to one triangle only: the mesh is open";
     if (forward + backward > 2)
       return detail::message(edge, " is shared by ", forward + backward, " triangles: the mesh is not manifold");

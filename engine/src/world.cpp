@@ -32,7 +32,8 @@ template <class Real> World<Real>& World<Real>::operator=(World&&) noexcept = de
 template <class Real>
 World<Real>::World(const World& o)
     : model_(o.model_), state_(o.state_), params_(o.params_), stats_(o.stats_),
-      measure_violation_(o.measure_violation_), parallel_(o.parallel_), force_callback_(o.force_callback_) {}
+      measure_violation_(o.measure_violation_), host_wrote_(o.host_wrote_), parallel_(o.parallel_),
+      force_callback_(o.force_callback_) {}
 template <class Real> World<Real>& World<Real>::operator=(const World& o) {
   if (this != &o) {
     World copy(o);
@@ -88,7 +89,22 @@ double seconds_since(clock::time_point t) { return std::chrono::duration<double>
 
 }  // namespace
 
+template <class Real> void World<Real>::check_state_finite() const {
+  if (state_.x.allFinite() && state_.v.allFinite()) return;
+  for (Index i = 0; i < num_particles(); ++i)
+    for (const auto* what : {&state_.x, &state_.v})
+      if (!what->col(i).allFinite()) {
+        const auto c = what->col(i);
+        throw Error(detail::message("step: particle ", i, " has a non-finite ", what == &state_.x ? "position" : "velocity",
+                                    " (", c[0], ", ", c[1], ", ", c[2], "), written between steps"));
+      }
+}
+
 template <class Real> void World<Real>::advance(const Real* forces) {
+  if (host_wrote_) {  // the host held a mutable map: check what it may have written, before anything changes
+    check_state_finite();
+    host_wrote_ = false;
+  }
   const auto t0 = clock::now();
   stats_ = StepStats{};
   detail::Scratch<Real>& k = scratch();

@@ -172,6 +172,9 @@ double json_number(const nlohmann::json& v, const std::string& file, const std::
   if (!v.is_number()) json_fail(file, path, message("expected a number, got ", describe(v)));
   const double x = v.get<double>();
   if (!std::isfinite(x)) json_fail(file, path, "expected a finite number");
+  if (std::abs(x) > double(std::numeric_limits<float>::max()))
+    json_fail(file, path, message("value ", x, " is beyond the range of float (", std::numeric_limits<float>::max(),
+                                  "): a scene must run in float as well as in double"));
   if (x < lo || x > hi) json_fail(file, path, message("value ", x, " is out of range [", lo, ", ", hi, "]"));
   return x;
 }

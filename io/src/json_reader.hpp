@@ -62,11 +62,12 @@ private:
 
 /// Error at an arbitrary path of `file`.
 [[noreturn]] void json_fail(const std::string& file, const std::string& path, const std::string& what);
-/// Reads a number from `v` (at `path`): finite and in [lo, hi].
+/// Reads a number from `v` (at `path`): finite, within float's range (every scene runs in float and double), and
+/// in [lo, hi].
 double json_number(const nlohmann::json& v, const std::string& file, const std::string& path, double lo, double hi);
 /// Reads an integer from `v` (at `path`) in [lo, hi].
 long json_integer(const nlohmann::json& v, const std::string& file, const std::string& path, long lo, long hi);
-/// Reads a finite 3-vector [x, y, z] from `v` (at `path`).
+/// Reads a 3-vector [x, y, z] from `v` (at `path`), each component as json_number reads it.
 std::array<double, 3> json_vec3(const nlohmann::json& v, const std::string& file, const std::string& path);
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();

@@ -2,7 +2,9 @@
 
 #include "json_reader.hpp"
 #include "scene_contact.hpp"
+#include "scene_size.hpp"
 #include "pbd/detail/message.hpp"
+#include "pbd/closed_mesh.hpp"
 #include "pbd/io/description_builder.hpp"
 #include "pbd/io/generators.hpp"
 #include "pbd/io/mesh_body.hpp"
@@ -26,11 +28,7 @@ using detail::kInf;
 using detail::message;
 
 constexpr std::uintmax_t kMaxSceneBytes = 64u << 20;  // a scene file names generators, not meshes: 64 MiB is plenty
-#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
-constexpr long kMaxParticles = 100'000;  // fuzz builds (tests/fuzz): every accepted input stays small and fast
-#else
-constexpr long kMaxParticles = 50'000'000;
-#endif
+constexpr long kMaxParticles = detail::kMaxSceneParticles;
 
 // Throws unless a body of `count` particles still fits in the scene's particle limit: checked before anything is
 // generated, so a huge resolution is refused instead of allocated.
@@ -40,6 +38,17 @@ void check_particle_budget(const JsonObject& o, const std::string& key, const De
   if (count > std::uint64_t(kMaxParticles) - std::min(have, std::uint64_t(kMaxParticles)))
     o.fail(key, message("this body has ", count, " particles; with the ", have, " before it the scene would exceed its "
                         "limit of ", kMaxParticles, " particles"));
+}
+
+// A scene's name names its files (frames, reports): a plain file name, so that nothing lands outside the folder given.
+void check_scene_name(const JsonObject& o, const std::string& name) {
+  if (name.empty() || name == "." || name == "..")
+    o.fail("name", message("a scene name must be a plain file name, not ", detail::quoted(name)));
+  if (name.size() > 100) o.fail("name", message("a scene name is at most 100 bytes; this one has ", name.size()));
+  for (const char c : name)
+    if (c == '/' || c == '\\' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      o.fail("name", message("a scene name must be a plain file name (no '/', '\\' or control characters): ",
+                             detail::quoted(name)));
 }
 
 // A direction or normal: non-zero and of finite length.
@@ -154,17 +163,23 @@ TriangleMesh read_generator(const JsonObject& g, const DescriptionBuilder& world
 Body read_mesh(const JsonObject& o, DescriptionBuilder& world) {
   if (o.has("generator") == o.has("obj")) o.fail("generator", "give exactly one of \"generator\" and \"obj\"");
   TriangleMesh mesh;
+  std::string obj_file;
   if (o.has("obj")) {
     const std::string name = o.string("obj");
     if (name.empty()) o.fail("obj", "the file name is empty");
     if (name.find('\0') != std::string::npos) o.fail("obj", "the file name contains a NUL character");
     const std::filesystem::path file = std::filesystem::path(o.file()).parent_path() / name;
+    obj_file = file.string();
     try {
       mesh = load_obj(file);
     } catch (const Error& e) {
       o.fail("obj", e.what());
     }
     check_particle_budget(o, "obj", world, mesh.num_vertices());
+    if (o.has("volume"))  // named as the OBJ file numbers them, from 1
+      if (const auto defect = closed_mesh_defect(mesh.triangles, mesh.num_vertices(), 1))
+        o.fail("obj", message(file.string(), ": a volume needs a closed mesh: ", *defect,
+                              " (vertex numbers as in the file, from 1)"));
   } else {
     mesh = read_generator(o.object("generator"), world);
   }
@@ -183,8 +198,8 @@ Body read_mesh(const JsonObject& o, DescriptionBuilder& world) {
   sets.pressure = surface.pressure;
   try {
     return add_mesh(world, mesh, opts, sets);
-  } catch (const Error& e) {
-    o.fail(o.has("obj") ? "obj" : "generator", e.what());
+  } catch (const Error& e) {  // e.g. a volume on a flat or inside-out mesh: named with the OBJ file it came from
+    o.fail(o.has("obj") ? "obj" : "generator", o.has("obj") ? message(obj_file, ": ", e.what()) : e.what());
   }
 }
 
@@ -295,7 +310,8 @@ void read_collider(const nlohmann::json& v, const std::string& file, const std::
   if (type == "plane") {
     const Eigen::Vector3d n = direction(c, "normal", c.vec3("normal"));
     const double offset = c.number("offset", -kInf, kInf, 0.0) * n.norm();  // n·x >= d with n not yet normalized
-    if (!std::isfinite(offset)) c.fail("offset", "offset × |normal| overflows");
+    if (!(std::abs(offset) <= double(std::numeric_limits<float>::max())))
+      c.fail("offset", "offset × |normal| is beyond the range of float (the plane is stored with a unit normal)");
     world.add_plane(n, offset, detail::read_contact_material(c));
   } else if (type == "sphere") {
     const Eigen::Vector3d center = vec(c.vec3("center"));
@@ -326,12 +342,14 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   const nlohmann::json root = detail::parse_json(text, source);
   const std::string& f = source;
   const JsonObject o(root, f, "");
+  detail::check_scene_size(root, f);  // every body sized before any is built
   // The description is built as the scene is read, with World<double>'s checks and rest values (DescriptionBuilder);
   // an error from those gets the file and key path in front (at_path).
   DescriptionBuilder world;
   Scene scene;
   scene.source = source;
   scene.name = o.string("name");
+  check_scene_name(o, scene.name);
   scene.description = o.string("description", "");
   scene.steps = int(o.integer("steps", 1, 100'000'000, 100));
   if (o.has("primary_error")) {

@@ -68,6 +68,35 @@ TEST(WorldErrors, NonFinitePositionOrVelocity) {
   expect_rejected([](auto& w) { w.add_particle({0, 0, 0}, 1.0, {0, 0, nan}); }, {"particle 3", "velocity"});
 }
 
+TEST(WorldErrors, NonFiniteValuesWrittenThroughTheMapsStopTheNextStep) {
+  for (const bool velocity : {false, true}) {
+    Fixture f;
+    f.w.step();
+    const World<double> before = f.w;
+    if (velocity) f.w.velocities()(2, 1) = inf;
+    else f.w.positions()(0, 1) = nan;
+    const std::string what = velocity ? "velocity" : "position";
+    try {
+      f.w.step();
+      ADD_FAILURE() << "no pbd::Error for a non-finite " << what;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("step: particle 1 has a non-finite " + what), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(f.w.time(), before.time());  // nothing stepped
+    if (velocity) f.w.velocities()(2, 1) = 0;
+    else f.w.positions()(0, 1) = before.positions()(0, 1);
+    EXPECT_EQ(f.w.positions(), before.positions());
+    f.w.step();  // repaired: steps again
+    EXPECT_TRUE(f.w.positions().allFinite());
+  }
+  // A map handed out and left alone: the check passes and the step is the same as without it.
+  Fixture a, b;
+  a.w.positions();
+  a.w.step();
+  b.w.step();
+  EXPECT_EQ(a.w.positions(), b.w.positions());
+}
+
 TEST(WorldErrors, NegativeZeroOrNaNMass) {
   expect_rejected([](auto& w) { w.add_particle({0, 0, 0}, -1.0); }, {"particle 3", "mass"});
   expect_rejected([](auto& w) { w.add_particle({0, 0, 0}, 0.0); }, {"particle 3", "mass"});

@@ -96,7 +96,7 @@ TEST(BadInputScene, NumbersBeyondDoubleAreParseErrorsNotCrashes) {
   expect_scene_error("1e400", {"bad.json: parse error at line 1", "1e400"});  // the root: no key to name
   expect_scene_error(replaced(kScene, "0.01", "NaN"), {"parse error at line 1"});
   expect_scene_error(replaced(kScene, "0.01", "Infinity"), {"parse error at line 1"});
-  expect_scene_error(replaced(kScene, "0.01", "1e308"), {"/dt", "out of range"});
+  expect_scene_error(replaced(kScene, "0.01", "1e308"), {"/dt", "beyond the range of float"});
   expect_scene_error(replaced(kScene, "\"particles\": 3", "\"particles\": 99999999999999999999"),
                      {"/bodies/1/particles", "expected an integer"});
   expect_scene_error(replaced(kScene, "\"particles\": 3", "\"particles\": 18446744073709551615"),
@@ -106,13 +106,33 @@ TEST(BadInputScene, NumbersBeyondDoubleAreParseErrorsNotCrashes) {
 }
 
 TEST(BadInputScene, VectorsWhoseLengthOverflowsOrVanishes) {
-  expect_scene_error(replaced(kScene, "[1, 0, 0]", "[1e300, 1e300, 0]"), {"/bodies/1/direction", "too long"});
+  expect_scene_error(replaced(kScene, "[1, 0, 0]", "[1e300, 1e300, 0]"), {"/bodies/1/direction/0", "range of float"});
   expect_scene_error(replaced(kScene, "[1, 0, 0]", "[1e-200, 0, 0]"), {"/bodies/1/direction", "zero"});
-  expect_scene_error(replaced(kScene, "[0, 0, 1]", "[1e200, 0, 1e200]"), {"/colliders/0/normal", "too long"});
-  EXPECT_NO_THROW(parse_scene(replaced(kScene, "\"offset\": 0", "\"offset\": 1e300"), "ok.json"));
-  // offset × |normal| (the offset is along the normal as given) overflows with a long normal
-  expect_scene_error(replaced(replaced(kScene, "\"offset\": 0", "\"offset\": 1e300"), "[0, 0, 1]", "[0, 0, 1e10]"),
-                     {"/colliders/0/offset", "overflows"});
+  expect_scene_error(replaced(kScene, "[0, 0, 1]", "[1e200, 0, 1e200]"), {"/colliders/0/normal/0", "range of float"});
+  EXPECT_NO_THROW(parse_scene(replaced(kScene, "\"offset\": 0", "\"offset\": 3e38"), "ok.json"));
+  // offset × |normal| (the offset is along the normal as given) leaves float's range with a long normal
+  expect_scene_error(replaced(replaced(kScene, "\"offset\": 0", "\"offset\": 3e38"), "[0, 0, 1]", "[0, 0, 10]"),
+                     {"/colliders/0/offset", "beyond the range of float"});
+}
+
+TEST(BadInputScene, EveryValueFitsFloatSoTheErrorNamesTheKeyNotAConversion) {
+  // A gravity of 1e308 is finite in double; it used to fail only in build_world<float>, naming neither file nor key.
+  expect_scene_error(replaced(kScene, "\"dt\": 0.01", "\"dt\": 0.01, \"gravity\": [0, 0, 1e308]"),
+                     {"bad.json: /gravity/2: ", "1e+308", "beyond the range of float"});
+  expect_scene_error(replaced(kScene, "[1,0,0]", "[1,-4e38,0]"), {"bad.json: /bodies/0/positions/1/1: ", "float"});
+  expect_scene_error(replaced(kScene, "[0,1,0]", "[0,1e39,0]"), {"bad.json: /bodies/0/velocities/1/1: ", "float"});
+  EXPECT_NO_THROW(parse_scene(replaced(kScene, "[1,0,0]", "[1,-3e38,0]"), "ok.json"));  // float's largest is 3.4e38
+}
+
+TEST(BadInputScene, TheNameIsAPlainFileNameNotAPath) {
+  // It names the frames `pbd run --frames DIR` writes: "../../x" used to put them two folders above DIR.
+  for (const char* name : {"../../x", "a/b", "/etc/x", "a\\\\b", "..", ".", "", "a\\u0001b"})
+    expect_scene_error(replaced(kScene, "\"name\": \"t\"", std::string("\"name\": \"") + name + "\""),
+                       {"bad.json: /name: ", "plain file name"});
+  expect_scene_error(replaced(kScene, "\"name\": \"t\"", "\"name\": \"" + std::string(101, 'x') + "\""),
+                     {"/name", "at most 100 bytes"});
+  EXPECT_EQ(parse_scene(replaced(kScene, "\"name\": \"t\"", "\"name\": \"cloth-fold_2.v1\""), "ok.json").name,
+            "cloth-fold_2.v1");
 }
 
 // --- scenes: oversized ------------------------------------------------------------------------------------------
@@ -129,6 +149,24 @@ TEST(BadInputScene, HugeGeneratorsAreRefusedBeforeAllocating) {
   expect_scene_error(R"({"name": "t", "dt": 0.01, "bodies": [
     {"type": "mesh", "generator": {"type": "grid", "resolution": 4097}}]})",
                      {"/bodies/0/generator/resolution", "out of range"});
+}
+
+TEST(BadInputScene, EveryBodyIsSizedBeforeAnyIsBuilt) {
+  // Four 4096² cloths: 67 M particles. The first three fit the limit one by one and used to be built (31 s,
+  // 3.4 GB) before the fourth was refused; now the sizes are added up from the keys before anything is built.
+  const std::string cloth = R"({"type": "cloth", "resolution": 4096, "stretch": {}})";
+  const std::string four = R"({"name": "t", "dt": 0.01, "bodies": [)" + cloth + "," + cloth + "," + cloth + "," +
+                           cloth + "]}";
+  expect_scene_error(four, {"bad.json: /bodies/2/resolution: ", "16777216 particles", "33554432 of the bodies before it",
+                            "limit of 50000000 particles"});
+  // Two cloths with every surface constraint: 33.5 M particles fit, 268 M constraints do not.
+  const std::string full = R"({"type": "cloth", "resolution": 4096, "stretch": {}, "bending": {}, "area": {}})";
+  expect_scene_error(R"({"name": "t", "dt": 0.01, "bodies": [)" + full + "," + full + "]}",
+                     {"bad.json: /bodies/1/resolution: ", "constraints", "limit of 200000000 constraints"});
+  const std::string spheres = R"({"type": "mesh", "generator": {"type": "icosphere", "level": 8}, "stretch": {}})";
+  std::string many = R"({"name": "t", "dt": 0.01, "bodies": [)" + spheres;
+  for (int i = 0; i < 99; ++i) many += "," + spheres;  // 100 × 655362 vertices
+  expect_scene_error(many + "]}", {"/bodies/76/generator/level: ", "limit of 50000000 particles"});
 }
 
 TEST(BadInputScene, OversizedTextAndDeepNesting) {
@@ -204,6 +242,20 @@ TEST_F(BadInputSceneMesh, TheErrorNamesTheSceneTheKeyTheMeshAndItsLine) {
   expect_words(scene_error("tetra.obj\\u0000.png"), {"/bodies/0/obj", "NUL"});
   write("twice.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 1\n");  // would give stretch (0, 0)
   expect_words(scene_error("twice.obj"), {"/bodies/0/obj: ", "twice.obj:4: ", "vertex 1 twice"});
+}
+
+TEST_F(BadInputSceneMesh, VolumeErrorsNameTheObjFileAndItsOneBasedVertices) {
+  write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n");  // face 1 4 3 missing
+  const auto open = write("open.json", R"({"name": "m", "dt": 0.01, "bodies": [
+    {"type": "mesh", "obj": "open.obj", "volume": {}}]})");
+  expect_words(error_of([&] { load_scene(open); }),
+               {"open.json: /bodies/0/obj: ", "open.obj: ", "edge (1, 3) belongs to one triangle only",
+                "vertex numbers as in the file, from 1"});
+  write("inside_out.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n");
+  const auto inside_out = write("inside_out.json", R"({"name": "m", "dt": 0.01, "bodies": [
+    {"type": "mesh", "obj": "inside_out.obj", "volume": {}}]})");
+  expect_words(error_of([&] { load_scene(inside_out); }),
+               {"inside_out.json: /bodies/0/obj: ", "inside_out.obj: ", "inside out"});
 }
 
 TEST_F(BadInputSceneMesh, SpecialFilesAreNotRead) {

@@ -166,7 +166,7 @@ TEST(GrainsErrors, EachBadKeyIsNamed) {
   expect_error(replaced(kGrains, count, "\"count\": [4, -3, 2]"), {"/bodies/1/count/1", "out of range"});
   expect_error(replaced(kGrains, count, "\"count\": [4, 3, 2.5]"), {"/bodies/1/count/2", "integer"});
   expect_error(replaced(kGrains, count, "\"count\": [4, \"3\", 2]"), {"/bodies/1/count/1", "integer"});
-  expect_error(replaced(kGrains, count, "\"count\": [10000, 10000, 1]"), {"/bodies/1/count", "nx × ny", "limit"});
+  expect_error(replaced(kGrains, count, "\"count\": [10000, 10000, 1]"), {"/bodies/1/count", "100000000 particles", "limit"});
   expect_error(replaced(kGrains, count, "\"count\": [5000, 5000, 3]"), {"/bodies/1/count", "75000000", "limit"});
   expect_error(replaced(kGrains, count, "\"count\": [50000000, 50000000, 50000000]"), {"/bodies/1/count", "limit"});
   expect_error(replaced(kGrains, "\"spacing\": 0.1, ", ""), {"/bodies/1/spacing", "missing"});
@@ -184,7 +184,7 @@ TEST(GrainsErrors, EachBadKeyIsNamed) {
   expect_error(replaced(kGrains, "\"seed\": 7", "\"stretch\": {}"), {"/bodies/1/stretch", "unknown key"});
   expect_error(replaced(kGrains, "\"grains\"", "\"grain\""), {"/bodies/1/type", "\"grains\""});
   // The particles before count against the scene's limit too.
-  expect_error(replaced(kGrains, count, "\"count\": [1000, 1000, 50]"), {"/bodies/1/count", "with the 1 before"});
+  expect_error(replaced(kGrains, count, "\"count\": [1000, 1000, 50]"), {"/bodies/1/count", "with the 1 of the bodies before it"});
 }
 
 }  // namespace

@@ -14,8 +14,10 @@ namespace pbd {
 /// Why `triangles` cannot bound a volume, or nothing if they can: every directed edge (a, b) must appear exactly
 /// once and its reverse (b, a) exactly once (closed, manifold, consistently oriented). Names the first bad edge in
 /// triangle order, e.g. "edge (4, 7) belongs to one triangle only: the mesh is open". Also rejects an index ≥
-/// `num_vertices` and a triangle naming a vertex twice.
-std::optional<std::string> closed_mesh_defect(std::span<const std::array<Index, 3>> triangles, Index num_vertices);
+/// `num_vertices` and a triangle naming a vertex twice. The message numbers vertices and triangles from
+/// `first_number` (1 for a mesh from an OBJ file, whose vertices count from 1).
+std::optional<std::string> closed_mesh_defect(std::span<const std::array<Index, 3>> triangles, Index num_vertices,
+                                              Index first_number = 0);
 
 /// The checks of a volume constraint over `triangles` of the particles at `x` (closed, manifold and oriented; pressure
 /// schedule finite and positive; not flat or inside out unless `rest` is given) and its rest volume in the 6V unit

@@ -186,12 +186,20 @@ public:
   void set_time(double seconds);
   /// Number of particles.
   Index num_particles() const { return Index(state_.x.cols()); }
-  /// Positions in m, 3×N (no copy). Writing through the mutable map is allowed between steps.
+  /// Positions in m, 3×N (no copy). Writing through the mutable map is allowed between steps: the next step()
+  /// first checks every position and velocity (one pass) and throws pbd::Error naming the first non-finite one,
+  /// leaving the world unchanged. Steps that follow no mutable map skip that pass.
   Eigen::Map<const Positions> positions() const { return {state_.x.data(), 3, state_.x.cols()}; }
-  Eigen::Map<Positions> positions() { return {state_.x.data(), 3, state_.x.cols()}; }  ///< mutable positions
-  /// Velocities in m/s, 3×N (no copy).
+  Eigen::Map<Positions> positions() {  ///< mutable positions (the next step() checks that they are finite)
+    host_wrote_ = true;
+    return {state_.x.data(), 3, state_.x.cols()};
+  }
+  /// Velocities in m/s, 3×N (no copy); a write through the mutable map is checked as positions' are.
   Eigen::Map<const Positions> velocities() const { return {state_.v.data(), 3, state_.v.cols()}; }
-  Eigen::Map<Positions> velocities() { return {state_.v.data(), 3, state_.v.cols()}; }  ///< mutable velocities
+  Eigen::Map<Positions> velocities() {  ///< mutable velocities (the next step() checks that they are finite)
+    host_wrote_ = true;
+    return {state_.v.data(), 3, state_.v.cols()};
+  }
   /// Inverse masses in 1/kg, N (0 = pinned).
   Eigen::Map<const VectorX<Real>> inverse_masses() const {
     return {model_.inverse_mass.data(), model_.inverse_mass.size()};
@@ -213,6 +221,7 @@ private:
   template <class C> void remove(std::span<const Index> indices, const char* what);
   void ensure_colored();
   void advance(const Real* forces);
+  void check_state_finite() const;  // throws naming the first particle with a non-finite position or velocity
   detail::Scratch<Real>& scratch();
 
   detail::Model<Real> model_;   // cooked model: particles' inverse masses, constraints with their colors, colliders
@@ -221,6 +230,7 @@ private:
   StepParams<Real> params_;
   StepStats stats_;
   bool measure_violation_ = false;
+  bool host_wrote_ = false;     // a mutable map of positions or velocities was handed out since the last check
   ParallelConfig parallel_;
   ForceCallback force_callback_;
 };

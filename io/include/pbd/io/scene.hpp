@@ -5,8 +5,9 @@
 /// out-of-range value is a pbd::Error naming the file and the key (as a JSON Pointer, e.g.
 /// "cloth.json: /bodies/0/resolution: ..."), and so is a key given twice in one object or arrays and objects nested
 /// more than 64 deep. Malformed JSON names the line and column (a number beyond double range such as 1e400 also its
-/// key). Limits, checked before anything is allocated: a scene text of at most 64 MiB and 50 million particles in all
-/// (a body that would pass it is refused by its size key).
+/// key). Every number must fit float (the scene runs in either precision). Limits, checked from the bodies' size keys
+/// before any body is built: a scene text of at most 64 MiB, 50 million particles and 200 million constraints in all
+/// (the first body past a limit is refused by its size key). The name is a plain file name (it names output files).
 #include "pbd/io/world_description.hpp"
 
 #include <filesystem>

@@ -1,0 +1,153 @@
+#!/usr/bin/env python3
+"""The command line's promises, tried as a new user would: `pbd run` prints the final state hash and checks it
+(--expect-hash), writes per-step statistics (--stats), says how many threads really run; an unknown subcommand is
+named; a write that fails anywhere (stdout, --json, --stats, frames) ends with status 2 and a message, leaving no
+half-written file; a scene's name cannot send files outside the frame folder; a scene over the size limits is
+refused before anything is built; a value beyond float's range names the file and the key.
+
+Usage: check_run.py PBD OUT_DIR [--sanitized]"""
+import json
+import os
+import re
+import resource
+import signal
+import stat
+import subprocess
+import sys
+
+
+def fail(msg):
+    print(f"FAIL: {msg}")
+    sys.exit(1)
+
+
+def run(pbd, args, expect=0, stdout=subprocess.PIPE, preexec=None, cwd=None):
+    r = subprocess.run([pbd] + args, stdout=stdout, stderr=subprocess.PIPE, text=True, preexec_fn=preexec, cwd=cwd)
+    if r.returncode != expect:
+        fail(f"pbd {' '.join(args)}: status {r.returncode} (expected {expect})\nstderr: {r.stderr}")
+    return r
+
+
+def expect_error(pbd, args, words, **kw):
+    r = run(pbd, args, expect=2, **kw)
+    for w in words:
+        if w not in r.stderr:
+            fail(f"pbd {' '.join(args)}: {w!r} not in the error: {r.stderr!r}")
+    return r
+
+
+def state_hash(out):
+    m = re.search(r"^state hash: ([0-9a-f]{16})$", out, re.M)
+    if not m:
+        fail(f"no 'state hash: <16 hex digits>' line in:\n{out}")
+    return m.group(1)
+
+
+def write_scene(path, **keys):
+    scene = {"name": "t", "dt": 0.01, "bodies": [{"type": "rope", "particles": 5, "stretch": {}}]}
+    scene.update(keys)
+    with open(path, "w") as f:
+        json.dump(scene, f)
+    return path
+
+
+def check_hash_and_stats(pbd, out):
+    hashes = {threads: state_hash(run(pbd, ["run", "cloth", "--steps", "5", "--threads", str(threads)]).stdout)
+              for threads in (1, 2)}
+    if hashes[1] != hashes[2]:
+        fail(f"colored solver: state hash {hashes[1]} on 1 thread, {hashes[2]} on 2")
+    run(pbd, ["run", "cloth", "--steps", "5", "--expect-hash", hashes[1]])
+    wrong = "0123456789abcdef" if hashes[1] != "0123456789abcdef" else "fedcba9876543210"
+    expect_error(pbd, ["run", "cloth", "--steps", "5", "--expect-hash", wrong], ["--expect-hash", hashes[1], wrong])
+    bad = subprocess.run([pbd, "run", "cloth", "--expect-hash", "12ab"], capture_output=True, text=True)
+    if bad.returncode == 0 or "16 lowercase hex digits" not in bad.stderr:
+        fail(f"--expect-hash 12ab: status {bad.returncode}, stderr {bad.stderr!r}")
+
+    csv = os.path.join(out, "stats.csv")
+    run(pbd, ["run", "cloth", "--steps", "4", "--stats", csv])
+    with open(csv) as f:
+        lines = f.read().splitlines()
+    header = lines[0].split(",")
+    for column in ("step", "seconds", "seconds_integrate", "seconds_collisions", "seconds_solve", "sweeps"):
+        if column not in header:
+            fail(f"--stats: no column {column} in {header}")
+    rows = [dict(zip(header, line.split(","))) for line in lines[1:]]
+    if [int(r["step"]) for r in rows] != [1, 2, 3, 4]:
+        fail(f"--stats: steps {[r['step'] for r in rows]}, expected 1..4")
+    for r in rows:  # cloth.json: 10 substeps of 4 iterations
+        if int(r["substeps"]) != 10 or int(r["sweeps"]) != 40 or float(r["seconds"]) <= 0:
+            fail(f"--stats: row {r}")
+    expect_error(pbd, ["run", "cloth", "--stats", "/no/such/folder/s.csv"], ["--stats", "/no/such/folder"])
+
+
+def check_threads(pbd):
+    r = run(pbd, ["run", "rope", "--steps", "2", "--threads", "1000"])
+    cores = len(os.sched_getaffinity(0))
+    # oneTBB runs at most the machine's cores (os.cpu_count()); the header must say what really runs.
+    m = re.search(r"on (\d+) threads", r.stdout)
+    if not m or int(m.group(1)) > max(cores, os.cpu_count() or 1) or int(m.group(1)) == 1000:
+        fail(f"--threads 1000: header {r.stdout.splitlines()[:2]}")
+    if f"running on {m.group(1)}" not in r.stderr:
+        fail(f"--threads 1000: no note of the threads that run: {r.stderr!r}")
+
+
+def check_write_errors(pbd, out):
+    expect_error(pbd, ["frobnicate"], ["unknown subcommand 'frobnicate'", "study, color, run, list"])
+    with open("/dev/full", "w") as full:
+        expect_error(pbd, ["run", "rope", "--steps", "2"], ["cannot write to standard output"], stdout=full)
+        expect_error(pbd, ["list"], ["standard output"], stdout=full)
+    expect_error(pbd, ["color", "rope", "--json", "/dev/full"], ["--json: /dev/full", "No space left"])
+    expect_error(pbd, ["run", "rope", "--steps", "2", "--stats", "/dev/full"], ["/dev/full", "No space left"])
+    if not stat.S_ISCHR(os.stat("/dev/full").st_mode):
+        fail("/dev/full is no longer a device: a writer replaced it")
+
+    # A disk that fills while frames are written: a file size limit of 4 KiB (the cloth's frames are ~30 KiB).
+    frames = os.path.join(out, "frames_full")
+    def small_files():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
+    expect_error(pbd, ["run", "cloth", "--steps", "2", "--frames", frames], ["cloth_00000", "write failed"],
+                 preexec=small_files)
+    left = os.listdir(frames)
+    if left:
+        fail(f"a failed frame write left {left} in {frames}")
+
+    # The scene's name names the frames: it cannot be a path.
+    scene = write_scene(os.path.join(out, "escape.json"), name="../../escaped")
+    expect_error(pbd, ["run", scene, "--frames", os.path.join(out, "a", "b")], ["escape.json: /name", "plain file name"])
+    if os.path.exists(os.path.join(out, "escaped_00000.obj")) or os.path.exists(os.path.join(out, "a")):
+        fail("a scene named ../../escaped wrote files")
+
+
+def check_scene_errors(pbd, out, sanitized):
+    scene = write_scene(os.path.join(out, "gravity.json"), gravity=[0, 0, 1e308])
+    expect_error(pbd, ["run", scene], ["gravity.json: /gravity/2", "beyond the range of float"])
+
+    cloth = {"type": "cloth", "resolution": 4096, "stretch": {}}
+    scene = write_scene(os.path.join(out, "huge.json"), bodies=[cloth] * 4)
+    def one_gib():  # used to take 3.4 GB and 31 s before the refusal; now nothing is built
+        resource.setrlimit(resource.RLIMIT_AS, (1 << 30, 1 << 30))
+    expect_error(pbd, ["run", scene], ["huge.json: /bodies/2/resolution", "limit of 50000000 particles"],
+                 preexec=None if sanitized else one_gib)
+
+    with open(os.path.join(out, "open.obj"), "w") as f:
+        f.write("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n")
+    scene = write_scene(os.path.join(out, "open.json"),
+                        bodies=[{"type": "mesh", "obj": "open.obj", "volume": {}}])
+    expect_error(pbd, ["run", scene], ["open.json: /bodies/0/obj", "open.obj", "edge (1, 3)", "from 1"])
+
+
+def main(pbd, out, sanitized):
+    os.makedirs(out, exist_ok=True)
+    check_hash_and_stats(pbd, out)
+    check_threads(pbd)
+    check_write_errors(pbd, out)
+    check_scene_errors(pbd, out, sanitized)
+    print("ok: state hash and --expect-hash, --stats, --threads, write errors, scene names, size limits, "
+          "float range, OBJ volume errors")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    main(sys.argv[1], sys.argv[2], "--sanitized" in sys.argv[3:])
