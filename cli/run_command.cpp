@@ -1,10 +1,10 @@
-// `pbd run SCENE`: steps a scene and writes its frames as OBJ files; prints the time per step, for every volume
-// constraint the volume reached against its target, and the final state hash (a determinism check with
+// `pbd run SCENE`: steps a scene and writes its frames as OBJ or VTU files; prints the time per step, for every
+// volume constraint the volume reached against its target, and the final state hash (a determinism check with
 // --expect-hash); --stats writes each step's phase times as CSV.
 #include "commands.hpp"
 #include "pbd/io/atomic_file.hpp"
 #include "pbd/io/build_world.hpp"
-#include "pbd/io/frame_writer.hpp"
+#include "pbd/io/frame_series.hpp"
 #include "pbd/metrics.hpp"
 #include "scene_dir.hpp"
 
@@ -27,6 +27,7 @@ struct RunOptions {
   std::string scene;
   int steps = 0;  // 0: the scene's own
   std::string frames;
+  std::string format = "obj";  // frame format: obj or vtu
   int every = 1;
   std::string solver = "colored";
   std::string sweep_order;  // empty: the scene's own
@@ -66,21 +67,17 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     params.chebyshev.rho = Real(*o.chebyshev_rho);
   }
   world.set_params(params);
-  const FrameTopology topology = frame_topology(world, scene.triangles);
-  std::filesystem::path dir;
+  std::optional<FrameSeries> series;
   if (!o.frames.empty()) {
-    dir = o.frames;
+    const std::filesystem::path dir = o.frames;
+    check_frame_stem(scene.name);  // before the folder is made
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) throw Error(dir.string() + ": cannot create the frame directory (" + ec.message() + ")");
+    series.emplace(dir, scene.name, parse_frame_format(o.format), frame_topology(world, scene.bodies));
   }
-  int written = 0;
   auto frame = [&](int step) {
-    if (dir.empty() || step % o.every != 0) return;
-    char name[64];
-    std::snprintf(name, sizeof name, "%s_%05d.obj", scene.name.c_str(), step);
-    write_obj_frame(dir / name, world, topology);
-    ++written;
+    if (series && step % o.every == 0) series->write(world, step);
   };
   const VolumeConstraints<Real>& volumes = world.volumes();
   std::printf("# scene %s: %u particles; constraints: %zu stretch, %zu bending, %zu area, %zu volume, %zu anchor\n",
@@ -126,7 +123,9 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     std::printf("volume %zu: %.6g m^3, target %.6g m^3 (%.2fx rest), error %+.3f%%\n", i, now / 6, target / 6,
                 vc.pressure.at(world.time()), 100.0 * (now / target - 1.0));
   }
-  if (written) std::printf("wrote %d frames to %s\n", written, dir.string().c_str());
+  if (series && series->frames_written())
+    std::printf("wrote %zu frames to %s%s\n", series->frames_written(), o.frames.c_str(),
+                series->format() == FrameFormat::vtu ? (" (series: " + series->pvd_file().string() + ")").c_str() : "");
   if (!o.stats.empty()) {
     write_file_atomically(o.stats, csv.str());
     std::printf("wrote per-step statistics to %s\n", o.stats.c_str());
@@ -148,10 +147,13 @@ int actual_threads(int requested) {
 
 void add_run_command(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
-  CLI::App* cmd = app.add_subcommand("run", "Run a scene and write its frames as OBJ files");
+  CLI::App* cmd = app.add_subcommand("run", "Run a scene and write its frames as OBJ or VTU files");
   cmd->add_option("scene", o->scene, "Built-in scene name or scene JSON file")->required();
   cmd->add_option("--steps", o->steps, "Number of steps (default: the scene's own)")->check(CLI::Range(1, 100000000));
-  cmd->add_option("--frames", o->frames, "Write frames as DIR/<scene>_<step>.obj (step 0 included)");
+  cmd->add_option("--frames", o->frames, "Write frames as DIR/<scene>_<step>.obj or .vtu (step 0 included)");
+  cmd->add_option("--format", o->format, "Frame format: obj (Blender) or vtu (ParaView, with DIR/<scene>.pvd)")
+      ->check(CLI::IsMember({"obj", "vtu"}))
+      ->capture_default_str();
   cmd->add_option("--every", o->every, "Write every K-th step's frame")->check(CLI::Range(1, 100000000))->capture_default_str();
   std::vector<std::string> solvers;
   for (Solver s : kSolvers) solvers.emplace_back(name(s));

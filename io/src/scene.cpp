@@ -388,8 +388,9 @@ Scene parse_scene(const std::string& text, const std::string& source) {
       read_anchors(b, world, body);
       detail::read_contact_body(b, body, world);
       b.reject_unknown_keys();
-      if (scene.triangles.empty()) scene.triangles = std::move(body.triangles);
-      else scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());
+      scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());
+      scene.bodies.push_back({message(type, "_", scene.bodies.size()), body.first_particle, body.num_particles,
+                              std::move(body.triangles)});
     });
   }
   if (o.has("colliders"))

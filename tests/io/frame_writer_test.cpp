@@ -1,5 +1,6 @@
-// OBJ frames: what write_obj_frame writes, read back (header, every vertex, faces and lines 1-based); which stretch
-// constraints frame_topology draws as lines; errors naming the file, and no half-written frame.
+// OBJ frames: what write_obj_frame writes, read back (header, one object per body, every vertex, faces and lines
+// 1-based); which stretch constraints frame_topology draws as lines, body by body; errors naming the file, and no
+// half-written frame.
 #include "error_checks.hpp"
 #include "pbd/io/frame_writer.hpp"
 #include "pbd/io/generators.hpp"
@@ -51,11 +52,38 @@ TYPED_TEST_SUITE(FrameWriterTest, Precisions);
 TYPED_TEST(FrameWriterTest, TopologyDrawsLinesOnlyForStretchConstraintsOffTheSurface) {
   const ClothAndRope<TypeParam> s;
   const FrameTopology t = frame_topology(s.world, s.triangles);
-  EXPECT_EQ(t.triangles, s.triangles);
+  ASSERT_EQ(t.bodies.size(), 1u) << "a world without a scene is one body";
+  const FrameBody& b = t.bodies[0];
+  EXPECT_EQ(b.name, "world");
+  EXPECT_EQ(b.first_particle, 0u);
+  EXPECT_EQ(b.num_particles, 13u);
+  EXPECT_EQ(b.triangles, s.triangles);
   // The rope's three segments; not the cloth's 16 edges, nor the constraint from cloth particle 4 to the rope.
-  EXPECT_EQ(t.lines, (std::vector<std::array<Index, 2>>{{9, 10}, {10, 11}, {11, 12}}));
+  EXPECT_EQ(b.lines, (std::vector<std::array<Index, 2>>{{9, 10}, {10, 11}, {11, 12}}));
+  EXPECT_EQ(b.line_stretch, (std::vector<Index>{16, 17, 18})) << "the stretch constraint each line draws";
   // Without triangles every stretch constraint is a line.
-  EXPECT_EQ(frame_topology(s.world, {}).lines.size(), s.world.template constraints<StretchConstraint<TypeParam>>().size());
+  EXPECT_EQ(frame_topology(s.world, std::vector<std::array<Index, 3>>{}).bodies[0].lines.size(),
+            s.world.template constraints<StretchConstraint<TypeParam>>().size());
+}
+
+TYPED_TEST(FrameWriterTest, TopologyOfBodiesGivesEachBodyItsTrianglesAndLines) {
+  const ClothAndRope<TypeParam> s;
+  const std::vector<SceneBody> bodies{{"cloth_0", 0, 9, s.triangles}, {"rope_1", 9, 4, {}}};
+  const FrameTopology t = frame_topology(s.world, bodies);
+  ASSERT_EQ(t.bodies.size(), 2u);
+  EXPECT_EQ(t.bodies[0].name, "cloth_0");
+  EXPECT_EQ(t.bodies[0].triangles, s.triangles);
+  EXPECT_TRUE(t.bodies[0].lines.empty());
+  EXPECT_EQ(t.bodies[1].name, "rope_1");
+  EXPECT_EQ(t.bodies[1].first_particle, 9u);
+  // The constraint from cloth particle 4 to rope particle 9 joins two bodies: drawn by neither.
+  EXPECT_EQ(t.bodies[1].lines, (std::vector<std::array<Index, 2>>{{9, 10}, {10, 11}, {11, 12}}));
+  test::expect_words(test::error_of([&] { frame_topology(s.world, std::vector<SceneBody>{{"cloth_0", 0, 9, s.triangles}}); }),
+                     {"frame_topology", "bodies hold 9 particles", "13"});
+  test::expect_words(test::error_of([&] { frame_topology(s.world, std::vector<SceneBody>{{"a", 0, 9, {}}, {"b", 10, 3, {}}}); }),
+                     {"frame_topology", "body b starts at particle 10, expected 9"});
+  test::expect_words(test::error_of([&] { frame_topology(s.world, std::vector<SceneBody>{{"a", 0, 9, {}}, {"b", 9, 4, {{9, 10, 3}}}}); }),
+                     {"frame_topology", "body b", "triangle 0", "particle index 3", "[9, 13)"});
 }
 
 TYPED_TEST(FrameWriterTest, WritesTheHeaderEveryVertexAndOneBasedFacesAndLines) {
@@ -67,29 +95,31 @@ TYPED_TEST(FrameWriterTest, WritesTheHeaderEveryVertexAndOneBasedFacesAndLines) 
   write_obj_frame(file, s.world, t);
   const std::vector<std::string> lines = lines_of(file);
   const Index n = s.world.num_particles();
-  ASSERT_EQ(lines.size(), 1 + n + t.triangles.size() + t.lines.size());
+  const FrameBody& b = t.bodies[0];
+  ASSERT_EQ(lines.size(), 2 + n + b.triangles.size() + b.lines.size());
   char header[96];
   std::snprintf(header, sizeof header, "# pbd frame: t = %.6f s, %u particles", s.world.time(), n);
   EXPECT_EQ(lines[0], header);
   EXPECT_NE(lines[0].find("t = 0.05"), std::string::npos) << "3 steps of 1/60 s: " << lines[0];
+  EXPECT_EQ(lines[1], "o world");
   const auto x = s.world.positions();
   for (Index i = 0; i < n; ++i) {
-    std::istringstream v(lines[1 + i]);
+    std::istringstream v(lines[2 + i]);
     std::string tag;
     double p[3];
-    ASSERT_TRUE(v >> tag >> p[0] >> p[1] >> p[2]) << lines[1 + i];
+    ASSERT_TRUE(v >> tag >> p[0] >> p[1] >> p[2]) << lines[2 + i];
     EXPECT_EQ(tag, "v");
     for (int d = 0; d < 3; ++d)  // %.7g: 7 significant digits
       EXPECT_NEAR(p[d], double(x(d, i)), 1e-6 * std::max(1.0, std::abs(double(x(d, i))))) << "vertex " << i;
   }
-  for (std::size_t k = 0; k < t.triangles.size(); ++k) {
-    const auto& tri = t.triangles[k];
-    EXPECT_EQ(lines[1 + n + k], "f " + std::to_string(tri[0] + 1) + " " + std::to_string(tri[1] + 1) + " " +
+  for (std::size_t k = 0; k < b.triangles.size(); ++k) {
+    const auto& tri = b.triangles[k];
+    EXPECT_EQ(lines[2 + n + k], "f " + std::to_string(tri[0] + 1) + " " + std::to_string(tri[1] + 1) + " " +
                                     std::to_string(tri[2] + 1));
   }
-  for (std::size_t k = 0; k < t.lines.size(); ++k)
-    EXPECT_EQ(lines[1 + n + t.triangles.size() + k],
-              "l " + std::to_string(t.lines[k][0] + 1) + " " + std::to_string(t.lines[k][1] + 1));
+  for (std::size_t k = 0; k < b.lines.size(); ++k)
+    EXPECT_EQ(lines[2 + n + b.triangles.size() + k],
+              "l " + std::to_string(b.lines[k][0] + 1) + " " + std::to_string(b.lines[k][1] + 1));
   EXPECT_EQ(lines.back(), "l 12 13");
   // Only the frame is left in the folder (the temporary it was written under is gone).
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()), 1);
@@ -112,7 +142,7 @@ TEST(FrameWriter, AnUnwritablePathIsAnErrorNamingTheFile) {
   const test::TempDir dir("pbd_frame_writer");
   std::filesystem::create_directories(dir / "taken.obj");  // a folder where the frame should go
   test::expect_words(test::error_of([&] { write_obj_frame(dir / "taken.obj", s.world, t); }),
-                     {"taken.obj", "cannot replace"});
+                     {"taken.obj", "it is a folder"});
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()), 1)
       << "the temporary is removed";
 }
@@ -141,13 +171,16 @@ TEST(FrameWriter, AFailedWriteLeavesNoFile) {
 
 TEST(FrameWriter, IndicesOutOfRangeAreErrorsAndWriteNothing) {
   const ClothAndRope<float> s;
-  test::expect_words(test::error_of([&] { frame_topology(s.world, {{0, 1, 13}}); }),
+  test::expect_words(test::error_of([&] { frame_topology(s.world, std::vector<std::array<Index, 3>>{{0, 1, 13}}); }),
                      {"frame_topology", "triangle 0", "particle index 13", "13 particles"});
   const test::TempDir dir("pbd_frame_writer");
   FrameTopology t;
-  t.lines = {{0, 1}, {12, 99}};
+  t.bodies = {{"all", 0, 13, {}, {{0, 1}, {12, 99}}, {0, 1}}};
   test::expect_words(test::error_of([&] { write_obj_frame(dir / "f.obj", s.world, t); }),
-                     {"f.obj", "line 1", "particle index 99"});
+                     {"f.obj", "body all", "line 1", "particle index 99"});
+  t.bodies = {{"some", 0, 12, {}, {}, {}}};
+  test::expect_words(test::error_of([&] { write_obj_frame(dir / "f.obj", s.world, t); }),
+                     {"f.obj", "bodies hold 12 particles", "13"});
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 

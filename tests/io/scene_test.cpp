@@ -67,6 +67,37 @@ double longest_edge(const WorldDescription& d, Index first, Index count) {
   return longest;
 }
 
+TEST(Scene, KeepsWhereEachBodyLandedInFileOrder) {
+  const Scene s = parse_scene(R"({"name": "two", "dt": 0.01, "bodies": [
+      {"type": "cloth", "resolution": 3},
+      {"type": "rope", "particles": 4, "stretch": {}},
+      {"type": "particles", "positions": [[0, 0, 0], [1, 0, 0]]}]})",
+                              "two.json");
+  ASSERT_EQ(s.bodies.size(), 3u);
+  EXPECT_EQ(s.bodies[0].name, "cloth_0");
+  EXPECT_EQ(s.bodies[1].name, "rope_1");
+  EXPECT_EQ(s.bodies[2].name, "particles_2");
+  EXPECT_EQ(s.bodies[0].first_particle, 0u);
+  EXPECT_EQ(s.bodies[0].num_particles, 9u);
+  EXPECT_EQ(s.bodies[1].first_particle, 9u);
+  EXPECT_EQ(s.bodies[1].num_particles, 4u);
+  EXPECT_EQ(s.bodies[2].first_particle, 13u);
+  EXPECT_EQ(s.bodies[2].num_particles, 2u);
+  EXPECT_EQ(s.bodies[0].triangles.size(), 8u);
+  EXPECT_TRUE(s.bodies[1].triangles.empty());
+  EXPECT_EQ(s.triangles, s.bodies[0].triangles) << "triangles still holds every body's triangles";
+  const Scene balls = load_scene_by_name("balls", PBD_TEST_SCENE_DIR);
+  Index next = 0;
+  std::size_t triangles = 0;
+  for (const SceneBody& b : balls.bodies) {
+    EXPECT_EQ(b.first_particle, next) << b.name;
+    next += b.num_particles;
+    triangles += b.triangles.size();
+  }
+  EXPECT_EQ(next, balls.world.num_particles()) << "the bodies hold every particle";
+  EXPECT_EQ(triangles, balls.triangles.size());
+}
+
 TEST(Scene, ContactScenesHaveRadiiThatLeaveNoGapsAndTheirColliders) {
   const Scene balls = load_scene_by_name("balls", PBD_TEST_SCENE_DIR);
   ASSERT_EQ(balls.world.contact_bodies.size(), 5u);

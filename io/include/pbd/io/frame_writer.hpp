@@ -1,28 +1,23 @@
 #pragma once
 /// \file frame_writer.hpp
-/// Frames of a simulation as Wavefront OBJ files (readable by Blender and ParaView).
+/// Frames of a simulation as Wavefront OBJ files, one object per body (readable by Blender and ParaView).
+#include "pbd/io/frame_topology.hpp"
 #include "pbd/world.hpp"
 
 #include <filesystem>
-#include <vector>
+#include <string>
 
 namespace pbd {
 
-/// What a frame draws besides the particles: surface triangles and line segments.
-struct FrameTopology {
-  std::vector<std::array<Index, 3>> triangles;  ///< surface triangles (particle indices)
-  std::vector<std::array<Index, 2>> lines;      ///< segments for bodies without triangles (ropes, particle chains)
-};
+/// The text of an OBJ frame: a header line ("# pbd frame: t = <time> s, <N> particles"), then per body an object
+/// line "o <name>" (bytes up to the space replaced by '_'), its particles as vertices ("v x y z", %.7g, in m), its
+/// triangles ("f") and its lines ("l"). Indices are 1-based over the whole file, so vertex i + 1 is particle i.
+/// Throws pbd::Error naming `what` if the topology does not fit the world (check_frame_topology).
+template <class Real> std::string obj_frame(const World<Real>& world, const FrameTopology& topology, const std::string& what);
 
-/// `triangles` plus one line per stretch constraint whose two particles are both on no triangle. Throws pbd::Error
-/// naming the triangle whose particle index is out of range.
-template <class Real>
-FrameTopology frame_topology(const World<Real>& world, const std::vector<std::array<Index, 3>>& triangles);
-
-/// Writes a header line ("# pbd frame: t = <time> s, <N> particles"), every particle as a vertex ("v x y z", %.7g, in
-/// m), then the triangles ("f") and lines ("l"), 1-based. The file is written under a temporary name next to it and
-/// renamed over it at the end, so a failure leaves no half-written frame. Throws pbd::Error naming the file if it
-/// cannot be written, or naming the triangle or line whose particle index is out of range (nothing is written then).
+/// Writes obj_frame to `file` through write_file_atomically: a failure leaves no half-written frame and no temporary.
+/// Throws pbd::Error naming the file if it cannot be written, or naming the body, triangle or line that does not fit
+/// the world (nothing is written then).
 template <class Real>
 void write_obj_frame(const std::filesystem::path& file, const World<Real>& world, const FrameTopology& topology);
 

@@ -10,11 +10,20 @@
 /// (the first body past a limit is refused by its size key). The name is a plain file name (it names output files).
 #include "pbd/io/world_description.hpp"
 
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 namespace pbd {
+
+/// Where one body of a scene landed in its world: a run of consecutive particles and its surface triangles.
+struct SceneBody {
+  std::string name;                             ///< "<type>_<i>": its type and index in the scene's "bodies", e.g. "rope_0"
+  Index first_particle = 0;                     ///< world index of its first particle
+  Index num_particles = 0;                      ///< number of consecutive particles it has
+  std::vector<std::array<Index, 3>> triangles;  ///< its surface triangles (world particle indices), if any
+};
 
 /// A loaded scene: the world it describes, without a precision (build it with build_world<Real>(scene.world),
 /// build_world.hpp), and metadata.
@@ -27,7 +36,8 @@ struct Scene {
   /// The error its results are judged by: "stretch", "bending", "area", "volume", "penetration" or "anchor"
   /// ("" = not stated: `pbd study` takes volume if it has any, else stretch, else its first type).
   std::string primary_error;
-  std::vector<std::array<Index, 3>> triangles;   ///< surface triangles of its bodies, for output and pictures
+  std::vector<std::array<Index, 3>> triangles;   ///< surface triangles of all its bodies together (as in `bodies`)
+  std::vector<SceneBody> bodies;                 ///< its bodies in file order; together they hold every particle
 };
 
 /// Parses scene JSON text; `source` names it in error messages. Nothing is returned half-built: it throws or succeeds.

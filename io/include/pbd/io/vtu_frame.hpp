@@ -1,0 +1,54 @@
+#pragma once
+/// \file vtu_frame.hpp
+/// Frames as VTK XML UnstructuredGrid files (.vtu) for ParaView: one <Piece> per body, with its own points and
+/// 0-based local connectivity. Every data array is inline base64 binary (format="binary", header_type="UInt64",
+/// uncompressed, the machine's byte order): values round-trip bit for bit, NaN included, at 4/3 of their size.
+///
+/// Per point: the position (Float32 for World<float>, Float64 for World<double>, m), and
+///   velocity      3 components, m/s
+///   inverse_mass  1/kg (0 for a pinned particle)
+///   pinned        UInt8: 1 where the inverse mass is 0, else 0
+/// Cells of a body, in this order: its triangles (VTK_TRIANGLE, 5), its lines (VTK_LINE, 3), and, for a body with
+/// neither, one VTK_VERTEX (1) per particle so that ParaView draws it. Per cell (Float64, dimensionless,
+/// pbd::violation of metrics.hpp at the frame's positions; NaN where the cell has no such constraint):
+///   stretch  on a line: the relative stretch |(|x_a − x_b| − d)| / d of the stretch constraint it draws; on a
+///            triangle: the largest relative stretch of the stretch constraints joining two of its corners
+///   area     on a triangle: the largest relative area error |A − A0| / A0 of the area constraints on its three
+///            corners; NaN on lines and vertices
+/// The grid's FieldData holds TimeValue (Float64, 1 tuple): the world's simulated time in s.
+#include "pbd/io/frame_topology.hpp"
+#include "pbd/world.hpp"
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace pbd {
+
+/// Which constraints each triangle of a topology measures, found once: triangles are numbered over all bodies in
+/// order (body 0's first, then body 1's, ...).
+struct VtuCellConstraints {
+  std::vector<std::size_t> stretch_begin;  ///< triangle k's stretch constraints: stretch[stretch_begin[k], stretch_begin[k + 1])
+  std::vector<Index> stretch;              ///< indices into world.constraints<StretchConstraint<Real>>()
+  std::vector<std::size_t> area_begin;     ///< triangle k's area constraints: area[area_begin[k], area_begin[k + 1])
+  std::vector<Index> area;                 ///< indices into world.constraints<AreaConstraint<Real>>()
+  std::size_t num_stretch = 0;             ///< the world's number of stretch constraints when found
+  std::size_t num_area = 0;                ///< the world's number of area constraints when found
+};
+
+/// Finds the stretch constraints along each triangle's edges and the area constraints on its corners.
+template <class Real> VtuCellConstraints vtu_cell_constraints(const World<Real>& world, const FrameTopology& topology);
+
+/// The text of a .vtu frame of `world`. Throws pbd::Error naming `what` if the topology does not fit the world, or if
+/// `cells` was found for other constraints (the world's constraint counts differ).
+template <class Real>
+std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, const VtuCellConstraints& cells,
+                      const std::string& what);
+
+/// Writes vtu_frame to `file` through write_file_atomically: a failure leaves no half-written frame and no temporary.
+/// Throws pbd::Error naming the file.
+template <class Real>
+void write_vtu_frame(const std::filesystem::path& file, const World<Real>& world, const FrameTopology& topology);
+
+}  // namespace pbd

@@ -1,0 +1,93 @@
+#include "pbd/io/frame_series.hpp"
+
+#include "pbd/detail/message.hpp"
+#include "pbd/io/atomic_file.hpp"
+#include "pbd/io/frame_writer.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace pbd {
+namespace {
+
+using detail::message;
+
+// `s` quoted for a message, control bytes shown as \xNN.
+std::string shown(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", u);
+      out += hex;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+const char* name(FrameFormat format) { return format == FrameFormat::vtu ? "vtu" : "obj"; }
+
+FrameFormat parse_frame_format(const std::string& text) {
+  if (text == "obj") return FrameFormat::obj;
+  if (text == "vtu") return FrameFormat::vtu;
+  throw Error(message("unknown frame format ", shown(text), " (expected obj or vtu)"));
+}
+
+void check_frame_stem(const std::string& stem) {
+  const char* why = nullptr;
+  if (stem.empty()) why = "it is empty";
+  else if (stem == "." || stem == "..") why = "it names a folder";
+  else if (stem.find_first_of("/\\") != std::string::npos) why = "it contains '/' or '\\'";
+  else if (std::any_of(stem.begin(), stem.end(), [](char c) {
+             const auto u = static_cast<unsigned char>(c);
+             return u < 0x20 || u == 0x7f;
+           }))
+    why = "it contains a control character";
+  if (why)
+    throw Error(message("frame file stem ", shown(stem), " is not a plain file name (", why,
+                        "): frames must stay in their folder"));
+}
+
+FrameSeries::FrameSeries(std::filesystem::path dir, std::string stem, FrameFormat format, FrameTopology topology)
+    : dir_(std::move(dir)), stem_(std::move(stem)), format_(format), topology_(std::move(topology)) {
+  check_frame_stem(stem_);
+}
+
+std::filesystem::path FrameSeries::frame_file(long step) const {
+  char suffix[48];
+  std::snprintf(suffix, sizeof suffix, "_%05ld.%s", step, name(format_));
+  return dir_ / (stem_ + suffix);
+}
+
+std::filesystem::path FrameSeries::pvd_file() const { return dir_ / (stem_ + ".pvd"); }
+
+template <class Real> void FrameSeries::write(const World<Real>& world, long step) {
+  if (step < 0) throw Error(message(frame_file(step).string(), ": the step must not be negative (", step, ")"));
+  const std::filesystem::path file = frame_file(step);
+  if (format_ == FrameFormat::obj) {
+    write_obj_frame(file, world, topology_);
+    ++written_;
+    return;
+  }
+  check_frame_topology(topology_, world.num_particles(), file.string());
+  if (!cells_ || cells_->num_stretch != world.template constraints<StretchConstraint<Real>>().size() ||
+      cells_->num_area != world.template constraints<AreaConstraint<Real>>().size())
+    cells_ = vtu_cell_constraints(world, topology_);
+  write_file_atomically(file, vtu_frame(world, topology_, *cells_, file.string()));
+  ++written_;
+  const std::string name = file.filename().string();
+  const auto same = std::find_if(pvd_.begin(), pvd_.end(), [&](const PvdFrame& f) { return f.file == name; });
+  if (same != pvd_.end()) same->time = world.time();
+  else pvd_.push_back({world.time(), name});
+  write_pvd(pvd_file(), pvd_);
+}
+
+template void FrameSeries::write(const World<float>&, long);
+template void FrameSeries::write(const World<double>&, long);
+
+}  // namespace pbd

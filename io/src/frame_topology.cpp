@@ -1,0 +1,87 @@
+#include "pbd/io/frame_topology.hpp"
+
+#include "pbd/detail/message.hpp"
+
+#include <cstdint>
+
+namespace pbd {
+namespace {
+
+using detail::message;
+
+// Adds to each body, as lines, the stretch constraints with both particles in that body and neither on a triangle.
+template <class Real> void add_lines(const World<Real>& world, FrameTopology& t) {
+  std::vector<std::uint8_t> on_surface(world.num_particles(), 0);
+  std::vector<Index> body_of(world.num_particles(), 0);
+  for (std::size_t b = 0; b < t.bodies.size(); ++b) {
+    const FrameBody& body = t.bodies[b];
+    for (Index i = 0; i < body.num_particles; ++i) body_of[body.first_particle + i] = Index(b);
+    for (const auto& tri : body.triangles)
+      for (Index i : tri) on_surface[i] = 1;
+  }
+  const auto stretch = world.template constraints<StretchConstraint<Real>>();
+  for (std::size_t k = 0; k < stretch.size(); ++k) {
+    const auto [a, b] = stretch[k].particles;
+    if (on_surface[a] || on_surface[b] || body_of[a] != body_of[b]) continue;
+    t.bodies[body_of[a]].lines.push_back({a, b});
+    t.bodies[body_of[a]].line_stretch.push_back(Index(k));
+  }
+}
+
+}  // namespace
+
+template <class Real>
+FrameTopology frame_topology(const World<Real>& world, const std::vector<SceneBody>& bodies) {
+  FrameTopology t;
+  for (const SceneBody& b : bodies) t.bodies.push_back({b.name, b.first_particle, b.num_particles, b.triangles, {}, {}});
+  check_frame_topology(t, world.num_particles(), "frame_topology");
+  add_lines(world, t);
+  return t;
+}
+
+template <class Real>
+FrameTopology frame_topology(const World<Real>& world, const std::vector<std::array<Index, 3>>& triangles) {
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    for (Index p : triangles[i])
+      if (p >= world.num_particles())
+        throw Error(message("frame_topology: triangle ", i, ": particle index ", p, " out of range (the world has ",
+                            world.num_particles(), " particles)"));
+  FrameTopology t;
+  t.bodies.push_back({"world", 0, world.num_particles(), triangles, {}, {}});
+  add_lines(world, t);
+  return t;
+}
+
+void check_frame_topology(const FrameTopology& topology, Index num_particles, const std::string& what) {
+  std::uint64_t next = 0;
+  for (const FrameBody& b : topology.bodies) {
+    if (b.first_particle != next)
+      throw Error(message(what, ": body ", b.name, " starts at particle ", b.first_particle, ", expected ", next,
+                          " (the bodies must hold every particle once, in order)"));
+    next += b.num_particles;
+    if (next > num_particles)
+      throw Error(message(what, ": body ", b.name, " ends at particle ", next, " but the world has ", num_particles,
+                          " particles"));
+    auto check = [&](const auto& items, const char* item) {
+      for (std::size_t k = 0; k < items.size(); ++k)
+        for (Index p : items[k])
+          if (p < b.first_particle || p >= next)
+            throw Error(message(what, ": body ", b.name, ": ", item, " ", k, ": particle index ", p,
+                                " is not one of its particles [", b.first_particle, ", ", next, ")"));
+    };
+    check(b.triangles, "triangle");
+    check(b.lines, "line");
+    if (b.line_stretch.size() != b.lines.size())
+      throw Error(message(what, ": body ", b.name, " has ", b.lines.size(), " lines but ", b.line_stretch.size(),
+                          " line_stretch entries"));
+  }
+  if (next != num_particles)
+    throw Error(message(what, ": the bodies hold ", next, " particles but the world has ", num_particles));
+}
+
+template FrameTopology frame_topology(const World<float>&, const std::vector<SceneBody>&);
+template FrameTopology frame_topology(const World<double>&, const std::vector<SceneBody>&);
+template FrameTopology frame_topology(const World<float>&, const std::vector<std::array<Index, 3>>&);
+template FrameTopology frame_topology(const World<double>&, const std::vector<std::array<Index, 3>>&);
+
+}  // namespace pbd

@@ -1,0 +1,289 @@
+// Frame series (frame_series.hpp): the stem check, the format names, OBJ frames with one object per body, VTU
+// frames with one piece per body whose binary arrays decode to the world's values bit for bit, the .pvd listing
+// every frame with its time, and failed writes that leave nothing behind.
+#include "error_checks.hpp"
+#include "pbd/io/build_world.hpp"
+#include "pbd/io/frame_series.hpp"
+#include "pbd/io/scene.hpp"
+#include "pbd/metrics.hpp"
+#include "temp_dir.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+
+#include <cmath>
+#include <csignal>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace pbd {
+namespace {
+
+// A 3×3 cloth with stretch and area (particles 0-8) and a 4-particle rope with stretch (9-12), as a scene.
+const char* kScene = R"({"name": "two", "dt": 0.01, "bodies": [
+    {"type": "cloth", "resolution": 3, "stretch": {}, "area": {}},
+    {"type": "rope", "particles": 4, "origin": [0.25, -0.5, 2.0], "stretch": {}}]})";
+
+template <class Real> struct TwoBodies {
+  Scene scene = parse_scene(kScene, "two.json");
+  World<Real> world = build_world<Real>(scene.world);
+  FrameTopology topology = frame_topology(world, scene.bodies);
+};
+
+std::string text_of(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+std::size_t files_in(const std::filesystem::path& dir) {
+  return std::size_t(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()));
+}
+
+// The bytes of base64 text (no checks: the writer's own output).
+std::string decode_base64(const std::string& text) {
+  auto value = [](char c) -> int {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    return c == '+' ? 62 : 63;
+  };
+  std::string out;
+  std::uint32_t bits = 0;
+  int have = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    bits = bits << 6 | std::uint32_t(value(c));
+    if ((have += 6) >= 8) out += char((bits >> (have -= 8)) & 0xff);
+  }
+  return out;
+}
+
+// The values of the `index`-th DataArray named `name` in a .vtu text (its UInt64 byte count checked and dropped).
+template <class T> std::vector<T> data_array(const std::string& vtu, const std::string& name, int index) {
+  std::size_t at = 0;
+  for (int i = 0; i <= index; ++i) {
+    at = vtu.find("Name=\"" + name + "\"", at + 1);
+    if (at == std::string::npos) return {};
+  }
+  const std::size_t begin = vtu.find('>', at) + 1, end = vtu.find("</DataArray>", begin);
+  const std::string bytes = decode_base64(vtu.substr(begin, end - begin));
+  std::uint64_t n = 0;
+  std::memcpy(&n, bytes.data(), 8);
+  EXPECT_EQ(n, bytes.size() - 8) << name;
+  std::vector<T> values((bytes.size() - 8) / sizeof(T));
+  std::memcpy(values.data(), bytes.data() + 8, values.size() * sizeof(T));
+  return values;
+}
+
+TEST(FrameSeries, TheStemMustBeAPlainFileName) {
+  for (const std::string& bad : std::vector<std::string>{"", ".", "..", "a/b", "../up", "a\\b", "new\nline",
+                                                       std::string("nul\0x", 5), "del\x7f"}) {
+    const std::string e = test::error_of([&] { check_frame_stem(bad); });
+    test::expect_words(e, {"frame file stem", "not a plain file name"});
+    const test::TempDir dir("pbd_frame_series");
+    EXPECT_THROW(FrameSeries(dir.path(), bad, FrameFormat::obj, {}), Error) << e;
+  }
+  test::expect_words(test::error_of([&] { check_frame_stem("a/b"); }), {"\"a/b\"", "'/'"});
+  test::expect_words(test::error_of([&] { check_frame_stem("new\nline"); }), {"\"new\\x0aline\"", "control"});
+  for (const std::string good : {"cloth", "cloth-fold", "a.b", "..a", "name with spaces"})
+    EXPECT_NO_THROW(check_frame_stem(good)) << good;
+}
+
+TEST(FrameSeries, ParseFrameFormatNamesTheValidOnes) {
+  EXPECT_EQ(parse_frame_format("obj"), FrameFormat::obj);
+  EXPECT_EQ(parse_frame_format("vtu"), FrameFormat::vtu);
+  EXPECT_STREQ(name(FrameFormat::vtu), "vtu");
+  test::expect_words(test::error_of([] { parse_frame_format("ply"); }), {"\"ply\"", "obj", "vtu"});
+}
+
+TEST(FrameSeries, ObjFramesHaveOneObjectPerBody) {
+  TwoBodies<float> s;
+  const test::TempDir dir("pbd_frame_series");
+  FrameSeries series(dir.path(), "two", FrameFormat::obj, s.topology);
+  series.write(s.world, 0);
+  s.world.step();
+  series.write(s.world, 1);
+  EXPECT_EQ(series.frames_written(), 2u);
+  EXPECT_EQ(series.frame_file(1), dir / "two_00001.obj");
+  EXPECT_EQ(files_in(dir.path()), 2u) << "two frames, no .pvd for OBJ";
+  std::istringstream in(text_of(dir / "two_00001.obj"));
+  std::vector<std::string> objects;
+  std::vector<std::vector<std::string>> kinds;  // per object, the first word of each of its lines
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("o ", 0) == 0) {
+      objects.push_back(line.substr(2));
+      kinds.emplace_back();
+    } else if (!kinds.empty()) {
+      kinds.back().push_back(line.substr(0, line.find(' ')));
+    }
+  }
+  ASSERT_EQ(objects, (std::vector<std::string>{"cloth_0", "rope_1"}));
+  EXPECT_EQ(std::count(kinds[0].begin(), kinds[0].end(), "v"), 9);
+  EXPECT_EQ(std::count(kinds[0].begin(), kinds[0].end(), "f"), 8);
+  EXPECT_EQ(std::count(kinds[0].begin(), kinds[0].end(), "l"), 0);
+  EXPECT_EQ(std::count(kinds[1].begin(), kinds[1].end(), "v"), 4);
+  EXPECT_EQ(std::count(kinds[1].begin(), kinds[1].end(), "f"), 0);
+  EXPECT_EQ(std::count(kinds[1].begin(), kinds[1].end(), "l"), 3);
+  EXPECT_NE(text_of(dir / "two_00001.obj").find("o rope_1\nv 0.25 -0.5 2"), std::string::npos)
+      << "the rope's vertices follow its object line";
+}
+
+template <class Real> class FrameSeriesVtu : public ::testing::Test {};
+using Precisions = ::testing::Types<float, double>;
+TYPED_TEST_SUITE(FrameSeriesVtu, Precisions);
+
+TYPED_TEST(FrameSeriesVtu, OnePiecePerBodyWithTheWorldsValuesBitForBit) {
+  using Real = TypeParam;
+  TwoBodies<Real> s;
+  for (int i = 0; i < 5; ++i) s.world.step();
+  const test::TempDir dir("pbd_frame_series");
+  FrameSeries series(dir.path(), "two", FrameFormat::vtu, s.topology);
+  series.write(s.world, 5);
+  const std::string vtu = text_of(dir / "two_00005.vtu");
+  EXPECT_EQ(count_of(vtu, "<Piece "), 2u);
+  EXPECT_NE(vtu.find("<Piece NumberOfPoints=\"9\" NumberOfCells=\"8\">"), std::string::npos);
+  EXPECT_NE(vtu.find("<Piece NumberOfPoints=\"4\" NumberOfCells=\"3\">"), std::string::npos);
+  EXPECT_NE(vtu.find(std::string("type=\"") + (sizeof(Real) == 4 ? "Float32" : "Float64") + "\" Name=\"positions\""),
+            std::string::npos);
+  const auto x = s.world.positions();
+  const auto v = s.world.velocities();
+  const auto w = s.world.inverse_masses();
+  // The rope's piece (the second): positions, velocities and inverse masses exactly; its first particle pinned.
+  const auto points = data_array<Real>(vtu, "positions", 1);
+  const auto velocity = data_array<Real>(vtu, "velocity", 1);
+  const auto inverse_mass = data_array<Real>(vtu, "inverse_mass", 1);
+  const auto pinned = data_array<std::uint8_t>(vtu, "pinned", 1);
+  ASSERT_EQ(points.size(), 12u);
+  ASSERT_EQ(velocity.size(), 12u);
+  ASSERT_EQ(inverse_mass.size(), 4u);
+  ASSERT_EQ(pinned, (std::vector<std::uint8_t>{1, 0, 0, 0}));
+  for (Index i = 0; i < 4; ++i) {
+    EXPECT_EQ(inverse_mass[i], w[9 + i]);
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_EQ(points[3 * i + d], x(d, 9 + i)) << i;
+      EXPECT_EQ(velocity[3 * i + d], v(d, 9 + i)) << i;
+    }
+  }
+  // Local connectivity: the rope's lines are 0-1, 1-2, 2-3 of its own piece.
+  EXPECT_EQ(data_array<std::int64_t>(vtu, "connectivity", 1), (std::vector<std::int64_t>{0, 1, 1, 2, 2, 3}));
+  EXPECT_EQ(data_array<std::uint8_t>(vtu, "types", 1), (std::vector<std::uint8_t>{3, 3, 3}));
+  EXPECT_EQ(data_array<std::uint8_t>(vtu, "types", 0), std::vector<std::uint8_t>(8, 5));
+  // Cell data: a line's stretch is its constraint's; a triangle's the largest of its edges'; area NaN on lines.
+  const auto stretch = s.world.template constraints<StretchConstraint<Real>>();
+  const auto area = s.world.template constraints<AreaConstraint<Real>>();
+  const PositionsView<Real> xv(x);
+  const auto rope_stretch = data_array<double>(vtu, "stretch", 1);
+  ASSERT_EQ(rope_stretch.size(), 3u);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(rope_stretch[k], violation(stretch[stretch.size() - 3 + k], xv));
+  for (double a : data_array<double>(vtu, "area", 1)) EXPECT_TRUE(std::isnan(a));
+  const auto cloth_stretch = data_array<double>(vtu, "stretch", 0);
+  const auto cloth_area = data_array<double>(vtu, "area", 0);
+  ASSERT_EQ(cloth_stretch.size(), 8u);
+  ASSERT_EQ(cloth_area.size(), 8u);
+  for (std::size_t k = 0; k < 8; ++k) {
+    const auto& t = s.topology.bodies[0].triangles[k];
+    double largest = -1;
+    for (std::size_t c = 0; c < stretch.size(); ++c)
+      for (int e = 0; e < 3; ++e) {
+        const std::array<Index, 2> edge{t[e], t[(e + 1) % 3]};
+        if (stretch[c].particles == edge || stretch[c].particles == std::array<Index, 2>{edge[1], edge[0]})
+          largest = std::max(largest, violation(stretch[c], xv));
+      }
+    EXPECT_EQ(cloth_stretch[k], largest) << "triangle " << k;
+    EXPECT_EQ(cloth_area[k], violation(area[k], xv)) << "triangle " << k << " (one area constraint per triangle)";
+  }
+  EXPECT_EQ(data_array<double>(vtu, "TimeValue", 0), std::vector<double>{s.world.time()});
+}
+
+TEST(FrameSeries, ABodyWithoutTrianglesOrLinesIsDrawnAsVertices) {
+  const Scene scene = parse_scene(R"({"name": "g", "dt": 0.01, "bodies": [
+      {"type": "grains", "count": [2, 2, 1], "spacing": 0.1}]})", "g.json");
+  const World<float> world = build_world<float>(scene.world);
+  const test::TempDir dir("pbd_frame_series");
+  FrameSeries(dir.path(), "g", FrameFormat::vtu, frame_topology(world, scene.bodies)).write(world, 0);
+  const std::string vtu = text_of(dir / "g_00000.vtu");
+  EXPECT_NE(vtu.find("<Piece NumberOfPoints=\"4\" NumberOfCells=\"4\">"), std::string::npos);
+  EXPECT_EQ(data_array<std::uint8_t>(vtu, "types", 0), std::vector<std::uint8_t>(4, 1));
+  for (double s : data_array<double>(vtu, "stretch", 0)) EXPECT_TRUE(std::isnan(s));
+}
+
+TEST(FrameSeries, ThePvdListsEveryFrameWrittenSoFarWithItsTime) {
+  TwoBodies<double> s;
+  const test::TempDir dir("pbd_frame_series");
+  FrameSeries series(dir.path(), "two", FrameFormat::vtu, s.topology);
+  std::vector<double> times;
+  for (int step = 0; step <= 6; ++step) {
+    if (step % 3 == 0) {
+      series.write(s.world, step);
+      times.push_back(s.world.time());
+      // Rewritten after each frame: a run stopped here leaves a series of the frames so far.
+      EXPECT_EQ(count_of(text_of(series.pvd_file()), "<DataSet "), times.size());
+    }
+    s.world.step();
+  }
+  EXPECT_EQ(series.pvd_file(), dir / "two.pvd");
+  const std::string pvd = text_of(series.pvd_file());
+  EXPECT_NE(pvd.find("<VTKFile type=\"Collection\""), std::string::npos);
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    char entry[160];
+    std::snprintf(entry, sizeof entry, "<DataSet timestep=\"%.17g\" part=\"0\" file=\"two_%05zu.vtu\"/>", times[k], 3 * k);
+    EXPECT_NE(pvd.find(entry), std::string::npos) << entry << "\n" << pvd;
+  }
+  EXPECT_DOUBLE_EQ(times[2], 6 * 0.01);
+  EXPECT_EQ(files_in(dir.path()), 4u) << "three frames and the .pvd, no temporaries";
+  // The same step written again replaces its entry.
+  series.write(s.world, 6);
+  EXPECT_EQ(count_of(text_of(series.pvd_file()), "<DataSet "), 3u);
+}
+
+TEST(FrameSeries, AnUnwritableFolderIsAnErrorNamingTheFileAndLeavesNothing) {
+  const TwoBodies<float> s;
+  for (FrameFormat format : {FrameFormat::obj, FrameFormat::vtu}) {
+    FrameSeries missing("/nonexistent-pbd-dir", "two", format, s.topology);
+    test::expect_words(test::error_of([&] { missing.write(s.world, 0); }),
+                       {std::string("/nonexistent-pbd-dir/two_00000.") + name(format), "cannot open for writing"});
+    EXPECT_EQ(missing.frames_written(), 0u);
+    EXPECT_FALSE(std::filesystem::exists("/nonexistent-pbd-dir"));
+  }
+  // A folder where the frame should go: the error names it, no .pvd lists a frame that is not there.
+  const test::TempDir dir("pbd_frame_series");
+  std::filesystem::create_directories(dir / "two_00000.vtu");
+  FrameSeries taken(dir.path(), "two", FrameFormat::vtu, s.topology);
+  test::expect_words(test::error_of([&] { taken.write(s.world, 0); }), {"two_00000.vtu", "it is a folder"});
+  EXPECT_EQ(files_in(dir.path()), 1u) << "no .pvd and no temporary";
+}
+
+TEST(FrameSeries, AFailedWriteLeavesNoHalfFrameAndNoTemporary) {
+  // A file size limit makes the write fail after 4 KiB (SIGXFSZ ignored: write() returns EFBIG instead).
+  const Scene scene = parse_scene(R"({"name": "big", "dt": 0.01, "bodies": [
+      {"type": "cloth", "resolution": 40, "stretch": {}}]})", "big.json");
+  const World<double> world = build_world<double>(scene.world);
+  const test::TempDir dir("pbd_frame_series");
+  FrameSeries series(dir.path(), "big", FrameFormat::vtu, frame_topology(world, scene.bodies));
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
+  const auto previous = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit small = old;
+  small.rlim_cur = 4096;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  const std::string message = test::error_of([&] { series.write(world, 0); });
+  setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, previous);
+  test::expect_words(message, {"big_00000.vtu", "write failed"});
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << "no frame, no .pvd, no temporary";
+}
+
+}  // namespace
+}  // namespace pbd
