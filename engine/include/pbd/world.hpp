@@ -186,7 +186,8 @@ public:
   void set_time(double seconds);
   /// Number of particles.
   Index num_particles() const { return Index(state_.x.cols()); }
-  /// Positions in m, 3×N (no copy). Writing through the mutable map is allowed between steps.
+  /// Positions in m, 3×N (no copy). Writing through the mutable map is allowed between steps; a map stays valid
+  /// across step() (its storage is reallocated only by adding particles).
   Eigen::Map<const Positions> positions() const { return {state_.x.data(), 3, state_.x.cols()}; }
   Eigen::Map<Positions> positions() { return {state_.x.data(), 3, state_.x.cols()}; }  ///< mutable positions
   /// Velocities in m/s, 3×N (no copy).
