@@ -124,6 +124,14 @@ template <class Real> void World<Real>::advance(const Real* forces) {
     k.rollback_x = state_.x;
     k.rollback_v = state_.v;
   }
+  // Each sub-step swaps x with the predicted positions k.p, so an odd count would leave x in the other buffer: put
+  // the result back into x's own storage (one copy) so that maps of positions() stay valid across steps.
+  Real* const x_storage = state_.x.data();
+  auto keep_storage = [&] {
+    if (state_.x.data() == x_storage) return;
+    state_.x.swap(k.p);
+    state_.x = k.p;  // same size: copied into x_storage, no allocation
+  };
   const bool parallel = is_parallel(params_.solver);
   const Index n = num_particles();
   detail::update_free_bodies(model_, k.free_bodies);
@@ -226,8 +234,10 @@ template <class Real> void World<Real>::advance(const Real* forces) {
       state_.x = k.rollback_x;  // copied back, not swapped: maps the host holds on positions() stay valid
       state_.v = k.rollback_v;
     }
+    keep_storage();
     throw;
   }
+  keep_storage();
   state_.time += double(params_.dt);
   stats_.substeps = params_.substeps;
   stats_.sweeps = params_.substeps * params_.iterations;

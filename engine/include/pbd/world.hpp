@@ -186,9 +186,10 @@ public:
   void set_time(double seconds);
   /// Number of particles.
   Index num_particles() const { return Index(state_.x.cols()); }
-  /// Positions in m, 3×N (no copy). Writing through the mutable map is allowed between steps: the next step()
-  /// first checks every position and velocity (one pass) and throws pbd::Error naming the first non-finite one,
-  /// leaving the world unchanged. Steps that follow no mutable map skip that pass.
+  /// Positions in m, 3×N (no copy). A map stays valid across step() (its storage is reallocated only by adding
+  /// particles). Writing through the mutable map is allowed between steps: the next step() first checks every
+  /// position and velocity (one pass) and throws pbd::Error naming the first non-finite one, leaving the world
+  /// unchanged. Steps that follow no mutable map skip that pass.
   Eigen::Map<const Positions> positions() const { return {state_.x.data(), 3, state_.x.cols()}; }
   Eigen::Map<Positions> positions() {  ///< mutable positions (the next step() checks that they are finite)
     host_wrote_ = true;

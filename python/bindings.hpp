@@ -1,0 +1,15 @@
+#pragma once
+// The pieces of the Python module pbd (module.cpp says what is bound and the lifetime rules): each bind_* adds its
+// names to the module.
+#include <pybind11/pybind11.h>
+
+namespace pbd::python {
+
+namespace py = pybind11;
+
+void bind_params(py::module_& m);        // params_bindings.cpp: Stiffness, Solver, StepParams, StepStats, ...
+void bind_scene(py::module_& m);         // scene_bindings.cpp: Scene, load_scene, parse_scene
+void bind_world_float(py::module_& m);   // world_float.cpp: World, build_world and the metrics on World
+void bind_world_double(py::module_& m);  // world_double.cpp: WorldDouble, build_world_double, the metrics on it
+
+}  // namespace pbd::python

@@ -1,0 +1,36 @@
+// The Python module `pbd`: the host API of pbd::World<Real> for Python (pybind11), built for /usr/bin/python3.
+//
+// What is bound:
+// - pbd.World (World<float>) and pbd.WorldDouble (World<double>): particles, constraint sets and constraints,
+//   colliders, contact bodies, step parameters, step() and step(forces), statistics, validate();
+//   build_world(scene) / build_world_double(scene) build one from a scene.
+// - Parameters and results: Stiffness, Solver, SweepOrder, StepParams, StepStats, ContactMaterial,
+//   PressureSchedule, Violation, NamedViolation, Energy (params_bindings.cpp).
+// - Scenes: load_scene(path), parse_scene(text, source) → Scene (scene_bindings.cpp).
+// - Metrics, as in metrics.hpp: stretch_violation, constraint_violations, energy, position_hash.
+// - pbd::Error → pbd.Error (a RuntimeError) with the library's message; a bad numpy argument (shape, dtype) is a
+//   ValueError naming the call and the argument.
+//
+// Ownership and lifetime:
+// - A Python World owns its pbd::World (arrays.hpp, world_bindings.hpp). positions() and velocities() are numpy
+//   arrays of shape (N, 3) viewing the engine's storage (3×N column-major = N×3 row-major), no copy, writeable
+//   between steps; each holds a token that keeps the World alive and is counted by it. The storage moves only when
+//   particles are added, so add_particle(s) raise pbd.Error while any view is alive (del it or take a .copy()).
+//   step() keeps positions in their storage (World::step), so a view stays current across steps.
+// - Every other result is a copy: inverse_masses(), last_step_stats(), params, Scene.triangles.
+// - step() releases the GIL, so distinct worlds step concurrently from Python threads. While one world steps, any
+//   other call on that world raises pbd.Error (its views may be read, but see values mid-step).
+#include "bindings.hpp"
+
+#include "pbd/error.hpp"
+
+PYBIND11_MODULE(pbd, m) {
+  namespace py = pybind11;
+  m.doc() = "pbd: data-parallel Position Based Dynamics (Python bindings of pbd::World)";
+  py::register_exception<pbd::Error>(m, "Error", PyExc_RuntimeError);
+  m.attr("Error").attr("__doc__") = "Invalid input to pbd: the message names the offending item (pbd::Error).";
+  pbd::python::bind_params(m);
+  pbd::python::bind_scene(m);
+  pbd::python::bind_world_float(m);
+  pbd::python::bind_world_double(m);
+}

@@ -1,0 +1,122 @@
+// Parameters and results shared by both precisions: Stiffness, Solver, SweepOrder, StepParams, StepStats,
+// ContactMaterial, PressureSchedule, Violation, NamedViolation, Energy.
+#include "bindings.hpp"
+#include "params.hpp"
+
+#include "pbd/constraints/volume.hpp"
+#include "pbd/metrics.hpp"
+#include "pbd/stiffness.hpp"
+
+#include <pybind11/stl.h>
+
+#include <sstream>
+
+namespace pbd::python {
+
+void bind_params(py::module_& m) {
+  py::enum_<StiffnessMode>(m, "StiffnessMode", "Formulation of a constraint set's stiffness.")
+      .value("pbd", StiffnessMode::pbd, "each projection scaled by k")
+      .value("pbd_iteration_independent", StiffnessMode::pbd_iteration_independent,
+             "scaled by k' = 1 - (1 - k)^(1/iterations)")
+      .value("xpbd", StiffnessMode::xpbd, "XPBD compliance alpha (m/N for stretch)");
+
+  py::class_<Stiffness>(m, "Stiffness", "Stiffness of one constraint set (make one with pbd_k, iteration_independent or xpbd_compliance).")
+      .def_readonly("mode", &Stiffness::mode, "formulation (StiffnessMode)")
+      .def_readonly("k", &Stiffness::k, "PBD stiffness in [0, 1] (pbd modes)")
+      .def_readonly("compliance", &Stiffness::compliance, "XPBD compliance alpha >= 0, inverse stiffness in SI units")
+      .def_static("pbd_k", &Stiffness::pbd_k, py::arg("k"), "PBD stiffness k in [0, 1]: each projection scaled by k")
+      .def_static("iteration_independent", &Stiffness::iteration_independent, py::arg("k"),
+                  "PBD stiffness k in [0, 1] that a whole step achieves, whatever the iterations")
+      .def_static("xpbd_compliance", &Stiffness::xpbd_compliance, py::arg("alpha"),
+                  "XPBD compliance alpha >= 0 (inverse stiffness, SI units; 0 = rigid)")
+      .def("__repr__", [](const Stiffness& s) {
+        std::ostringstream o;
+        if (s.mode == StiffnessMode::xpbd) o << "pbd.Stiffness.xpbd_compliance(" << s.compliance << ")";
+        else o << "pbd.Stiffness." << (s.mode == StiffnessMode::pbd ? "pbd_k(" : "iteration_independent(") << s.k << ")";
+        return o.str();
+      });
+
+  py::enum_<Solver>(m, "Solver", "The constraint solver step() runs.")
+      .value("serial", Solver::serial, "reference Gauss-Seidel in insertion order, one thread")
+      .value("serial_colored", Solver::serial_colored, "Gauss-Seidel in color order on one thread (colored's bits)")
+      .value("colored", Solver::colored, "Gauss-Seidel color after color, each color in parallel")
+      .value("jacobi", Solver::jacobi, "Jacobi with split masses, over-relaxed by jacobi_omega")
+      .value("block", Solver::block, "block Gauss-Seidel: blocks of particles in parallel, then boundary colors");
+
+  py::enum_<SweepOrder>(m, "SweepOrder", "Order of the Gauss-Seidel sweeps.")
+      .value("forward", SweepOrder::forward, "every sub-step in insertion (color) order")
+      .value("symmetric", SweepOrder::symmetric, "odd sub-steps sweep backwards (closed bodies)");
+
+  py::class_<StepParamsPy>(m, "StepParams",
+                           "Parameters of step() (a copy: read World.params, change it, assign it back).")
+      .def(py::init<>(), "the defaults: dt 1/60 s, 1 substep, 10 iterations, gravity (0, 0, -9.81), colored solver")
+      .def_readwrite("dt", &StepParamsPy::dt, "time step in s, > 0")
+      .def_readwrite("substeps", &StepParamsPy::substeps, "sub-steps per step, >= 1")
+      .def_readwrite("iterations", &StepParamsPy::iterations, "sweeps per sub-step, >= 0")
+      .def_readwrite("gravity", &StepParamsPy::gravity, "acceleration of every movable particle, m/s^2 (3 numbers)")
+      .def_readwrite("damping", &StepParamsPy::damping, "velocity damping rate in 1/s, >= 0")
+      .def_readwrite("collision_margin", &StepParamsPy::collision_margin, "contact generation distance in m, >= 0")
+      .def_readwrite("solver", &StepParamsPy::solver, "which solver step() runs (Solver)")
+      .def_readwrite("sweep_order", &StepParamsPy::sweep_order, "Gauss-Seidel sweep order (SweepOrder)")
+      .def_readwrite("jacobi_omega", &StepParamsPy::jacobi_omega, "Jacobi over-relaxation factor, in (0, 2)")
+      .def("__repr__", [](const StepParamsPy& p) {
+        std::ostringstream o;
+        o << "pbd.StepParams(dt=" << p.dt << ", substeps=" << p.substeps << ", iterations=" << p.iterations
+          << ", solver=" << name(p.solver) << ")";
+        return o.str();
+      });
+
+  py::class_<Violation>(m, "Violation", "RMS and maximum of a normalized violation over the constraints of one type.")
+      .def_readonly("rms", &Violation::rms, "root mean square (units of the type: relative, m or rad)")
+      .def_readonly("max", &Violation::max, "maximum (units of the type)")
+      .def_readonly("count", &Violation::count, "constraints measured")
+      .def("__repr__", [](const Violation& v) {
+        std::ostringstream o;
+        o << "pbd.Violation(rms=" << v.rms << ", max=" << v.max << ", count=" << v.count << ")";
+        return o.str();
+      });
+  py::class_<NamedViolation>(m, "NamedViolation", "The violation of one constraint type.")
+      .def_readonly("type", &NamedViolation::type, "constraint type: stretch, bending, area, volume, collision, ...")
+      .def_readonly("value", &NamedViolation::value, "its Violation");
+
+  py::class_<StepStats>(m, "StepStats", "What the last step() did and how long each phase took (wall-clock s).")
+      .def_readonly("seconds", &StepStats::seconds, "the whole step, s")
+      .def_readonly("seconds_integrate", &StepStats::seconds_integrate, "forces, damping, prediction, velocity update, s")
+      .def_readonly("seconds_collisions", &StepStats::seconds_collisions, "generating contacts, s")
+      .def_readonly("seconds_coloring", &StepStats::seconds_coloring, "coloring constraints, s")
+      .def_readonly("seconds_solve", &StepStats::seconds_solve, "the sweeps, s")
+      .def_readonly("seconds_waiting", &StepStats::seconds_waiting, "of seconds_solve: threads waiting at barriers, s")
+      .def_readonly("solve_threads", &StepStats::solve_threads, "most threads that ran one sub-step's sweeps")
+      .def_readonly("substeps", &StepStats::substeps, "sub-steps taken")
+      .def_readonly("sweeps", &StepStats::sweeps, "sweeps taken (substeps x iterations)")
+      .def_readonly("colors", &StepStats::colors, "groups of the persistent constraints (0 for serial)")
+      .def_readonly("chebyshev_fallbacks", &StepStats::chebyshev_fallbacks, "sub-steps whose Chebyshev acceleration stopped")
+      .def_readonly("chebyshev_rho", &StepStats::chebyshev_rho, "rho of the Chebyshev acceleration after the step")
+      .def_readonly("collisions", &StepStats::collisions, "collision constraints and particle contacts of the last sub-step")
+      .def_readonly("violation", &StepStats::violation,
+                    "per type at the end of the step (list of NamedViolation; only after set_measure_violation(True))");
+
+  py::class_<ContactMaterial<double>>(m, "ContactMaterial", "Friction and restitution of a surface.")
+      .def(py::init([](double s, double k, double e) { return ContactMaterial<double>{s, k, e}; }),
+           py::arg("static_friction") = 0.0, py::arg("kinetic_friction") = 0.0, py::arg("restitution") = 0.0,
+           "a material: friction coefficients >= 0 (dimensionless), restitution in [0, 1]")
+      .def_readwrite("static_friction", &ContactMaterial<double>::static_friction, "static friction coefficient >= 0")
+      .def_readwrite("kinetic_friction", &ContactMaterial<double>::kinetic_friction, "kinetic friction coefficient >= 0")
+      .def_readwrite("restitution", &ContactMaterial<double>::restitution, "restitution in [0, 1]");
+
+  py::class_<PressureSchedule>(m, "PressureSchedule", "Target volume factor of a volume constraint over time.")
+      .def(py::init([](double from, double to, double duration) { return PressureSchedule{from, to, duration}; }),
+           py::arg("from_") = 1.0, py::arg("to") = 1.0, py::arg("duration") = 0.0,
+           "factor from_ at t = 0 ramping linearly to `to` over duration s")
+      .def_readwrite("from_", &PressureSchedule::from, "pressure factor at t = 0")
+      .def_readwrite("to", &PressureSchedule::to, "pressure factor from t = duration on")
+      .def_readwrite("duration", &PressureSchedule::duration, "seconds of the linear ramp, >= 0")
+      .def("at", &PressureSchedule::at, py::arg("t"), "the pressure factor at time t in s");
+
+  py::class_<Energy>(m, "Energy", "Kinetic and gravitational potential energy of the movable particles, J.")
+      .def_readonly("kinetic", &Energy::kinetic, "sum of 1/2 m |v|^2, J")
+      .def_readonly("potential", &Energy::potential, "-sum of m g.x, J")
+      .def_property_readonly("total", &Energy::total, "kinetic + potential, J");
+}
+
+}  // namespace pbd::python

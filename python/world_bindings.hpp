@@ -1,0 +1,260 @@
+#pragma once
+// pbd.World (float) and pbd.WorldDouble (double): one template, instantiated by world_float.cpp and
+// world_double.cpp. The lifetime rules are in module.cpp's design note.
+#include "arrays.hpp"
+#include "bindings.hpp"
+#include "params.hpp"
+
+#include "pbd/io/build_world.hpp"
+#include "pbd/io/scene.hpp"
+#include "pbd/metrics.hpp"
+#include "pbd/world.hpp"
+
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+
+namespace pbd::python {
+
+/// A World as Python holds it: the engine's world, its live numpy views and whether it is stepping.
+template <class Real> struct PyWorld {
+  World<Real> world;
+  int views = 0;                       // live views of positions()/velocities(); only touched with the GIL held
+  std::atomic<bool> stepping = false;  // a step() runs with the GIL released
+
+  /// The world, unless a step() runs on it in another thread.
+  World<Real>& get(const char* call) {
+    if (stepping) throw Error(std::string(call) + ": the world is stepping in another thread");
+    return world;
+  }
+  /// Throws while a view of the storage that adding particles reallocates is alive.
+  void check_no_views(const char* call) const {
+    if (views)
+      throw Error(std::string(call) + ": " + std::to_string(views) +
+                  " numpy view(s) of positions()/velocities() are alive and adding particles moves the storage "
+                  "they view; delete them (del) or keep copies (.copy()) first");
+  }
+};
+
+/// Runs f(world) with the GIL released; the world refuses other calls meanwhile.
+template <class Real, class F> void run_released(PyWorld<Real>& w, const char* call, F&& f) {
+  World<Real>& world = w.get(call);
+  struct Done {
+    std::atomic<bool>& flag;
+    ~Done() { flag = false; }  // after the GIL is taken back (destroyed after `release`)
+  } done{w.stepping};
+  w.stepping = true;
+  // A live view may have been written since the last step: handing out a mutable map makes step() check that every
+  // position and velocity is finite first (pbd::Error naming the particle otherwise).
+  if (w.views) world.positions();
+  py::gil_scoped_release release;
+  f(world);
+}
+
+template <class Real> void bind_world(py::module_& m, const char* name, const char* build_name) {
+  using W = PyWorld<Real>;
+  using Vec = Vec3<Real>;
+  const std::string precision = sizeof(Real) == 4 ? "float32" : "float64";
+  py::class_<W> cls(m, name,
+                    ("A simulated world in " + precision +
+                     ": particles, constraints, colliders and the PBD step (pbd::World). kPinned = inf is the mass of a "
+                     "pinned particle.").c_str());
+  cls.attr("kPinned") = std::numeric_limits<Real>::infinity();
+  cls.def(py::init<>(), "an empty world with default parameters");
+
+  // ---- particles ----
+  cls.def(
+      "add_particle",
+      [](W& w, py::object position, Real mass, py::object velocity) {
+        w.check_no_views("add_particle");
+        const Vec x = vec3<Real>(position, "add_particle: position");
+        const Vec v = velocity.is_none() ? Vec::Zero() : vec3<Real>(velocity, "add_particle: velocity");
+        return w.get("add_particle").add_particle(x, mass, v);
+      },
+      py::arg("position"), py::arg("mass"), py::arg("velocity") = py::none(),
+      "Adds a particle at position (m) with mass in kg (PINNED: fixed) and velocity (m/s); returns its index.");
+  cls.def(
+      "add_particles",
+      [](W& w, py::object positions, py::object masses) {
+        w.check_no_views("add_particles");
+        const auto x = real_array<Real>(positions, "add_particles: positions", 3);
+        const auto mass = real_array<Real>(masses, "add_particles: masses", 0, x.shape(0));
+        const Eigen::Map<const Matrix3X<Real>> X(x.data(), 3, x.shape(0));
+        const Eigen::Map<const VectorX<Real>> M(mass.data(), mass.shape(0));
+        return w.get("add_particles").add_particles(X, M);
+      },
+      py::arg("positions"), py::arg("masses"),
+      "Adds N particles: positions (N, 3) in m, masses (N,) in kg (PINNED: fixed); returns the first index.");
+  cls.def(
+      "set_mass", [](W& w, std::int64_t i, Real mass) { w.get("set_mass").set_mass(index_arg(i, "set_mass: particle"), mass); },
+      py::arg("particle"), py::arg("mass"), "Sets a particle's mass in kg (PINNED pins it).");
+  cls.def_property_readonly("num_particles", [](W& w) { return w.get("num_particles").num_particles(); },
+                            "number of particles");
+  cls.def_property(
+      "time", [](W& w) { return w.get("time").time(); }, [](W& w, double t) { w.get("time").set_time(t); },
+      "simulated time in s (dt per step)");
+
+  // ---- views and copies ----
+  cls.def(
+      "positions",
+      [](py::object self) {
+        W& w = self.cast<W&>();
+        auto x = w.get("positions").positions();
+        return counted_view<Real>(self, &w.views, x.data(), x.cols());
+      },
+      ("Positions in m: an (N, 3) " + precision +
+       " array viewing the world's storage (no copy), writeable between steps; add_particle(s) refuse while it lives.")
+          .c_str());
+  cls.def(
+      "velocities",
+      [](py::object self) {
+        W& w = self.cast<W&>();
+        auto v = w.get("velocities").velocities();
+        return counted_view<Real>(self, &w.views, v.data(), v.cols());
+      },
+      ("Velocities in m/s: an (N, 3) " + precision +
+       " array viewing the world's storage (no copy), writeable between steps; add_particle(s) refuse while it lives.")
+          .c_str());
+  cls.def(
+      "inverse_masses",
+      [](W& w) {
+        const auto im = w.get("inverse_masses").inverse_masses();
+        py::array_t<Real> out(im.size());
+        std::copy(im.data(), im.data() + im.size(), out.mutable_data());
+        return out;
+      },
+      "Inverse masses in 1/kg, (N,) (a copy; 0 = pinned).");
+  cls.def("num_views", [](const W& w) { return w.views; },
+          "Number of live numpy views of positions()/velocities() (add_particle(s) need 0).");
+
+  // ---- constraints ----
+  cls.def("add_constraint_set", [](W& w, const Stiffness& s) { return w.get("add_constraint_set").add_constraint_set(s); },
+          py::arg("stiffness"), "Adds a constraint set with its Stiffness; returns its id.");
+  cls.def(
+      "add_stretch",
+      [](W& w, std::int64_t a, std::int64_t b, std::int64_t set, std::optional<Real> rest) {
+        return w.get("add_stretch").add_stretch(index_arg(a, "add_stretch: a"), index_arg(b, "add_stretch: b"),
+                                                index_arg(set, "add_stretch: set"), rest);
+      },
+      py::arg("a"), py::arg("b"), py::arg("set"), py::arg("rest") = py::none(),
+      "Adds a stretch constraint between particles a and b; rest distance in m (default: current); returns its index.");
+  cls.def(
+      "add_anchor",
+      [](W& w, std::int64_t p, std::int64_t set, py::object target) {
+        std::optional<Vec> t;
+        if (!target.is_none()) t = vec3<Real>(target, "add_anchor: target");
+        return w.get("add_anchor").add_anchor(index_arg(p, "add_anchor: particle"), index_arg(set, "add_anchor: set"), t);
+      },
+      py::arg("particle"), py::arg("set"), py::arg("target") = py::none(),
+      "Adds an anchor pulling a particle to target in m (default: its current position); returns its index.");
+  cls.def(
+      "add_bending",
+      [](W& w, std::int64_t p1, std::int64_t p2, std::int64_t p3, std::int64_t p4, std::int64_t set, std::optional<Real> rest) {
+        return w.get("add_bending").add_bending(index_arg(p1, "add_bending: p1"), index_arg(p2, "add_bending: p2"),
+                                                index_arg(p3, "add_bending: p3"), index_arg(p4, "add_bending: p4"),
+                                                index_arg(set, "add_bending: set"), rest);
+      },
+      py::arg("p1"), py::arg("p2"), py::arg("p3"), py::arg("p4"), py::arg("set"), py::arg("rest") = py::none(),
+      "Adds a dihedral bending constraint on triangles (p1, p2, p3), (p1, p2, p4); rest angle in rad (default: current).");
+  cls.def(
+      "add_area",
+      [](W& w, std::int64_t a, std::int64_t b, std::int64_t c, std::int64_t set, std::optional<Real> rest) {
+        return w.get("add_area").add_area(index_arg(a, "add_area: a"), index_arg(b, "add_area: b"),
+                                          index_arg(c, "add_area: c"), index_arg(set, "add_area: set"), rest);
+      },
+      py::arg("a"), py::arg("b"), py::arg("c"), py::arg("set"), py::arg("rest") = py::none(),
+      "Adds a triangle area constraint; rest area in m^2 (default: current); returns its index.");
+  cls.def(
+      "add_volume",
+      [](W& w, py::object triangles, std::int64_t set, const PressureSchedule& pressure, std::optional<Real> rest) {
+        const auto t = triangles_arg(triangles, "add_volume: triangles");
+        return w.get("add_volume").add_volume(t, index_arg(set, "add_volume: set"), pressure, rest);
+      },
+      py::arg("triangles"), py::arg("set"), py::arg("pressure") = PressureSchedule{}, py::arg("rest") = py::none(),
+      "Adds a volume constraint on a closed mesh, triangles (M, 3) counter-clockwise from outside; rest in 6V m^3.");
+  cls.def("num_constraints", [](W& w) { return w.get("num_constraints").num_constraints(); },
+          "Number of constraints of every type.");
+
+  // ---- colliders and contacts ----
+  cls.def(
+      "add_plane",
+      [](W& w, py::object normal, Real offset, const ContactMaterial<double>& material) {
+        w.get("add_plane").add_plane(vec3<Real>(normal, "add_plane: normal"), offset, to_engine<Real>(material));
+      },
+      py::arg("normal"), py::arg("offset"), py::arg("material") = ContactMaterial<double>{},
+      "Adds the half-space normal.x >= offset (offset in m) with a ContactMaterial.");
+  cls.def(
+      "add_sphere",
+      [](W& w, py::object center, Real radius, const ContactMaterial<double>& material) {
+        w.get("add_sphere").add_sphere(vec3<Real>(center, "add_sphere: center"), radius, to_engine<Real>(material));
+      },
+      py::arg("center"), py::arg("radius"), py::arg("material") = ContactMaterial<double>{},
+      "Adds a solid sphere: center in m, radius in m (> 0), with a ContactMaterial.");
+  cls.def(
+      "add_contact_body",
+      [](W& w, std::int64_t first, std::int64_t count, Real radius, const ContactMaterial<double>& material, bool self) {
+        ContactBody<Real> b{index_arg(first, "add_contact_body: first"), index_arg(count, "add_contact_body: count"),
+                            radius, to_engine<Real>(material), self};
+        return w.get("add_contact_body").add_contact_body(b);
+      },
+      py::arg("first"), py::arg("count"), py::arg("radius"), py::arg("material") = ContactMaterial<double>{},
+      py::arg("self_collision") = false,
+      "Makes particles [first, first + count) a contact body of radius in m; returns its index.");
+
+  // ---- stepping ----
+  cls.def_property(
+      "params", [](W& w) { return to_python(w.get("params").params()); },
+      [](W& w, const StepParamsPy& p) {
+        World<Real>& world = w.get("params");
+        world.set_params(to_engine<Real>(p, world.params()));
+      },
+      "step parameters (StepParams; a copy: change it, then assign it back)");
+  cls.def(
+      "step", [](W& w) { run_released(w, "step", [](World<Real>& world) { world.step(); }); },
+      "Advances the world by params.dt s (releases the GIL).");
+  cls.def(
+      "step",
+      [](W& w, py::object forces) {
+        const Index n = w.get("step").num_particles();
+        const auto f = real_array<Real>(forces, "step: forces", 3, py::ssize_t(n));
+        const Eigen::Map<const Matrix3X<Real>> F(f.data(), 3, f.shape(0));
+        run_released(w, "step", [&](World<Real>& world) { world.step(F); });
+      },
+      py::arg("forces"), "Advances the world by params.dt s with forces (N, 3) in N on the particles (releases the GIL).");
+  cls.def("last_step_stats", [](W& w) { return w.get("last_step_stats").last_step_stats(); },
+          "Statistics of the last step() (StepStats, a copy).");
+  cls.def("set_measure_violation", [](W& w, bool on) { w.get("set_measure_violation").set_measure_violation(on); },
+          py::arg("on"), "Whether step() measures each type's violation into last_step_stats().violation.");
+  cls.def("validate", [](W& w) { w.get("validate").validate(); },
+          "Checks every invariant of the model; raises pbd.Error naming the first broken one.");
+  cls.def("__repr__", [name](W& w) {
+    std::ostringstream o;
+    o << "<pbd." << name << ": " << w.world.num_particles() << " particles, " << w.world.num_constraints()
+      << " constraints, t = " << w.world.time() << " s>";
+    return o.str();
+  });
+
+  // ---- scenes and metrics (module functions, overloaded on the precision as in metrics.hpp) ----
+  m.def(
+      build_name,
+      [](const Scene& scene) {
+        auto w = std::make_unique<W>();
+        w->world = build_world<Real>(scene.world);
+        return w;
+      },
+      py::arg("scene"), ("Builds a " + std::string(name) + " (" + precision + ") of a Scene, its parameters included.").c_str());
+  m.def("stretch_violation", [](W& w) { return stretch_violation(w.get("stretch_violation")); }, py::arg("world"),
+        "Relative stretch |(|xa - xb| - d)| / d of every stretch constraint (Violation).");
+  m.def("constraint_violations", [](W& w) { return constraint_violations(w.get("constraint_violations")); },
+        py::arg("world"), "The violation of every constraint type the world has (list of NamedViolation).");
+  m.def("energy", [](W& w) { return energy(w.get("energy")); }, py::arg("world"),
+        "Kinetic and gravitational potential energy of the movable particles (Energy, J).");
+  m.def("position_hash", [](W& w) { return position_hash(w.get("position_hash")); }, py::arg("world"),
+        "64-bit FNV-1a hash of the positions' bytes (int; `pbd run` prints it as 16 hex digits).");
+}
+
+}  // namespace pbd::python
