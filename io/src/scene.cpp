@@ -6,6 +6,7 @@
 #include "pbd/detail/message.hpp"
 #include "pbd/closed_mesh.hpp"
 #include "pbd/io/description_builder.hpp"
+#include "pbd/io/frame_series.hpp"
 #include "pbd/io/generators.hpp"
 #include "pbd/io/mesh_body.hpp"
 #include "pbd/io/mesh_generators.hpp"
@@ -42,13 +43,12 @@ void check_particle_budget(const JsonObject& o, const std::string& key, const De
 
 // A scene's name names its files (frames, reports): a plain file name, so that nothing lands outside the folder given.
 void check_scene_name(const JsonObject& o, const std::string& name) {
-  if (name.empty() || name == "." || name == "..")
-    o.fail("name", message("a scene name must be a plain file name, not ", detail::quoted(name)));
   if (name.size() > 100) o.fail("name", message("a scene name is at most 100 bytes; this one has ", name.size()));
-  for (const char c : name)
-    if (c == '/' || c == '\\' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-      o.fail("name", message("a scene name must be a plain file name (no '/', '\\' or control characters): ",
-                             detail::quoted(name)));
+  try {
+    check_frame_stem(name);  // the rule of frame_series.hpp: no '/', '\\', control characters, "." or ".."
+  } catch (const Error& e) {
+    o.fail("name", message("a scene name must be a plain file name: ", e.what()));
+  }
 }
 
 // A direction or normal: non-zero and of finite length.
