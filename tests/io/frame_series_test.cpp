@@ -6,13 +6,12 @@
 #include "pbd/io/frame_series.hpp"
 #include "pbd/io/scene.hpp"
 #include "pbd/metrics.hpp"
+#include "file_size_limit.hpp"
 #include "temp_dir.hpp"
 
 #include <gtest/gtest.h>
-#include <sys/resource.h>
 
 #include <cmath>
-#include <csignal>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -272,15 +271,11 @@ TEST(FrameSeries, AFailedWriteLeavesNoHalfFrameAndNoTemporary) {
   const World<double> world = build_world<double>(scene.world);
   const test::TempDir dir("pbd_frame_series");
   FrameSeries series(dir.path(), "big", FrameFormat::vtu, frame_topology(world, scene.bodies));
-  rlimit old{};
-  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
-  const auto previous = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit small = old;
-  small.rlim_cur = 4096;
-  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
-  const std::string message = test::error_of([&] { series.write(world, 0); });
-  setrlimit(RLIMIT_FSIZE, &old);
-  std::signal(SIGXFSZ, previous);
+  std::string message;
+  {
+    const test::FileSizeLimit limit(4096);
+    message = test::error_of([&] { series.write(world, 0); });
+  }
   test::expect_words(message, {"big_00000.vtu", "write failed"});
   EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << "no frame, no .pvd, no temporary";
 }

@@ -4,12 +4,11 @@
 #include "error_checks.hpp"
 #include "pbd/io/frame_writer.hpp"
 #include "pbd/io/generators.hpp"
+#include "file_size_limit.hpp"
 #include "temp_dir.hpp"
 
 #include <gtest/gtest.h>
-#include <sys/resource.h>
 
-#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -155,15 +154,11 @@ TEST(FrameWriter, AFailedWriteLeavesNoFile) {
   add_cloth(s.world, big, std::nullopt);
   const test::TempDir dir("pbd_frame_writer");
   const auto file = dir / "big.obj";
-  rlimit old{};
-  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
-  const auto previous = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit small = old;
-  small.rlim_cur = 4096;
-  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
-  const std::string message = test::error_of([&] { write_obj_frame(file, s.world, frame_topology(s.world, s.triangles)); });
-  setrlimit(RLIMIT_FSIZE, &old);
-  std::signal(SIGXFSZ, previous);
+  std::string message;
+  {
+    const test::FileSizeLimit limit(4096);
+    message = test::error_of([&] { write_obj_frame(file, s.world, frame_topology(s.world, s.triangles)); });
+  }
   test::expect_words(message, {"big.obj", "write failed"});
   EXPECT_FALSE(std::filesystem::exists(file));
   EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << "the temporary is removed";

@@ -66,8 +66,9 @@ template <class Real> inline Cell cell_of(const Vec3<Real>& q, const Vec3<Real>&
   if constexpr (std::is_same_v<Real, float>)  // the same cells, three axes at once
     return cell_of4(_mm_setr_ps(q[0], q[1], q[2], 0.0f), _mm_setr_ps(inv[0], inv[1], inv[2], 0.0f));
 #endif
-  auto axis = [&](int d) {  // clamped so that a far particle cannot overflow (it only shares a cell more often)
-    return std::int32_t(std::clamp(std::floor(q[d] * inv[d]), Real(-1e9), Real(1e9)));
+  auto axis = [&](int d) {  // clamped so that a far particle cannot overflow (it only shares a cell more often);
+    const Real v = std::floor(q[d] * inv[d]);  // a NaN (a blown-up state) goes to the lowest cell, not to an
+    return std::int32_t(v >= Real(1e9) ? Real(1e9) : v > Real(-1e9) ? v : Real(-1e9));  // undefined conversion
   };
   return {axis(0), axis(1), axis(2)};
 }
