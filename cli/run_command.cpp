@@ -123,6 +123,7 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     std::printf("volume %zu: %.6g m^3, target %.6g m^3 (%.2fx rest), error %+.3f%%\n", i, now / 6, target / 6,
                 vc.pressure.at(world.time()), 100.0 * (now / target - 1.0));
   }
+  if (series) series->finish();  // the .pvd lists every frame
   if (series && series->frames_written())
     std::printf("wrote %zu frames to %s%s\n", series->frames_written(), o.frames.c_str(),
                 series->format() == FrameFormat::vtu ? (" (series: " + series->pvd_file().string() + ")").c_str() : "");

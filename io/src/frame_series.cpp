@@ -80,11 +80,20 @@ template <class Real> void FrameSeries::write(const World<Real>& world, long ste
     cells_ = vtu_cell_constraints(world, topology_);
   write_file_atomically(file, vtu_frame(world, topology_, *cells_, file.string()));
   ++written_;
-  const std::string name = file.filename().string();
-  const auto same = std::find_if(pvd_.begin(), pvd_.end(), [&](const PvdFrame& f) { return f.file == name; });
-  if (same != pvd_.end()) same->time = world.time();
-  else pvd_.push_back({world.time(), name});
-  write_pvd(pvd_file(), pvd_);
+  pvd_[step] = {world.time(), file.filename().string()};
+  pvd_pending_ = true;
+  if (written_ <= kPvdEveryFrame || std::chrono::steady_clock::now() - pvd_written_at_ >= std::chrono::seconds(1))
+    finish();
+}
+
+void FrameSeries::finish() {
+  if (!pvd_pending_) return;
+  std::vector<PvdFrame> frames;
+  frames.reserve(pvd_.size());
+  for (const auto& [step, frame] : pvd_) frames.push_back(frame);
+  write_pvd(pvd_file(), frames);
+  pvd_pending_ = false;
+  pvd_written_at_ = std::chrono::steady_clock::now();
 }
 
 template void FrameSeries::write(const World<float>&, long);

@@ -247,6 +247,24 @@ TEST(FrameSeries, ThePvdListsEveryFrameWrittenSoFarWithItsTime) {
   EXPECT_EQ(count_of(text_of(series.pvd_file()), "<DataSet "), 3u);
 }
 
+TEST(FrameSeries, ALongSeriesRewritesThePvdLessOftenAndFinishListsEveryFrame) {
+  TwoBodies<double> s;
+  const test::TempDir dir("pbd_frame_series");
+  FrameSeries series(dir.path(), "two", FrameFormat::vtu, s.topology);
+  const long frames = 2 * long(FrameSeries::kPvdEveryFrame) + 8;
+  for (long step = 0; step < frames; ++step) {
+    series.write(s.world, step);
+    const std::size_t listed = count_of(text_of(series.pvd_file()), "<DataSet ");
+    // Every frame while the series is short; later the list may lag (by at most a second of frames), never lose one.
+    if (step < long(FrameSeries::kPvdEveryFrame)) EXPECT_EQ(listed, std::size_t(step + 1));
+    else EXPECT_GE(listed, FrameSeries::kPvdEveryFrame);
+    s.world.step();
+  }
+  series.finish();
+  EXPECT_EQ(count_of(text_of(series.pvd_file()), "<DataSet "), std::size_t(frames));
+  EXPECT_EQ(files_in(dir.path()), std::size_t(frames) + 1) << "the frames and the .pvd, no temporaries";
+}
+
 TEST(FrameSeries, AnUnwritableFolderIsAnErrorNamingTheFileAndLeavesNothing) {
   const TwoBodies<float> s;
   for (FrameFormat format : {FrameFormat::obj, FrameFormat::vtu}) {

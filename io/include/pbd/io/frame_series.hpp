@@ -7,7 +7,9 @@
 #include "pbd/io/vtu_frame.hpp"
 #include "pbd/world.hpp"
 
+#include <chrono>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,10 +39,16 @@ class FrameSeries {
   /// pbd::Error for a bad stem.
   FrameSeries(std::filesystem::path dir, std::string stem, FrameFormat format, FrameTopology topology);
 
-  /// Writes the frame of `world` at `step` (≥ 0) to frame_file(step); for vtu then rewrites the .pvd with every frame
-  /// written so far (a step written again replaces its entry), timestep = world.time() in s. Throws pbd::Error naming
-  /// the file that could not be written, or the body that does not fit the world; a failed frame is not listed.
+  /// Writes the frame of `world` at `step` (≥ 0) to frame_file(step); for vtu the frame joins the .pvd's list (a
+  /// step written again replaces its entry), timestep = world.time() in s. The .pvd is rewritten after each of the
+  /// first kPvdEveryFrame frames, then at most once per second (so a long run's rewrites add up to a bounded
+  /// multiple of its size, and a stopped run's .pvd lags by at most a second), and by finish(). Throws pbd::Error
+  /// naming the file that could not be written, or the body that does not fit the world; a failed frame is not listed.
   template <class Real> void write(const World<Real>& world, long step);
+  /// Writes the .pvd if frames were listed since it was last written (call once the run is over).
+  void finish();
+  /// Frames after each of which the .pvd is always rewritten.
+  static constexpr std::size_t kPvdEveryFrame = 16;
 
   /// DIR/<stem>_<step as %05ld>.obj or .vtu.
   std::filesystem::path frame_file(long step) const;
@@ -57,7 +65,9 @@ class FrameSeries {
   FrameFormat format_;
   FrameTopology topology_;
   std::optional<VtuCellConstraints> cells_;  // found at the first vtu frame, again if the world's constraints change
-  std::vector<PvdFrame> pvd_;
+  std::map<long, PvdFrame> pvd_;  // by step
+  bool pvd_pending_ = false;      // frames listed since the .pvd was last written
+  std::chrono::steady_clock::time_point pvd_written_at_{};
   std::size_t written_ = 0;
 };
 
