@@ -74,7 +74,7 @@ template <class Real> void FrameSeries::write(const World<Real>& world, long ste
     ++written_;
     return;
   }
-  check_frame_topology(topology_, world.num_particles(), file.string());
+  // vtu_frame checks the topology against the world (once per frame); the cell lookup below only reads it.
   if (!cells_ || cells_->num_stretch != world.template constraints<StretchConstraint<Real>>().size() ||
       cells_->num_area != world.template constraints<AreaConstraint<Real>>().size())
     cells_ = vtu_cell_constraints(world, topology_);
