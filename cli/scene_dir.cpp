@@ -1,14 +1,10 @@
 #include "scene_dir.hpp"
 
+#include "data_dir.hpp"
+#include "pbd/error.hpp"
+
 #include <cstdlib>
 #include <system_error>
-
-#ifndef PBD_SOURCE_SCENE_DIR
-#define PBD_SOURCE_SCENE_DIR ""
-#endif
-#ifndef PBD_INSTALL_SCENE_DIR
-#define PBD_INSTALL_SCENE_DIR ""
-#endif
 
 namespace pbd::cli {
 namespace {
@@ -18,26 +14,31 @@ bool is_folder(const std::filesystem::path& dir) {
   return !dir.empty() && std::filesystem::is_directory(dir, ec);
 }
 
-// ../share/pbd/scenes relative to the running program's folder ("" if /proc/self/exe cannot be read).
-std::filesystem::path next_to_program() {
-  std::error_code ec;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (ec || exe.empty()) return {};
-  return exe.parent_path().parent_path() / "share" / "pbd" / "scenes";
+// The rule of io's load_scene_by_name: such a name is a file, not a built-in scene.
+bool names_a_file(const std::string& name) {
+  return std::filesystem::path(name).has_extension() || name.find('/') != std::string::npos;
 }
 
 }  // namespace
 
 std::filesystem::path builtin_scene_dir() {
-  if (const char* env = std::getenv("PBD_SCENE_DIR"); env && *env) return env;
-  for (const std::filesystem::path& dir :
-       {std::filesystem::path(PBD_SOURCE_SCENE_DIR), next_to_program(), std::filesystem::path(PBD_INSTALL_SCENE_DIR)})
-    if (is_folder(dir)) return dir;
-  return "scenes";
+  if (const char* env = std::getenv("PBD_SCENE_DIR"); env && *env) {
+    if (!is_folder(env)) throw Error(std::string("PBD_SCENE_DIR: ") + env + " is not a folder");
+    return env;
+  }
+  const std::filesystem::path data = data_dir();
+  if (!data.empty() && is_folder(data / "scenes")) return data / "scenes";
+  const std::string tried =
+      data.empty() ? std::string("share/pbd/scenes beside the program (/proc/self/exe cannot be read)")
+                   : (data / "scenes").string() + " (beside the program " + program_file().string() + ")";
+  throw Error("the built-in scenes are not found: PBD_SCENE_DIR is not set and " + tried +
+              " is not a folder; set PBD_SCENE_DIR to the scenes folder, or give a scene file");
 }
 
 std::vector<std::string> builtin_scene_names() { return scene_names(builtin_scene_dir()); }
 
-Scene load_builtin_scene(const std::string& name_or_file) { return load_scene_by_name(name_or_file, builtin_scene_dir()); }
+Scene load_builtin_scene(const std::string& name_or_file) {
+  return load_scene_by_name(name_or_file, names_a_file(name_or_file) ? std::filesystem::path() : builtin_scene_dir());
+}
 
 }  // namespace pbd::cli

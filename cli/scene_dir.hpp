@@ -8,15 +8,16 @@
 
 namespace pbd::cli {
 
-/// Folder of the built-in scenes: $PBD_SCENE_DIR if set; else the source tree's scenes/ this program was configured
-/// from, if it exists; else ../share/pbd/scenes next to the program (an installed copy, wherever it was moved); else
-/// the installation's share/pbd/scenes; else "scenes".
+/// Folder of the built-in scenes: $PBD_SCENE_DIR if set, else data_dir()/scenes (share/pbd/scenes beside the
+/// program's folder: the installed copy, or the build tree's link to the source tree's scenes/). Throws pbd::Error
+/// naming the folders tried when neither is a folder.
 std::filesystem::path builtin_scene_dir();
 
 /// Names of the built-in scenes (files NAME.json in builtin_scene_dir()), sorted.
 std::vector<std::string> builtin_scene_names();
 
-/// Loads a scene by built-in name or by file path.
+/// Loads a scene by built-in name or by file path (a name with an extension or a '/', as io's load_scene_by_name
+/// reads it; a file needs no scene folder).
 Scene load_builtin_scene(const std::string& name_or_file);
 
 }  // namespace pbd::cli

@@ -2,11 +2,12 @@
 // runs scenes × sweep budgets × splits × solvers × threads (study_session.hpp says in what order); for each
 // combination it measures the wall time per step (median, minimum, maximum and CV of interleaved timed runs) and
 // the error reached in physical units (each scene's primary measure, every constraint type's, the distance from a
-// converged reference), and reports them as a table, CSV or JSON on stdout, a JSON file and plots.
+// converged reference), and reports them as a table, CSV or JSON on stdout, a JSON file and plots (plot_script.hpp).
 #include "commands.hpp"
+#include "data_dir.hpp"
 #include "pbd/error.hpp"
 #include "pbd/io/atomic_file.hpp"
-#include "study_environment.hpp"
+#include "plot_script.hpp"
 #include "study_options.hpp"
 #include "study_report.hpp"
 #include "study_session.hpp"
@@ -35,7 +36,8 @@ void write_file(const std::filesystem::path& file, const std::string& text, cons
 }
 
 // stdout in the chosen format, the JSON file, the plots.
-void output(const Report& report, const std::string& format, const std::string& json_file, const std::string& plots) {
+void output(const Report& report, const std::string& format, const std::string& json_file, const std::string& plots,
+            PlotTools tools) {
   std::ostringstream text;
   const nlohmann::json doc = report_json(report);
   if (format == "json") text << doc.dump(1) << "\n";
@@ -52,7 +54,9 @@ void output(const Report& report, const std::string& format, const std::string& 
     write_file(json, doc.dump(1) + "\n", "--json");
     std::fprintf(stderr, "pbd study: wrote %s\n", json.string().c_str());
   }
-  if (!plots.empty()) run_plot_script(json, plots);
+  if (plots.empty()) return;
+  tools.default_script = data_dir() / "plot_study.py";
+  run_plot_script(tools, json, plots);
 }
 
 Report read_report(const std::string& file) {
@@ -65,6 +69,16 @@ Report read_report(const std::string& file) {
     throw Error(file + ": not JSON (" + e.what() + ")");
   }
   return report_from_json(doc, file);
+}
+
+// --plot-script and --python, of `pbd study` and of `pbd study merge`.
+void add_plot_options(CLI::App* cmd, PlotTools& tools) {
+  cmd->add_option("--plot-script", tools.script,
+                  "The plot script of --plots (default: share/pbd/plot_study.py beside the program's folder)")
+      ->envname("PBD_PLOT_SCRIPT");
+  cmd->add_option("--python", tools.python, "The Python 3 with matplotlib that runs the plot script")
+      ->envname("PBD_PYTHON")
+      ->capture_default_str();
 }
 
 struct MergeOptions {
@@ -103,11 +117,17 @@ void add_study_command(CLI::App& app) {
   cmd->add_option("--format", o->format, "What goes to stdout: table, csv or json")->capture_default_str();
   cmd->add_option("--json", o->json, "Write the JSON report to FILE");
   cmd->add_option("--plots", o->plots,
-                  "Write plots (PNG and SVG) and summary.md to DIR with scripts/plot_study.py (and the JSON to "
+                  "Write plots (PNG and SVG) and summary.md to DIR with plot_study.py (and the JSON to "
                   "DIR/study.json if no --json)");
   cmd->add_option("--shard", o->shard,
                   "Run only part I of N (I/N) of the combinations; join the parts' --json reports with `pbd study "
                   "merge`");
+  cmd->add_option("--commit", o->commit,
+                  "The commit the program was built from, for the report (scripts/study gives `git describe`; "
+                  "default: unknown)")
+      ->envname("PBD_COMMIT");
+  auto plot = std::make_shared<PlotTools>();
+  add_plot_options(cmd, *plot);
   cmd->add_flag("--quick", o->quick,
                 "Smoke test: budgets 2,4, at most 20 steps, 1 timed run, an 8x2 reference, no cloth300 (explicit options "
                 "win)");
@@ -121,17 +141,18 @@ void add_study_command(CLI::App& app) {
   merge->add_option("--json", m->json, "Write the merged JSON report to FILE");
   merge->add_option("--plots", m->plots, "Write plots of the merged report to DIR");
   merge->add_option("--format", m->format, "What goes to stdout: table, csv or json")->capture_default_str();
-  merge->callback([m] {
+  add_plot_options(merge, *plot);
+  merge->callback([m, plot] {
     if (m->format != "table" && m->format != "csv" && m->format != "json")
       throw Error("--format: \"" + m->format + "\" is not table, csv or json");
     std::vector<Report> parts;
     for (const std::string& f : m->files) parts.push_back(read_report(f));
-    output(merge_reports(parts, m->files), m->format, m->json, m->plots);
+    output(merge_reports(parts, m->files), m->format, m->json, m->plots, *plot);
   });
-  cmd->callback([o, cmd, merge] {
+  cmd->callback([o, merge, plot] {
     if (merge->parsed()) return;
     const StudyPlan plan = make_plan(*o);
-    output(run_study(plan), plan.format, plan.json, plan.plots);
+    output(run_study(plan), plan.format, plan.json, plan.plots, *plot);
   });
 }
 

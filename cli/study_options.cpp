@@ -142,6 +142,7 @@ StudyPlan make_plan(const StudyOptions& o) {
   }
   plan.json = o.json;
   plan.plots = o.plots;
+  plan.commit = o.commit;
   return plan;
 }
 

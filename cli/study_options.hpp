@@ -23,6 +23,7 @@ struct StudyOptions {
   std::string plots;                ///< --plots DIR
   std::string format = "table";     ///< --format table|csv|json (stdout)
   std::string shard;                ///< --shard I/N
+  std::string commit;               ///< --commit / $PBD_COMMIT: the commit the program was built from ("" = unknown)
   bool quick = false;               ///< --quick
   bool scaling = false;             ///< --scaling
 };
@@ -59,6 +60,7 @@ struct StudyPlan {
   std::string json;                      ///< JSON report file ("" = none)
   std::string plots;                     ///< plot directory ("" = none)
   std::string format = "table";          ///< what stdout gets: table, csv or json
+  std::string commit;                    ///< the commit the report names ("" = "unknown")
   int shard = 1, shards = 1;             ///< this run is part `shard` (1-based) of `shards`
   bool quick = false;                    ///< the smoke-test study
   bool scaling = false;                  ///< the scaling study

@@ -1,7 +1,7 @@
 #include "study_report.hpp"
 
 #include "pbd/error.hpp"
-#include "study_load.hpp"
+#include "load_monitor.hpp"
 
 #include <algorithm>
 #include <cmath>

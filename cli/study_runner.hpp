@@ -2,7 +2,7 @@
 // Running `pbd study`'s measurements: the converged reference of a scene, a group of combinations timed in
 // interleaved rounds (A B C A B C ...), and the same-run shared-nothing reference of thread scaling.
 #include "pbd/io/scene.hpp"
-#include "study_load.hpp"
+#include "load_monitor.hpp"
 #include "study_options.hpp"
 #include "study_record.hpp"
 

@@ -1,7 +1,7 @@
 #include "study_session.hpp"
 
+#include "load_monitor.hpp"
 #include "study_environment.hpp"
-#include "study_load.hpp"
 #include "study_runner.hpp"
 #include "study_scenes.hpp"
 
@@ -103,8 +103,8 @@ Report run_study(const StudyPlan& plan) {
   LoadMonitor load;
   const auto start = Clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  nlohmann::json env = study_environment();
-  nlohmann::json context = study_context();
+  const nlohmann::json env = study_environment(plan.commit);
+  nlohmann::json context = study_context(env);
   context["load_before"] = load.settle(10, 50);
   std::vector<Scene> scenes;
   for (const std::string& name : plan.scenes) {

@@ -1,5 +1,6 @@
-# Installs headers, libraries, the pbd program, the built-in scenes and a relocatable CMake package
-# (find_package(pbd) → pbd::engine, pbd::io, pbd::graph_coloring, with Eigen3, TBB and METIS found for the consumer).
+# Installs headers, libraries, the pbd program with the built-in scenes and the plot script, and a relocatable CMake
+# package (find_package(pbd) → pbd::engine, pbd::io, pbd::graph_coloring, with Eigen3, TBB and METIS found for the
+# consumer).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
@@ -15,8 +16,11 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine/include/ ${PROJECT_SOURCE_DIR}/io
                   ${PROJECT_SOURCE_DIR}/graph_coloring/include/
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/pbd/scenes)
+# The pbd program finds its scenes and the study's plot script in share/pbd beside its own folder (cli/data_dir.hpp),
+# so the installed tree works wherever it is moved.
 if(TARGET pbd)
   install(TARGETS pbd RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  install(FILES ${PROJECT_SOURCE_DIR}/scripts/plot_study.py DESTINATION ${CMAKE_INSTALL_DATADIR}/pbd)
 endif()
 
 set(config_dir ${CMAKE_INSTALL_LIBDIR}/cmake/pbd)

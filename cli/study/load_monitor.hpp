@@ -1,7 +1,9 @@
 #pragma once
 // How busy the machine is while `pbd study` measures: the number of other processes' runnable threads, sampled
 // (the system's running count from /proc/stat minus this process's own running threads). A load average would
-// count the study itself and the build that ran just before it.
+// count the study itself and the build that ran just before it; the report still records it (load_average()), as
+// Google Benchmark's context does.
+#include <string>
 #include <vector>
 
 namespace pbd::cli {
@@ -23,6 +25,9 @@ public:
 private:
   std::vector<double> samples_;
 };
+
+/// The 1-, 5- and 15-minute load averages ("a b c"), or "" when /proc/loadavg cannot be read.
+std::string load_average();
 
 /// The cut above which a point's timing is marked busy: other processes held at least half a core on average.
 constexpr double kBusyLoad = 0.5;

@@ -1,17 +1,11 @@
 #include "study_environment.hpp"
 
-#include "pbd/error.hpp"
+#include "load_monitor.hpp"
 
-#include <array>
-#include <cstdio>
-#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <thread>
 
-#ifndef PBD_SOURCE_DIR
-#define PBD_SOURCE_DIR "."
-#endif
 #ifndef PBD_BUILD_TYPE
 #define PBD_BUILD_TYPE ""
 #endif
@@ -29,18 +23,6 @@ std::string shell_quoted(const std::string& s) {
   return out + "'";
 }
 
-// First line of a shell command's output, or "" if it fails.
-std::string first_line_of(const std::string& command) {
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return "";
-  std::array<char, 256> buf{};
-  std::string line;
-  if (std::fgets(buf.data(), int(buf.size()), pipe)) line = buf.data();
-  if (pclose(pipe) != 0) return "";
-  while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
-  return line;
-}
-
 nlohmann::json or_null(const std::string& s) { return s.empty() ? nlohmann::json(nullptr) : nlohmann::json(s); }
 
 std::string cpu_model() {
@@ -52,7 +34,6 @@ std::string cpu_model() {
     }
   return "";
 }
-
 
 // argv of this process, space-separated (arguments with spaces or quotes single-quoted).
 std::string command_line() {
@@ -87,14 +68,7 @@ std::string compiler() {
 
 }  // namespace
 
-std::string load_average() {
-  std::ifstream f("/proc/loadavg");
-  std::string a, b, c;
-  return f >> a >> b >> c ? a + " " + b + " " + c : "";
-}
-
-nlohmann::json study_context() {
-  const nlohmann::json env = study_environment();
+nlohmann::json study_context(const nlohmann::json& env) {
   return {{"compiler", or_null(compiler())},
           {"flags", PBD_CXX_FLAGS},
           {"build_type", or_null(PBD_BUILD_TYPE)},
@@ -105,32 +79,14 @@ nlohmann::json study_context() {
           {"loadavg_start", or_null(load_average())}};
 }
 
-nlohmann::json study_environment() {
-  const std::string git = "git -C " + shell_quoted(PBD_SOURCE_DIR) + " ";
+nlohmann::json study_environment(const std::string& commit) {
   return {{"command", or_null(command_line())},
           {"date", utc_now()},
           {"machine",
            {{"nproc", std::thread::hardware_concurrency()},
             {"cpu", or_null(cpu_model())},
             {"load_average_at_start", or_null(load_average())}}},
-          {"git_commit", or_null(first_line_of(git + "describe --always --dirty --abbrev=12 2>/dev/null"))}};
-}
-
-std::filesystem::path plot_script() {
-  if (const char* env = std::getenv("PBD_PLOT_SCRIPT"); env && *env) return env;
-  return std::filesystem::path(PBD_SOURCE_DIR) / "scripts" / "plot_study.py";
-}
-
-void run_plot_script(const std::filesystem::path& json, const std::filesystem::path& dir) {
-  const std::filesystem::path script = plot_script();
-  if (!std::filesystem::exists(script))
-    throw Error("--plots: plot script " + script.string() + " not found (set PBD_PLOT_SCRIPT)");
-  const std::string command =
-      "/usr/bin/python3 " + shell_quoted(script.string()) + " " + shell_quoted(json.string()) + " " + shell_quoted(dir.string());
-  std::fflush(stdout);
-  if (std::system(command.c_str()) != 0)
-    throw Error("--plots: " + command + " failed (it needs Debian's python3-matplotlib: apt-get install "
-                "python3-matplotlib)");
+          {"git_commit", commit.empty() ? "unknown" : commit}};
 }
 
 }  // namespace pbd::cli

@@ -1,4 +1,4 @@
-#include "study_load.hpp"
+#include "load_monitor.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -48,6 +48,12 @@ double others_running() {
 }
 
 }  // namespace
+
+std::string load_average() {
+  std::ifstream f("/proc/loadavg");
+  std::string a, b, c;
+  return f >> a >> b >> c ? a + " " + b + " " + c : "";
+}
 
 double LoadMonitor::sample() {
   const double others = others_running();

@@ -1,0 +1,22 @@
+#pragma once
+// The study's plots: `pbd study --plots DIR` hands its JSON report to plot_study.py (matplotlib), which writes the
+// PNG and SVG plots and summary.md. The script is installed beside the program (share/pbd/plot_study.py; the build
+// tree links it to scripts/plot_study.py) unless --plot-script names it; the interpreter is python3 on PATH unless
+// --python names it (scripts/study names Debian's, which has python3-matplotlib).
+#include <filesystem>
+#include <string>
+
+namespace pbd::cli {
+
+/// The script and the interpreter that run it.
+struct PlotTools {
+  std::string script;                    ///< --plot-script / $PBD_PLOT_SCRIPT; "" = default_script
+  std::string python = "python3";        ///< --python / $PBD_PYTHON: a path, or a name looked up on PATH
+  std::filesystem::path default_script;  ///< share/pbd/plot_study.py beside the program (set by the caller)
+};
+
+/// Runs `python script json dir` and waits for it; throws pbd::Error naming the script path tried when it does not
+/// exist, and the command when it cannot start or fails.
+void run_plot_script(const PlotTools& tools, const std::filesystem::path& json, const std::filesystem::path& dir);
+
+}  // namespace pbd::cli
