@@ -26,8 +26,8 @@ std::filesystem::path script_of(const PlotTools& tools) {
 constexpr int kCannotStart = -1;
 constexpr int kNoExitStatus = -2;  // ended by a signal, or the wait failed
 
-// Runs argv (argv[0] looked up on PATH when it has no '/') and waits: its exit status, kCannotStart or kNoExitStatus. No
-// shell: the paths need no quoting.
+// Runs argv (argv[0] looked up on PATH when it has no '/') and waits: its exit status, kCannotStart or kNoExitStatus.
+// No shell: the paths need no quoting.
 int run(const std::vector<std::string>& args) {
   std::vector<char*> argv;
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
