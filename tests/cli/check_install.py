@@ -5,7 +5,8 @@ Usage: check_install.py CMAKE BUILD_DIR SOURCE_DIR WORK_DIR [--sanitized]
 
 1. `cmake --install BUILD_DIR` into a temporary prefix, then the prefix is moved: nothing may depend on where it was
    installed.
-2. The installed program holds neither the source tree's path nor the build tree's (strings of the binary).
+2. No installed file (the program, the libraries, the Python module, the CMake package, the data) holds the source
+   tree's path or the build tree's.
 3. From an empty folder, with no PBD_* variable set and python3 on PATH: `pbd list`, `pbd run cloth --steps 5` and
    `pbd study --quick --plots DIR` work; every plot exists as PNG; the report's commit is "unknown" (none given).
    Under the sanitizers the study runs one scene only (the whole quick study is already test study_quick's).
@@ -42,12 +43,15 @@ def install(cmake, build, work):
     return prefix
 
 
-def check_no_tree_paths(program, trees):
-    data = open(program, "rb").read()
-    for tree in trees:
-        for path in {tree, os.path.realpath(tree)}:
-            if path.encode() in data:
-                fail(f"{program} holds the path {path}")
+def check_no_tree_paths(prefix, trees):
+    paths = {p.encode() for tree in trees for p in (tree, os.path.realpath(tree))}
+    for folder, _, files in os.walk(prefix):
+        for name in files:
+            with open(os.path.join(folder, name), "rb") as f:
+                data = f.read()
+            for path in paths:
+                if path in data:
+                    fail(f"{os.path.join(folder, name)} holds the path {path.decode()}")
 
 
 def clean_env():
@@ -96,7 +100,7 @@ def main():
     os.makedirs(work)
     prefix = install(cmake, build, work)
     pbd = os.path.join(prefix, "bin", "pbd")
-    check_no_tree_paths(pbd, [source, build, os.path.join(work, "staging")])
+    check_no_tree_paths(prefix, [source, build, os.path.join(work, "staging")])
     empty = os.path.join(work, "empty")
     os.makedirs(empty)
     env = clean_env()
