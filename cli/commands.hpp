@@ -1,5 +1,10 @@
 #pragma once
 // Subcommands of the pbd program: each registers its options on the CLI11 app and runs when chosen.
+//
+// The program knows no source tree: it finds what it ships with (the built-in scenes, the study's plot script) in
+// share/pbd beside its own folder (data_dir.hpp), installed or in the build tree. The product commands (list, run,
+// color) use only pbd::io and that folder; `pbd study` (study_*.hpp) adds the study, whose harness (load sampling,
+// the commit it is given, the plot call) is the library pbd_study in study/.
 #include <CLI/CLI.hpp>
 
 namespace pbd::cli {
