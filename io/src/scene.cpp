@@ -20,6 +20,8 @@
 #include <limits>
 #include <sstream>
 #include <string_view>
+#include <type_traits>
+#include <vector>
 
 namespace pbd {
 namespace {
@@ -77,16 +79,6 @@ Stiffness read_stiffness(const JsonObject& o) {
 // Local particle index of a body at `path`, checked against its particle count.
 Index local_index(const nlohmann::json& v, const std::string& file, const std::string& path, Index count) {
   return Index(detail::json_integer(v, file, path, 0, long(count) - 1));
-}
-
-// "anchors": {"particles": [local indices], stiffness...}: anchors at the particles' initial positions.
-void read_anchors(const JsonObject& body, DescriptionBuilder& world, const Body& b) {
-  if (!body.has("anchors")) return;
-  const JsonObject a = body.object("anchors");
-  const Index set = world.add_constraint_set(read_stiffness(a));
-  for (const auto& [v, path] : a.array("particles"))
-    world.add_anchor(b.first_particle + local_index(*v, a.file(), path, b.num_particles), set);
-  a.reject_unknown_keys();
 }
 
 std::optional<Index> read_stretch_set(const JsonObject& body, DescriptionBuilder& world) {
@@ -334,6 +326,56 @@ template <class Read> void at_path(const std::string& file, const std::string& p
   }
 }
 
+// The key of a listed constraint type C (SceneForm::listed, e.g. "anchors"): {"particles": [entries], <its scene
+// fields>, stiffness...}, one constraint per entry on the body's particles (an entry is a local index, or an array of
+// kArity of them); the rest values not given are measured where the particles start. The constraint is added with
+// the engine's checks (DescriptionBuilder::add), an error naming the entry's path.
+template <class C> void read_listed(const JsonObject& body, DescriptionBuilder& world, const Body& b) {
+  if (!body.has(C::kSceneKey)) return;
+  const JsonObject o = body.object(C::kSceneKey);
+  C proto = blank_constraint<C>();
+  proto.set = world.add_constraint_set(read_stiffness(o));
+  FieldMask given = 0;
+  for_each_field<C>([&](const auto& field, auto i) {
+    if (!field.in_scene || !o.has(field.name)) return;
+    if constexpr (std::is_arithmetic_v<typename std::decay_t<decltype(field)>::type>)
+      proto.*field.member = o.number(field.name, -kInf, kInf);
+    else
+      proto.*field.member = vec(o.vec3(field.name));
+    given |= FieldMask(1) << decltype(i)::value;
+  });
+  for (const auto& [v, path] : o.array("particles")) {
+    C c = proto;
+    if constexpr (C::kArity == 1) {
+      c.particles[0] = b.first_particle + local_index(*v, o.file(), path, b.num_particles);
+    } else {
+      if (!v->is_array() || v->size() != std::size_t(C::kArity))
+        detail::json_fail(o.file(), path, message("expected an array of ", C::kArity, " particle indices"));
+      for (int k = 0; k < C::kArity; ++k)
+        c.particles[k] = b.first_particle + local_index((*v)[k], o.file(), message(path, "/", k), b.num_particles);
+    }
+    at_path(o.file(), path, [&, &c = c] { world.add(c, given); });
+  }
+  o.reject_unknown_keys();
+}
+
+// Every listed constraint type's key of a body, in the list's order.
+void read_listed_types(const JsonObject& body, DescriptionBuilder& world, const Body& b) {
+  for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) {
+    using C = typename decltype(type)::type;
+    if constexpr (C::kSceneForm == SceneForm::listed) read_listed<C>(body, world, b);
+  });
+}
+
+// The measures a scene's primary_error may name: each built-in type's name, volume, penetration (collisions) and
+// overlap (particle contacts).
+std::vector<std::string> error_measures() {
+  std::vector<std::string> names;
+  for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) { names.push_back(decltype(type)::type::kName); });
+  for (const char* other : {"volume", "penetration", "overlap"}) names.push_back(other);
+  return names;
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source) {
@@ -354,10 +396,14 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   scene.steps = int(o.integer("steps", 1, 100'000'000, 100));
   if (o.has("primary_error")) {
     scene.primary_error = o.string("primary_error");
-    const std::array<const char*, 7> measures{"stretch", "bending", "area", "volume", "penetration", "overlap", "anchor"};
-    if (std::find(measures.begin(), measures.end(), scene.primary_error) == measures.end())
-      o.fail("primary_error", message("unknown error measure ", detail::quoted(scene.primary_error),
-                                      " (expected stretch, bending, area, volume, penetration, overlap or anchor)"));
+    const std::vector<std::string> measures = error_measures();
+    if (std::find(measures.begin(), measures.end(), scene.primary_error) == measures.end()) {
+      std::string expected;
+      for (std::size_t i = 0; i < measures.size(); ++i)
+        expected += (i == 0 ? "" : i + 1 == measures.size() ? " or " : ", ") + measures[i];
+      o.fail("primary_error", message("unknown error measure ", detail::quoted(scene.primary_error), " (expected ",
+                                      expected, ")"));
+    }
   }
   StepParams<double> p;
   p.dt = o.number("dt", 1e-9, 10.0);
@@ -385,7 +431,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
       else if (type == "grains") body = read_grains(b, world);
       else b.fail("type", message("unknown body type ", detail::quoted(type),
                                   " (expected \"cloth\", \"rope\", \"particles\", \"mesh\" or \"grains\")"));
-      read_anchors(b, world, body);
+      read_listed_types(b, world, body);
       detail::read_contact_body(b, body, world);
       b.reject_unknown_keys();
       scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());

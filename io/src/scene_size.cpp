@@ -1,6 +1,7 @@
 #include "scene_size.hpp"
 
 #include "json_reader.hpp"
+#include "pbd/constraint_types.hpp"
 #include "pbd/detail/message.hpp"
 
 #include <algorithm>
@@ -39,6 +40,19 @@ double elements(const nlohmann::json& o, const char* key) {
 }
 
 bool has(const nlohmann::json& o, const char* key) { return o.contains(key); }
+
+// Constraints a body's listed-type keys ask for (SceneForm::listed, e.g. "anchors"): one per entry of "particles".
+double listed_constraints(const nlohmann::json& b) {
+  double n = 0;
+  for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) {
+    using C = typename decltype(type)::type;
+    if constexpr (C::kSceneForm == SceneForm::listed) {
+      const auto it = b.find(C::kSceneKey);
+      if (it != b.end() && it->is_object()) n += elements(*it, "particles");
+    }
+  });
+  return n;
+}
 
 // A triangle mesh of v vertices, e edges and t triangles with the constraint sets `o` asks for.
 Size surface(const nlohmann::json& o, double v, double e, double t, std::string key) {
@@ -107,7 +121,7 @@ void check_scene_size(const nlohmann::json& root, const std::string& file) {
     const nlohmann::json& b = (*bodies)[i];
     if (!b.is_object()) continue;
     Size s = body_size(b);
-    s.constraints += b.contains("anchors") && b["anchors"].is_object() ? elements(b["anchors"], "particles") : 0;
+    s.constraints += listed_constraints(b);
     const std::string path = message("/bodies/", i, "/", s.key.empty() ? "type" : s.key);
     if (particles + s.particles > double(kMaxSceneParticles))
       json_fail(file, path, message("this body has ", shown(s.particles), " particles; with the ", shown(particles),

@@ -30,7 +30,8 @@ template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<R
   for_each_store(m.stores, [&](const auto& s, auto) {
     for (const auto& c : s.items) {
       using C = std::decay_t<decltype(c)>;
-      if constexpr (std::is_same_v<C, AnchorConstraint<Real>>) held[c.particles[0]] = 1;  // tied to the world
+      if constexpr (C::kTiesToWorld)  // tied to the world: its particles are held (the type's header says so)
+        for (Index p : c.particles) held[p] = 1;
       for (int i = 1; i < C::kArity; ++i) join(c.particles[0], c.particles[i]);
     }
   });
