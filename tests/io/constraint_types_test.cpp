@@ -30,7 +30,7 @@ TEST(ConstraintTypes, EachTypeDeclaresWhatThePassesNeedWithUniqueNamesAndKeys) {
     EXPECT_TRUE(named(C::kName) && named(C::kNoun) && named(C::kSceneKey));
     EXPECT_TRUE(names.insert(C::kName).second) << "a second type named " << C::kName;
     EXPECT_TRUE(scene_keys.insert(C::kSceneKey).second) << "a second type with scene key " << C::kSceneKey;
-    EXPECT_EQ(TypeIndex<C, Types>::value, decltype(index)::value);
+    EXPECT_EQ((TypeIndex<C, Types>::value), decltype(index)::value);
     EXPECT_GE(C::kArity, 1);
     // Python's add_<name>: one distinct argument name per particle, none shadowing "set" or a rest value.
     std::set<std::string> args{"set"};
