@@ -108,8 +108,8 @@ double median(std::vector<double> v) {
   return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// A timed sample of a short run repeats it until it lasts this long (runs of tiny scenes are otherwise too short
-// to time: a rope run takes 0.3 ms), at most kMaxLoops times.
+// A timed sample of a short run repeats it until it lasts this long, at most kMaxLoops times: a run of a tiny scene
+// alone is too short for the clock and the scheduler's noise to be small against it.
 constexpr double kMinSampleSeconds = 0.02;
 constexpr int kMaxLoops = 1000;
 
