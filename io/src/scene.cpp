@@ -32,6 +32,11 @@ using detail::message;
 
 constexpr std::uintmax_t kMaxSceneBytes = 64u << 20;  // a scene file names generators, not meshes: 64 MiB is plenty
 constexpr long kMaxParticles = detail::kMaxSceneParticles;
+// The keys of the types a body's mesh makes (SceneForm::mesh), as their headers declare them; the generators below
+// know which edges and triangles each one takes.
+constexpr const char* kStretchKey = StretchConstraint<double>::kSceneKey;
+constexpr const char* kBendingKey = BendingConstraint<double>::kSceneKey;
+constexpr const char* kAreaKey = AreaConstraint<double>::kSceneKey;
 
 // Throws unless a body of `count` particles still fits in the scene's particle limit: checked before anything is
 // generated, so a huge resolution is refused instead of allocated.
@@ -82,8 +87,8 @@ Index local_index(const nlohmann::json& v, const std::string& file, const std::s
 }
 
 std::optional<Index> read_stretch_set(const JsonObject& body, DescriptionBuilder& world) {
-  if (!body.has("stretch")) return std::nullopt;
-  const JsonObject s = body.object("stretch");
+  if (!body.has(kStretchKey)) return std::nullopt;
+  const JsonObject s = body.object(kStretchKey);
   const Index set = world.add_constraint_set(read_stiffness(s));
   s.reject_unknown_keys();
   return set;
@@ -101,8 +106,8 @@ std::optional<Index> read_set(const JsonObject& body, const std::string& key, De
 // "bending", "area" and (if allowed) "volume": {stiffness..., "pressure": {"from", "to", "duration"}}.
 MeshConstraintSets read_surface_sets(const JsonObject& body, DescriptionBuilder& world, bool allow_volume) {
   MeshConstraintSets sets;
-  sets.bending = read_set(body, "bending", world);
-  sets.area = read_set(body, "area", world);
+  sets.bending = read_set(body, kBendingKey, world);
+  sets.area = read_set(body, kAreaKey, world);
   if (allow_volume && body.has("volume")) {
     const JsonObject v = body.object("volume");
     sets.volume = world.add_constraint_set(read_stiffness(v));
@@ -182,7 +187,7 @@ Body read_mesh(const JsonObject& o, DescriptionBuilder& world) {
   if (o.has("pinned"))
     for (const auto& [v, path] : o.array("pinned")) opts.pinned.push_back(local_index(*v, o.file(), path, mesh.num_vertices()));
   MeshConstraintSets sets;
-  sets.stretch = read_set(o, "stretch", world);
+  sets.stretch = read_set(o, kStretchKey, world);
   const MeshConstraintSets surface = read_surface_sets(o, world, true);
   sets.bending = surface.bending;
   sets.area = surface.area;
@@ -279,8 +284,8 @@ Body read_particles(const JsonObject& o, DescriptionBuilder& world) {
   b.first_particle = world.add_particles(x, m);
   b.num_particles = n;
   world.velocities().rightCols(n) = vel;
-  if (o.has("stretch")) {
-    const JsonObject s = o.object("stretch");
+  if (o.has(kStretchKey)) {
+    const JsonObject s = o.object(kStretchKey);
     const Index set = world.add_constraint_set(read_stiffness(s));
     for (const auto& [pair, path] : s.array("pairs")) {
       if (!pair->is_array() || pair->size() != 2) detail::json_fail(o.file(), path, "expected a pair [a, b]");

@@ -56,7 +56,9 @@ double listed_constraints(const nlohmann::json& b) {
 
 // A triangle mesh of v vertices, e edges and t triangles with the constraint sets `o` asks for.
 Size surface(const nlohmann::json& o, double v, double e, double t, std::string key) {
-  const double constraints = (has(o, "stretch") ? e : 0) + (has(o, "bending") ? e : 0) + (has(o, "area") ? t : 0) +
+  const double constraints = (has(o, StretchConstraint<double>::kSceneKey) ? e : 0) +
+                             (has(o, BendingConstraint<double>::kSceneKey) ? e : 0) +
+                             (has(o, AreaConstraint<double>::kSceneKey) ? t : 0) +
                              (has(o, "volume") ? 1 : 0);
   return {v, constraints, std::move(key)};
 }
@@ -71,7 +73,7 @@ Size body_size(const nlohmann::json& b) {
   }
   if (t == "rope") {
     const double m = count(b, "particles", double(kMaxSceneParticles));
-    return {m, has(b, "stretch") ? m : 0, "particles"};
+    return {m, has(b, StretchConstraint<double>::kSceneKey) ? m : 0, "particles"};
   }
   if (t == "grains") {
     const auto c = b.find("count");
@@ -84,7 +86,7 @@ Size body_size(const nlohmann::json& b) {
     return {n, 0, "count"};
   }
   if (t == "particles") {
-    const auto s = b.find("stretch");
+    const auto s = b.find(StretchConstraint<double>::kSceneKey);
     return {elements(b, "positions"), s != b.end() && s->is_object() ? elements(*s, "pairs") : 0, "positions"};
   }
   if (t == "mesh") {
