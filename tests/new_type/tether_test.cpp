@@ -68,6 +68,29 @@ TEST(Tether, ASlackTetherExertsNothingTheBobFallsFreely) {
   }
 }
 
+// XPBD (λ accumulated per sub-step): a compliant tether of compliance α holds the 1 kg bob at L + α·m·g, the
+// stretch at which its force α⁻¹·δ carries the weight; every solver.
+TEST(Tether, ACompliantTetherStretchesByItsComplianceTimesTheWeight) {
+  const double alpha = 1e-4, g = 9.81;
+  for (Solver solver : kSolvers) {
+    World<double> w;
+    w.add_particle({0, 0, 1}, 1.0);
+    const Index set = w.add_constraint_set(Stiffness::xpbd_compliance(alpha));
+    Tether t = blank_constraint<Tether>();
+    t.particles = {0};
+    t.set = set;
+    t.length = 0.5;
+    w.add(t, 2u);
+    auto p = w.params();
+    p.solver = solver;
+    w.set_params(p);
+    for (int s = 0; s < 600; ++s) w.step();
+    EXPECT_NEAR(1.0 - w.positions()(2, 0), 0.5 + alpha * g, 1e-9) << name(solver);
+    EXPECT_NEAR(violation_of<Tether>(w).max, alpha * g, 1e-9) << name(solver);
+    w.validate();
+  }
+}
+
 // A swinging pendulum: the bob never gets farther than L from the fixed point, on every solver.
 TEST(Tether, ASwingingBobStaysWithinItsLength) {
   for (Solver solver : kSolvers) {
