@@ -17,12 +17,12 @@ struct ErrorValue {
   double max = 0.0;  ///< maximum over the items
 };
 
-/// Error measures by name, in physical units: stretch_pct (relative stretch, %), bending_rad (rad), area_pct (%),
-/// volume_pct (%), penetration_mm (mm), overlap_pct (% of the radii sum), anchor_mm (mm); a user-defined type keeps
-/// its own name and unit.
+/// Error measures by name, in physical units: each type's Measure as its header declares it (stretch_pct, relative
+/// stretch in %; bending_rad; area_pct; anchor_mm; volume_pct; penetration_mm; overlap_pct, % of the radii sum; the
+/// whole list: pbd::violation_measures()); a type without one keeps its own name and unit.
 using Errors = std::map<std::string, ErrorValue>;
 
-/// The measure name and unit scale of an engine violation type ("stretch" → {"stretch_pct", 100}).
+/// The measure name and unit scale of an engine violation type ("stretch" → {"stretch_pct", 100}), from its Measure.
 std::pair<std::string, double> measure_of(const std::string& violation_type);
 
 /// The violations of a state as Errors (measure_of applied to each type).

@@ -166,6 +166,10 @@ json report_json(const Report& report) {
     scenes.push_back({{"name", s.name}, {"particles", s.particles}, {"constraints", s.constraints},
                       {"steps", s.steps}, {"size_m", s.size_m}, {"primary_error", s.primary_error},
                       {"family", s.family.empty() ? json(nullptr) : json(s.family)}, {"measures", s.measures}});
+  // Every error measure's label and unit, as the constraint types declare them (plot_study.py labels its axes so).
+  json& measures = doc["measures"] = json::object();
+  for (const NamedMeasure& m : violation_measures())
+    measures[m.measure.key] = {{"type", m.type}, {"label", m.measure.label}, {"unit", m.measure.unit}};
   json& refs = doc["references"] = json::array();
   for (const Reference& r : report.references)
     refs.push_back({{"scene", r.scene}, {"solver", "serial"}, {"precision", "double"}, {"substeps", r.substeps},

@@ -18,20 +18,15 @@
 namespace pbd::cli {
 
 std::pair<std::string, double> measure_of(const std::string& type) {
-  if (type == "stretch") return {"stretch_pct", 100.0};
-  if (type == "bending") return {"bending_rad", 1.0};
-  if (type == "area") return {"area_pct", 100.0};
-  if (type == "volume") return {"volume_pct", 100.0};
-  if (type == "collision") return {"penetration_mm", 1000.0};
-  if (type == "particle contact") return {"overlap_pct", 100.0};
-  if (type == "anchor") return {"anchor_mm", 1000.0};
+  if (const Measure* m = find_measure(type)) return {m->key, m->scale};
   return {type, 1.0};
 }
 
 Errors errors_of(const std::vector<NamedViolation>& violations) {
   Errors out;
   for (const NamedViolation& v : violations) {
-    const auto [name, scale] = measure_of(v.type);
+    const auto [name, scale] = v.measure.key[0] ? std::pair<std::string, double>(v.measure.key, v.measure.scale)
+                                                : measure_of(v.type);
     out[name] = {v.value.rms * scale, v.value.max * scale};
   }
   return out;
@@ -113,8 +108,8 @@ double median(std::vector<double> v) {
   return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// A timed sample of a short run repeats it until it lasts this long (runs of tiny scenes are otherwise too short
-// to time: a rope run takes 0.3 ms), at most kMaxLoops times.
+// A timed sample of a short run repeats it until it lasts this long, at most kMaxLoops times: a run of a tiny scene
+// alone is too short for the clock and the scheduler's noise to be small against it.
 constexpr double kMinSampleSeconds = 0.02;
 constexpr int kMaxLoops = 1000;
 

@@ -7,7 +7,10 @@
 // - Parameters and results: Stiffness, Solver, SweepOrder, StepParams, StepStats, ContactMaterial,
 //   PressureSchedule, Violation, NamedViolation, Energy (params_bindings.cpp).
 // - Scenes: load_scene(path), parse_scene(text, source) → Scene (scene_bindings.cpp).
-// - Metrics, as in metrics.hpp: stretch_violation, constraint_violations, energy, position_hash.
+// - Metrics, as in metrics.hpp: <name>_violation for each built-in constraint type (stretch_violation, ...),
+//   constraint_violations (each NamedViolation with its measure, unit and scale), energy, position_hash.
+// - The constraint calls add_<name>(particles..., set, rest values=None) and <name>_violation are generated from the
+//   list of built-in types (constraint_types.hpp; world_bindings.hpp's bind_add): a new type needs no line here.
 // - pbd::Error → pbd.Error (a RuntimeError) with the library's message; a bad numpy argument (shape, dtype) is a
 //   ValueError naming the call and the argument.
 //

@@ -77,7 +77,13 @@ void bind_params(py::module_& m) {
       });
   py::class_<NamedViolation>(m, "NamedViolation", "The violation of one constraint type.")
       .def_readonly("type", &NamedViolation::type, "constraint type: stretch, bending, area, volume, collision, ...")
-      .def_readonly("value", &NamedViolation::value, "its Violation");
+      .def_readonly("value", &NamedViolation::value, "its Violation")
+      .def_property_readonly("measure", [](const NamedViolation& v) { return std::string(v.measure.key); },
+                             "its error measure's key in reports, e.g. stretch_pct")
+      .def_property_readonly("unit", [](const NamedViolation& v) { return std::string(v.measure.unit); },
+                             "the unit that measure is reported in, e.g. %")
+      .def_property_readonly("scale", [](const NamedViolation& v) { return v.measure.scale; },
+                             "reported value = violation x scale");
 
   py::class_<StepStats>(m, "StepStats", "What the last step() did and how long each phase took (wall-clock s).")
       .def_readonly("seconds", &StepStats::seconds, "the whole step, s")

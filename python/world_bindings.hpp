@@ -8,6 +8,7 @@
 #include "pbd/io/build_world.hpp"
 #include "pbd/io/scene.hpp"
 #include "pbd/metrics.hpp"
+#include "pbd/detail/message.hpp"
 #include "pbd/world.hpp"
 
 #include <pybind11/stl.h>
@@ -17,6 +18,9 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <type_traits>
+#include <utility>
 
 namespace pbd::python {
 
@@ -53,6 +57,50 @@ template <class Real, class F> void run_released(PyWorld<Real>& w, const char* c
   if (w.views) world.positions();
   py::gil_scoped_release release;
   f(world);
+}
+
+/// The Python argument of a constraint's rest value of type T: a float or None (then measured), or for a vector any
+/// sequence of 3 numbers or None.
+template <class T> using RestArg = std::conditional_t<std::is_arithmetic_v<T>, std::optional<T>, py::object>;
+template <class C, std::size_t F> using FieldType = typename std::tuple_element_t<F, decltype(C::fields())>::type;
+
+/// add_<kName>(<kParticleNames>..., set, <field names>=None...) for built-in type C: World::add<C> with the rest
+/// values given, the others measured at the current positions (World::add's checks and messages).
+template <class Real, class C, std::size_t... I, std::size_t... F>
+void bind_add(py::class_<PyWorld<Real>>& cls, std::index_sequence<I...>, std::index_sequence<F...>) {
+  using W = PyWorld<Real>;
+  const std::string call = std::string("add_") + C::kName;
+  std::string doc = "Adds a " + std::string(C::kNoun) + " on particles (";
+  ((doc += (I ? ", " : "") + std::string(C::kParticleNames[I])), ...);
+  doc += ") of a constraint set";
+  for_each_field<C>([&](const auto& field, auto i) {
+    doc += std::string(i ? ", " : "; ") + field.name + ": its " + field.noun;
+  });
+  doc += kNumFields<C> ? " (default: as they are now); returns its index." : "; returns its index.";
+  cls.def(
+      call.c_str(),
+      [call](W& w, decltype(I, std::int64_t())... p, std::int64_t set, RestArg<FieldType<C, F>>... rest) {
+        constexpr auto fields = C::fields();
+        C c = blank_constraint<C>();
+        ((c.particles[I] = index_arg(p, call + ": " + C::kParticleNames[I])), ...);
+        c.set = index_arg(set, call + ": set");
+        FieldMask given = 0;
+        auto take = [&](const auto& field, auto& arg, std::size_t f) {
+          auto& member = c.*field.member;
+          if constexpr (std::is_arithmetic_v<std::decay_t<decltype(member)>>) {
+            if (!arg) return;
+            member = *arg;
+          } else {
+            if (arg.is_none()) return;
+            member = vec3<Real>(arg, call + ": " + field.name);
+          }
+          given |= FieldMask(1) << f;
+        };
+        (take(std::get<F>(fields), rest, F), ...);
+        return w.get(call.c_str()).add(c, given);
+      },
+      py::arg(C::kParticleNames[I])..., py::arg("set"), (py::arg(std::get<F>(C::fields()).name) = py::none())...,
+      doc.c_str());
 }
 
 template <class Real> void bind_world(py::module_& m, const char* name, const char* build_name) {
@@ -134,40 +182,10 @@ template <class Real> void bind_world(py::module_& m, const char* name, const ch
   // ---- constraints ----
   cls.def("add_constraint_set", [](W& w, const Stiffness& s) { return w.get("add_constraint_set").add_constraint_set(s); },
           py::arg("stiffness"), "Adds a constraint set with its Stiffness; returns its id.");
-  cls.def(
-      "add_stretch",
-      [](W& w, std::int64_t a, std::int64_t b, std::int64_t set, std::optional<Real> rest) {
-        return w.get("add_stretch").add_stretch(index_arg(a, "add_stretch: a"), index_arg(b, "add_stretch: b"),
-                                                index_arg(set, "add_stretch: set"), rest);
-      },
-      py::arg("a"), py::arg("b"), py::arg("set"), py::arg("rest") = py::none(),
-      "Adds a stretch constraint between particles a and b; rest distance in m (default: current); returns its index.");
-  cls.def(
-      "add_anchor",
-      [](W& w, std::int64_t p, std::int64_t set, py::object target) {
-        std::optional<Vec> t;
-        if (!target.is_none()) t = vec3<Real>(target, "add_anchor: target");
-        return w.get("add_anchor").add_anchor(index_arg(p, "add_anchor: particle"), index_arg(set, "add_anchor: set"), t);
-      },
-      py::arg("particle"), py::arg("set"), py::arg("target") = py::none(),
-      "Adds an anchor pulling a particle to target in m (default: its current position); returns its index.");
-  cls.def(
-      "add_bending",
-      [](W& w, std::int64_t p1, std::int64_t p2, std::int64_t p3, std::int64_t p4, std::int64_t set, std::optional<Real> rest) {
-        return w.get("add_bending").add_bending(index_arg(p1, "add_bending: p1"), index_arg(p2, "add_bending: p2"),
-                                                index_arg(p3, "add_bending: p3"), index_arg(p4, "add_bending: p4"),
-                                                index_arg(set, "add_bending: set"), rest);
-      },
-      py::arg("p1"), py::arg("p2"), py::arg("p3"), py::arg("p4"), py::arg("set"), py::arg("rest") = py::none(),
-      "Adds a dihedral bending constraint on triangles (p1, p2, p3), (p1, p2, p4); rest angle in rad (default: current).");
-  cls.def(
-      "add_area",
-      [](W& w, std::int64_t a, std::int64_t b, std::int64_t c, std::int64_t set, std::optional<Real> rest) {
-        return w.get("add_area").add_area(index_arg(a, "add_area: a"), index_arg(b, "add_area: b"),
-                                          index_arg(c, "add_area: c"), index_arg(set, "add_area: set"), rest);
-      },
-      py::arg("a"), py::arg("b"), py::arg("c"), py::arg("set"), py::arg("rest") = py::none(),
-      "Adds a triangle area constraint; rest area in m^2 (default: current); returns its index.");
+  for_each_type<BuiltinConstraintTypes<Real>>([&](auto type, auto) {
+    using C = typename decltype(type)::type;
+    bind_add<Real, C>(cls, std::make_index_sequence<C::kArity>{}, std::make_index_sequence<kNumFields<C>>{});
+  });
   cls.def(
       "add_volume",
       [](W& w, py::object triangles, std::int64_t set, const PressureSchedule& pressure, std::optional<Real> rest) {
@@ -247,8 +265,13 @@ template <class Real> void bind_world(py::module_& m, const char* name, const ch
         return w;
       },
       py::arg("scene"), ("Builds a " + std::string(name) + " (" + precision + ") of a Scene, its parameters included.").c_str());
-  m.def("stretch_violation", [](W& w) { return stretch_violation(w.get("stretch_violation")); }, py::arg("world"),
-        "Relative stretch |(|xa - xb| - d)| / d of every stretch constraint (Violation).");
+  for_each_type<BuiltinConstraintTypes<Real>>([&](auto type, auto) {
+    using C = typename decltype(type)::type;
+    const std::string call = std::string(C::kName) + "_violation";
+    m.def(call.c_str(), [call](W& w) { return violation_of<C>(w.get(call.c_str())); }, py::arg("world"),
+          ("The violation of every " + std::string(C::kNoun) + " (Violation; reported in " + C::kMeasure.unit +
+           " as " + C::kMeasure.key + " = violation x " + detail::message(C::kMeasure.scale) + ").").c_str());
+  });
   m.def("constraint_violations", [](W& w) { return constraint_violations(w.get("constraint_violations")); },
         py::arg("world"), "The violation of every constraint type the world has (list of NamedViolation).");
   m.def("energy", [](W& w) { return energy(w.get("energy")); }, py::arg("world"),

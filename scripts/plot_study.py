@@ -36,14 +36,18 @@ STYLE = {"serial": ("black", "o"), "colored": ("tab:blue", "s"), "jacobi": ("tab
 FILLS = ["full", "top", "right", "bottom", "left"]  # by index of the thread count among all thread counts
 DASHES = ["-", "--", ":", "-."]
 SHARED = "shared-nothing split (this machine's ceiling)"
-MEASURES = {"stretch_pct": ("RMS stretch", "%"), "bending_rad": ("RMS bending", "rad"),
-            "area_pct": ("RMS area error", "%"), "volume_pct": ("RMS volume error", "%"),
-            "penetration_mm": ("RMS penetration", "mm"), "anchor_mm": ("RMS anchor drift", "mm")}
+# Each error measure's label and unit, as the engine's constraint types declare them: the report's "measures"
+# ({key: {"type", "label", "unit"}}, filled in by main). A report without it (older ones) gets them from the key
+# itself: "<label>_<unit suffix>", the suffix as the engine names its units.
+MEASURES = {}
+UNIT_SUFFIXES = {"pct": "%", "mm": "mm", "rad": "rad"}
 
 
 def measure_label(m):
-    name, unit = MEASURES.get(m, (f"RMS {m.rsplit('_', 1)[0]}", m.rsplit("_", 1)[-1] if "_" in m else "?"))
-    return f"{name} ({unit})"
+    if m in MEASURES:
+        return f"RMS {MEASURES[m]['label']} ({MEASURES[m]['unit']})"
+    name, _, suffix = m.rpartition("_")
+    return f"RMS {name or m} ({UNIT_SUFFIXES.get(suffix, suffix if name else '?')})"
 
 
 def solver_style(solver):
@@ -460,6 +464,7 @@ def main(argv):
         return 1
     out = argv[2] if len(argv) > 2 else (os.path.dirname(argv[1]) or ".")
     os.makedirs(out, exist_ok=True)
+    MEASURES.update(doc.get("measures", {}))
     st = Study(doc)
     for plot in (speed_error, headline, convergence, thread_scaling, ns_per_projection, summary):
         print(f"plot_study.py: {plot.__name__}: " + (", ".join(plot(st, out)) or "no data, skipped"), file=sys.stderr)

@@ -2,6 +2,7 @@
 // throws pbd::Error naming the offending item and leaves the world unchanged), parameters, and validate().
 #include "pbd/world.hpp"
 
+#include "pbd/checks.hpp"
 #include "pbd/detail/message.hpp"
 #include "pbd/closed_mesh.hpp"
 #include "solve/schedule.hpp"
@@ -13,38 +14,18 @@
 namespace pbd {
 namespace {
 
+// The input checks live in pbd/checks.hpp (exported: pbd::io's DescriptionBuilder runs the same ones).
 template <class Real> bool finite(const Vec3<Real>& v) { return v.allFinite(); }
-
-// Inverse mass of a validated mass: 0 for kPinned (infinity).
-template <class Real> Real inverse_mass(Real mass) { return std::isinf(mass) ? Real(0) : Real(1) / mass; }
-
-// Throws "<fn>: particle <index>: mass must be ..." unless mass > 0 (infinity = pinned is allowed).
-template <class Real> void check_mass(Real mass, const char* fn, std::size_t index) {
-  if (std::isnan(mass) || !(mass > Real(0)))
-    throw Error(detail::message(fn, ": particle ", index, ": mass must be > 0 (or kPinned), got ", mass));
-}
-
-void check_stiffness(const Stiffness& s, const std::string& what) {
-  if (s.mode == StiffnessMode::xpbd) {
-    if (!(s.compliance >= 0.0) || !std::isfinite(s.compliance))
-      throw Error(detail::message(what, ": compliance must be finite and >= 0, got ", s.compliance));
-  } else if (!(s.k >= 0.0 && s.k <= 1.0)) {
-    throw Error(detail::message(what, ": stiffness k must be in [0, 1], got ", s.k));
-  }
-}
+template <class Real> Real inverse_mass(Real mass) { return inverse_mass_of(mass); }
 
 }  // namespace
 
 template <class Real> void World<Real>::check_particle(Index i, const char* item, std::size_t index) const {
-  if (i >= num_particles())
-    throw Error(detail::message(item, " ", index, ": particle index ", i, " out of range (the world has ",
-                                num_particles(), " particles)"));
+  if (i >= num_particles()) detail::fail_particle_index(detail::message(item, " ", index), i, num_particles());
 }
 
 template <class Real> void World<Real>::check_set(Index set, const char* item, std::size_t index) const {
-  if (set >= model_.sets.size())
-    throw Error(detail::message(item, " ", index, ": constraint set ", set, " does not exist (", model_.sets.size(),
-                                " sets)"));
+  if (set >= model_.sets.size()) detail::fail_set_index(detail::message(item, " ", index), set, model_.sets.size());
 }
 
 // ---- particles ----
@@ -65,16 +46,9 @@ template <class Real> Index World<Real>::add_particle(const Vec& position, Real 
 }
 
 template <class Real> Index World<Real>::add_particles(const Positions& positions, const VectorX<Real>& masses) {
-  const Index first = num_particles();
-  if (positions.cols() != masses.size())
-    throw Error(detail::message("add_particles: ", positions.cols(), " positions but ", masses.size(), " masses"));
+  check_particles(positions, masses, "add_particles", num_particles());
   VectorX<Real> w(masses.size());
-  for (Eigen::Index j = 0; j < positions.cols(); ++j) {
-    if (!finite<Real>(positions.col(j)))
-      throw Error(detail::message("add_particles: particle ", first + j, ": position is not finite"));
-    check_mass(masses[j], "add_particles", first + j);
-    w[j] = inverse_mass(masses[j]);
-  }
+  for (Eigen::Index j = 0; j < positions.cols(); ++j) w[j] = inverse_mass(masses[j]);
   return add_particles_by_inverse_mass(positions, w);
 }
 
@@ -142,79 +116,34 @@ template <class Real> Index World<Real>::add_constraint_set(const Stiffness& sti
   return Index(model_.sets.size() - 1);
 }
 
+// Each add_<type> is add<C> with the rest value given or measured (the checks: checked_constraint, checks.hpp).
 template <class Real> Index World<Real>::add_stretch(Index a, Index b, Index set, std::optional<Real> rest) {
-  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
-  // Messages are built only when something is wrong: adding must stay cheap for millions of constraints.
-  auto& store = model_.template store<StretchConstraint<Real>>();
-  const char* item = "add_stretch: stretch constraint";
-  const std::size_t index = store.size();
-  auto what = [&] { return detail::message(item, " ", index); };
-  check_particle(a, item, index);
-  check_particle(b, item, index);
-  check_set(set, item, index);
-  if (a == b) throw Error(detail::message(what(), ": names particle ", a, " twice"));
-  const Real d = rest ? *rest : (state_.x.col(a) - state_.x.col(b)).norm();
-  if (!std::isfinite(d) || d < Real(0))
-    throw Error(detail::message(what(), ": rest distance must be finite and >= 0, got ", d));
-  store.append({{a, b}, set, d});
-  return Index(index);
+  return add(StretchConstraint<Real>{{a, b}, set, rest.value_or(Real(0))}, rest ? kAllFields : 0);
 }
 
 template <class Real> Index World<Real>::add_anchor(Index particle, Index set, std::optional<Vec> target) {
-  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
-  auto& store = model_.template store<AnchorConstraint<Real>>();
-  const char* item = "add_anchor: anchor";
-  const std::size_t index = store.size();
-  check_particle(particle, item, index);
-  check_set(set, item, index);
-  const Vec t = target ? *target : Vec(state_.x.col(particle));
-  if (!finite(t)) throw Error(detail::message(item, " ", index, ": target is not finite"));
-  store.append({{particle}, set, t});
-  return Index(index);
+  return add(AnchorConstraint<Real>{{particle}, set, target.value_or(Vec::Zero())}, target ? kAllFields : 0);
 }
 
 template <class Real>
 Index World<Real>::add_bending(Index p1, Index p2, Index p3, Index p4, Index set, std::optional<Real> rest) {
-  ++model_.edits;  // free bodies are found again (free_bodies.hpp)
-  auto& store = model_.template store<BendingConstraint<Real>>();
-  const char* item = "add_bending: bending constraint";
-  const std::size_t index = store.size();
-  auto what = [&] { return detail::message(item, " ", index); };
-  const std::array<Index, 4> ids{p1, p2, p3, p4};
-  for (Index i : ids) check_particle(i, item, index);
-  check_set(set, item, index);
-  for (int a = 0; a < 4; ++a)
-    for (int b = a + 1; b < 4; ++b)
-      if (ids[a] == ids[b]) throw Error(detail::message(what(), ": names particle ", ids[a], " twice"));
-  Real phi;
-  if (rest) {
-    phi = *rest;
-  } else {
-    const auto& x = state_.x;
-    phi = dihedral_angle<Real>(x.col(p1), x.col(p2), x.col(p3), x.col(p4));
-    if (phi < Real(0))
-      throw Error(detail::message(what(), ": a triangle is degenerate, so the rest angle is undefined (give it)"));
-  }
-  // π rounded to float (just above π in double) is accepted, so a float world's rest angles describe a double one.
-  if (!(phi >= Real(0) && phi <= Real(3.14159265358979323846f)))
-    throw Error(detail::message(what(), ": rest angle must be in [0, pi], got ", phi));
-  store.append({ids, set, phi});
-  return Index(index);
+  return add(BendingConstraint<Real>{{p1, p2, p3, p4}, set, rest.value_or(Real(0))}, rest ? kAllFields : 0);
 }
 
 template <class Real> Index World<Real>::add_area(Index a, Index b, Index c, Index set, std::optional<Real> rest) {
+  return add(AreaConstraint<Real>{{a, b, c}, set, rest.value_or(Real(0))}, rest ? kAllFields : 0);
+}
+
+template <class Real> template <class C> Index World<Real>::add(const C& constraint, FieldMask given) {
   ++model_.edits;  // free bodies are found again (free_bodies.hpp)
-  auto& store = model_.template store<AreaConstraint<Real>>();
-  const char* item = "add_area: area constraint";
+  auto& store = model_.template store<C>();
   const std::size_t index = store.size();
-  for (Index i : {a, b, c}) check_particle(i, item, index);
-  check_set(set, item, index);
-  if (a == b || b == c || a == c) throw Error(detail::message(item, " ", index, ": names a particle twice"));
-  const Real area = rest ? *rest : triangle_area<Real>(state_.x.col(a), state_.x.col(b), state_.x.col(c));
-  if (!std::isfinite(area) || area < Real(0))
-    throw Error(detail::message(item, " ", index, ": rest area must be finite and >= 0, got ", area));
-  store.append({{a, b, c}, set, area});
+  store.append(checked_constraint(constraint, given, state_.x, model_.sets.size(), index));
   return Index(index);
+}
+
+template <class Real> template <class C> void World<Real>::remove_constraints(std::span<const Index> indices) {
+  remove<C>(indices, detail::message("remove_", C::kName).c_str());
 }
 
 template <class Real>
@@ -260,21 +189,13 @@ template <class Real> std::size_t World<Real>::num_constraints() const {
 
 template <class Real> void World<Real>::add_plane(const Vec& normal, Real offset, const ContactMaterial<Real>& material) {
   auto& planes = model_.colliders.planes;
-  const std::string what = detail::message("add_plane: plane ", planes.size());
-  if (!finite(normal) || !std::isfinite(offset)) throw Error(what + ": normal and offset must be finite");
-  const Real len = normal.norm();
-  if (!(len > Real(0))) throw Error(what + ": normal has zero length");
-  check_contact_material(material, what);
+  const Real len = check_plane(normal, offset, material, detail::message("add_plane: plane ", planes.size()));
   planes.push_back({normal / len, offset / len, material});
 }
 
 template <class Real> void World<Real>::add_sphere(const Vec& center, Real radius, const ContactMaterial<Real>& material) {
   auto& spheres = model_.colliders.spheres;
-  const std::string what = detail::message("add_sphere: sphere ", spheres.size());
-  if (!finite(center)) throw Error(what + ": center is not finite");
-  if (!std::isfinite(radius) || !(radius > Real(0)))
-    throw Error(detail::message(what, ": radius must be finite and > 0, got ", radius));
-  check_contact_material(material, what);
+  check_sphere(center, radius, material, detail::message("add_sphere: sphere ", spheres.size()));
   spheres.push_back({center, radius, material});
 }
 
@@ -290,32 +211,7 @@ template <class Real> Index World<Real>::add_contact_body(const ContactBody<Real
 // ---- parameters and coloring ----
 
 template <class Real> void World<Real>::set_params(const StepParams<Real>& p) {
-  if (!std::isfinite(p.dt) || !(p.dt > Real(0)))
-    throw Error(detail::message("set_params: dt must be finite and > 0, got ", p.dt));
-  if (p.substeps < 1) throw Error(detail::message("set_params: substeps must be >= 1, got ", p.substeps));
-  if (p.iterations < 0) throw Error(detail::message("set_params: iterations must be >= 0, got ", p.iterations));
-  if (!finite(p.gravity)) throw Error("set_params: gravity is not finite");
-  if (!std::isfinite(p.damping) || p.damping < Real(0))
-    throw Error(detail::message("set_params: damping must be finite and >= 0, got ", p.damping));
-  if (!std::isfinite(p.collision_margin) || p.collision_margin < Real(0))
-    throw Error(detail::message("set_params: collision_margin must be finite and >= 0, got ", p.collision_margin));
-  if (!(p.jacobi_omega > Real(0) && p.jacobi_omega < Real(2)))
-    throw Error(detail::message("set_params: jacobi_omega must be in (0, 2), got ", p.jacobi_omega));
-  if (name(p.solver) == "?") throw Error("set_params: unknown solver");
-  if (p.chebyshev.enabled) {
-    const auto& c = p.chebyshev;
-    if (p.solver == Solver::serial)
-      throw Error("set_params: chebyshev: the serial reference solver is never accelerated (use serial-colored)");
-    if (!(c.rho >= Real(0) && c.rho < Real(1)))
-      throw Error(detail::message("set_params: chebyshev.rho must be in [0, 1) (0: estimated), got ", c.rho));
-    if (!(c.max_rho > Real(0) && c.max_rho < Real(1)))
-      throw Error(detail::message("set_params: chebyshev.max_rho must be in (0, 1), got ", c.max_rho));
-    if (c.delay < 1) throw Error(detail::message("set_params: chebyshev.delay must be >= 1, got ", c.delay));
-    if (c.rho == Real(0) && p.iterations < 4)
-      throw Error(detail::message("set_params: chebyshev: estimating rho needs iterations >= 4, got ", p.iterations));
-    if (!(c.diverge > Real(1)) || !std::isfinite(c.diverge))
-      throw Error(detail::message("set_params: chebyshev.diverge must be finite and > 1, got ", c.diverge));
-  }
+  check_params(p);
   params_ = p;
 }
 
@@ -418,6 +314,13 @@ template <class Real> void World<Real>::validate() const {
         }
 }
 
+// The generic per-type members for every type of the list: taking their addresses instantiates them here, so a new
+// type in constraint_types.hpp needs no line in this file. (remove<C> below is listed by hand for the hand-written
+// remove_stretch etc. of world.hpp; a new type is removed by remove_constraints<C>.)
+template <class Real, class... C> auto members_of_each_type(std::tuple<C...>*) {
+  return std::tuple{std::pair{&World<Real>::template add<C>, &World<Real>::template remove_constraints<C>}...};
+}
+
 // The members defined in this file (the class itself is instantiated in world.cpp).
 #define PBD_EDIT_INSTANTIATE(Real)                                                                   \
   template void World<Real>::check_particle(Index, const char*, std::size_t) const;                \
@@ -447,7 +350,8 @@ template <class Real> void World<Real>::validate() const {
   template void World<Real>::remove<StretchConstraint<Real>>(std::span<const Index>, const char*); \
   template void World<Real>::remove<AnchorConstraint<Real>>(std::span<const Index>, const char*);  \
   template void World<Real>::remove<BendingConstraint<Real>>(std::span<const Index>, const char*); \
-  template void World<Real>::remove<AreaConstraint<Real>>(std::span<const Index>, const char*);
+  template void World<Real>::remove<AreaConstraint<Real>>(std::span<const Index>, const char*);    \
+  template auto members_of_each_type<Real>(BuiltinConstraintTypes<Real>*);
 PBD_EDIT_INSTANTIATE(float)
 PBD_EDIT_INSTANTIATE(double)
 #undef PBD_EDIT_INSTANTIATE

@@ -8,41 +8,9 @@ namespace pbd {
 namespace {
 
 using Accumulator = ViolationAccumulator;
-
-template <class Real> Eigen::Vector3d col(const PositionsView<Real>& x, Index i) {
-  return x.col(Eigen::Index(i)).template cast<double>();
-}
-
-double relative(double value, double rest) { return rest > 0.0 ? std::abs(value - rest) / rest : std::abs(value); }
+using detail::relative_error;
 
 }  // namespace
-
-template <class Real> double violation(const StretchConstraint<Real>& c, const PositionsView<Real>& x) {
-  return relative((col<Real>(x, c.particles[0]) - col<Real>(x, c.particles[1])).norm(), double(c.rest));
-}
-
-template <class Real> double violation(const AnchorConstraint<Real>& c, const PositionsView<Real>& x) {
-  return (col<Real>(x, c.particles[0]) - c.target.template cast<double>()).norm();
-}
-
-template <class Real> double violation(const BendingConstraint<Real>& c, const PositionsView<Real>& x) {
-  const double phi = dihedral_angle<double>(col<Real>(x, c.particles[0]), col<Real>(x, c.particles[1]),
-                                            col<Real>(x, c.particles[2]), col<Real>(x, c.particles[3]));
-  return phi < 0.0 ? -1.0 : std::abs(phi - double(c.rest));
-}
-
-template <class Real> double violation(const AreaConstraint<Real>& c, const PositionsView<Real>& x) {
-  return relative(triangle_area<double>(col<Real>(x, c.particles[0]), col<Real>(x, c.particles[1]),
-                                        col<Real>(x, c.particles[2])),
-                  double(c.rest));
-}
-
-template <class Real> Violation stretch_violation(const World<Real>& world) {
-  const auto x = world.positions();
-  Accumulator acc;
-  for (const auto& c : world.template constraints<StretchConstraint<Real>>()) acc.add(violation(c, x));
-  return acc.result();
-}
 
 template <class Real> Violation penetration(const World<Real>& world) {
   const auto x = world.positions();
@@ -80,30 +48,45 @@ template <class Real> Violation volume_violation(const World<Real>& world) {
   for (const auto& c : v.items) {
     const std::span<const std::array<Index, 3>> tris(v.triangles.data() + c.triangle_begin,
                                                      c.triangle_end - c.triangle_begin);
-    acc.add(relative(six_volume<double>(tris, x), double(c.rest) * c.pressure.at(world.time())));
+    acc.add(relative_error(six_volume<double>(tris, x), double(c.rest) * c.pressure.at(world.time())));
   }
   return acc.result();
 }
 
 template <class Real> std::vector<NamedViolation> constraint_violations(const World<Real>& world) {
   std::vector<NamedViolation> out;
-  const auto x = world.positions();
-  world.for_each_builtin([&](const auto& array) {
-    using Constraint = typename std::decay_t<decltype(array)>::iterator::value_type;
-    if (array.empty()) return;
-    Accumulator acc;
-    for (const Constraint& c : array) {
-      const double e = violation(c, x);
-      if (e >= 0.0) acc.add(e);  // negative: not measurable (degenerate), left out
-    }
-    out.push_back({Constraint::kName, acc.result()});
+  for_each_type<BuiltinConstraintTypes<Real>>([&](auto type, auto) {
+    using C = typename decltype(type)::type;
+    if (world.template constraints<C>().empty()) return;
+    out.push_back({C::kName, violation_of<C>(world), C::kMeasure});
   });
-  if (!world.volumes().empty()) out.push_back({"volume", volume_violation(world)});
-  if (!world.colliders().empty()) out.push_back({CollisionConstraint<Real>::kName, penetration(world)});
+  if (!world.volumes().empty())
+    out.push_back({VolumeConstraint<Real>::kName, volume_violation(world), VolumeConstraint<Real>::kMeasure});
+  if (!world.colliders().empty())
+    out.push_back({CollisionConstraint<Real>::kName, penetration(world), CollisionConstraint<Real>::kMeasure});
   bool radii = false;
   for (const auto& b : world.contact_bodies()) radii = radii || b.radius > Real(0);
-  if (radii) out.push_back({ParticleContact<Real>::kName, particle_overlap(world)});
+  if (radii) out.push_back({ParticleContact<Real>::kName, particle_overlap(world), ParticleContact<Real>::kMeasure});
   return out;
+}
+
+std::vector<NamedMeasure> violation_measures() {
+  std::vector<NamedMeasure> out;
+  for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) {
+    using C = typename decltype(type)::type;
+    out.push_back({C::kName, C::kMeasure});
+  });
+  out.push_back({VolumeConstraint<double>::kName, VolumeConstraint<double>::kMeasure});
+  out.push_back({CollisionConstraint<double>::kName, CollisionConstraint<double>::kMeasure});
+  out.push_back({ParticleContact<double>::kName, ParticleContact<double>::kMeasure});
+  return out;
+}
+
+const Measure* find_measure(const std::string& type) {
+  static const std::vector<NamedMeasure> all = violation_measures();
+  for (const NamedMeasure& m : all)
+    if (m.type == type) return &m.measure;
+  return nullptr;
 }
 
 Violation pooled(const std::vector<NamedViolation>& v) {
@@ -163,11 +146,6 @@ template <class Real> std::uint64_t position_hash(const World<Real>& world) {
 }
 
 #define PBD_METRICS_INSTANTIATE(Real)                                                             \
-  template double violation(const StretchConstraint<Real>&, const PositionsView<Real>&);          \
-  template double violation(const AnchorConstraint<Real>&, const PositionsView<Real>&);           \
-  template double violation(const BendingConstraint<Real>&, const PositionsView<Real>&);          \
-  template double violation(const AreaConstraint<Real>&, const PositionsView<Real>&);             \
-  template Violation stretch_violation(const World<Real>&);                                       \
   template Violation penetration(const World<Real>&);                                             \
   template Violation particle_overlap(const World<Real>&);                                             \
   template Violation volume_violation(const World<Real>&);                                        \

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 namespace pbd {
 namespace {
@@ -13,8 +15,8 @@ template <class Real> constexpr const char* precision() { return sizeof(Real) ==
 std::string shown(const Eigen::Vector3d& v) { return detail::message("(", v[0], ", ", v[1], ", ", v[2], ")"); }
 
 // Throws naming the first value of `d` that is finite in double but not in Real (1e300 as float), in the order
-// particles (position, velocity, inverse mass), stretch, anchors, area, volumes, planes, spheres (each with its
-// material), contact bodies (radius, material), step parameters.
+// particles (position, velocity, inverse mass), the rest values of each built-in constraint type (in the list's
+// order), volumes, planes, spheres (each with its material), contact bodies (radius, material), step parameters.
 template <class Real> void check_range(const WorldDescription& d) {
   auto fits = [](double v) { return std::isfinite(Real(v)); };
   auto fits3 = [](const Eigen::Vector3d& v) { return v.cast<Real>().allFinite(); };
@@ -28,14 +30,20 @@ template <class Real> void check_range(const WorldDescription& d) {
     if (!fits(d.inverse_masses[i]))
       bad(detail::message("the inverse mass of particle ", i), detail::message(d.inverse_masses[i]));
   }
-  for (std::size_t i = 0; i < d.stretch.size(); ++i)
-    if (!fits(d.stretch[i].rest))
-      bad(detail::message("the rest length of stretch constraint ", i), detail::message(d.stretch[i].rest));
-  for (std::size_t i = 0; i < d.anchors.size(); ++i)
-    if (!fits3(d.anchors[i].target)) bad(detail::message("the target of anchor ", i), shown(d.anchors[i].target));
-  for (std::size_t i = 0; i < d.area.size(); ++i)
-    if (!fits(d.area[i].rest))
-      bad(detail::message("the rest area of area constraint ", i), detail::message(d.area[i].rest));
+  for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) {
+    using C = typename decltype(type)::type;
+    const std::vector<C>& list = d.constraints<C>();
+    for_each_field<C>([&](const auto& field, auto) {
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const auto& value = list[i].*field.member;
+        if constexpr (std::is_arithmetic_v<std::decay_t<decltype(value)>>) {
+          if (!fits(value)) bad(detail::message("the ", field.noun, " of ", C::kNoun, " ", i), detail::message(value));
+        } else if (!fits3(value)) {
+          bad(detail::message("the ", field.noun, " of ", C::kNoun, " ", i), shown(value));
+        }
+      }
+    });
+  });
   for (std::size_t i = 0; i < d.volumes.size(); ++i)
     if (!fits(d.volumes[i].rest))
       bad(detail::message("the rest volume of volume constraint ", i), detail::message(d.volumes[i].rest));
@@ -85,15 +93,12 @@ template <class Real> World<Real> build_world(const WorldDescription& d) {
   w.add_particles_by_inverse_mass(d.positions.cast<Real>(), d.inverse_masses.cast<Real>());
   w.velocities() = d.velocities.cast<Real>();
   for (const Stiffness& s : d.sets) w.add_constraint_set(s);
-  w.template reserve<StretchConstraint<Real>>(d.stretch.size());
-  w.template reserve<AnchorConstraint<Real>>(d.anchors.size());
-  w.template reserve<BendingConstraint<Real>>(d.bending.size());
-  w.template reserve<AreaConstraint<Real>>(d.area.size());
-  for (const StretchDescription& c : d.stretch) w.add_stretch(c.particles[0], c.particles[1], c.set, Real(c.rest));
-  for (const AnchorDescription& a : d.anchors) w.add_anchor(a.particle, a.set, Vec3<Real>(a.target.cast<Real>()));
-  for (const BendingDescription& c : d.bending)
-    w.add_bending(c.particles[0], c.particles[1], c.particles[2], c.particles[3], c.set, Real(c.rest));
-  for (const AreaDescription& c : d.area) w.add_area(c.particles[0], c.particles[1], c.particles[2], c.set, Real(c.rest));
+  for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) {
+    using C = typename decltype(type)::type;
+    const std::vector<C>& list = d.constraints<C>();
+    w.template reserve<rebind_t<C, Real>>(list.size());
+    for (const C& c : list) w.add(convert_constraint<Real>(c));
+  });
   for (const VolumeDescription& v : d.volumes) w.add_volume(v.triangles, v.set, v.pressure, Real(v.rest));
   for (const PlaneDescription& p : d.planes)
     w.add_plane(Vec3<Real>(p.normal.cast<Real>()), Real(p.offset), cast_material<Real>(p.material));

@@ -15,18 +15,13 @@ template <class Real> WorldDescription describe_world(const World<Real>& w) {
   d.velocities = w.velocities().template cast<double>();
   d.inverse_masses = w.inverse_masses().template cast<double>();
   d.sets.assign(w.constraint_sets().begin(), w.constraint_sets().end());
-  const auto& stretch = w.template constraints<StretchConstraint<Real>>();
-  d.stretch.reserve(stretch.size());
-  for (const auto& c : stretch) d.stretch.push_back({c.particles, c.set, double(c.rest)});
-  const auto& anchors = w.template constraints<AnchorConstraint<Real>>();
-  d.anchors.reserve(anchors.size());
-  for (const auto& c : anchors) d.anchors.push_back({c.particles[0], c.set, c.target.template cast<double>()});
-  const auto& bending = w.template constraints<BendingConstraint<Real>>();
-  d.bending.reserve(bending.size());
-  for (const auto& c : bending) d.bending.push_back({c.particles, c.set, double(c.rest)});
-  const auto& area = w.template constraints<AreaConstraint<Real>>();
-  d.area.reserve(area.size());
-  for (const auto& c : area) d.area.push_back({c.particles, c.set, double(c.rest)});
+  for_each_type<BuiltinConstraintTypes<Real>>([&](auto type, auto) {
+    using C = typename decltype(type)::type;
+    const auto& constraints = w.template constraints<C>();
+    auto& list = d.constraints<rebind_t<C, double>>();
+    list.reserve(constraints.size());
+    for (const C& c : constraints) list.push_back(convert_constraint<double>(c));
+  });
   const VolumeConstraints<Real>& volumes = w.volumes();
   for (const auto& c : volumes.items)
     d.volumes.push_back({{volumes.triangles.begin() + c.triangle_begin, volumes.triangles.begin() + c.triangle_end},

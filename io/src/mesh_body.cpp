@@ -11,15 +11,10 @@ namespace pbd {
 
 namespace {
 
-// Room for `more` constraints of a kind, where the world can make it (the description builder can).
-template <class Target> void reserve_stretch(Target& w, std::size_t more) {
-  if constexpr (requires { w.reserve_stretch(more); }) w.reserve_stretch(more);
-}
-template <class Target> void reserve_bending(Target& w, std::size_t more) {
-  if constexpr (requires { w.reserve_bending(more); }) w.reserve_bending(more);
-}
-template <class Target> void reserve_area(Target& w, std::size_t more) {
-  if constexpr (requires { w.reserve_area(more); }) w.reserve_area(more);
+// Room for `more` constraints of type C<Real>, where the world can make it (the description builder can).
+template <template <class> class C, class Target> void reserve_more(Target& w, std::size_t more) {
+  using Real = typename Target::Positions::Scalar;
+  if constexpr (requires { w.template reserve_more<C<Real>>(more); }) w.template reserve_more<C<Real>>(more);
 }
 
 }  // namespace
@@ -30,7 +25,7 @@ void add_mesh_constraints(Target& world, std::span<const std::array<Index, 3>> t
   using Real = typename Target::Positions::Scalar;
   const detail::EdgeTable edges = sets.stretch || sets.bending ? detail::edge_table(triangles) : detail::EdgeTable{};
   if (sets.stretch) {
-    reserve_stretch(world, edges.size());
+    reserve_more<StretchConstraint>(world, edges.size());
     for (std::size_t e = 0; e < edges.size(); ++e) {
       const auto [a, b] = edges.edge(triangles, e);
       world.add_stretch(a, b, *sets.stretch);
@@ -39,7 +34,7 @@ void add_mesh_constraints(Target& world, std::span<const std::array<Index, 3>> t
   if (sets.bending) {
     std::size_t interior = 0;
     for (std::uint8_t c : edges.count) interior += c == 2;
-    reserve_bending(world, interior);
+    reserve_more<BendingConstraint>(world, interior);
     const auto& x = world.positions();
     for (std::size_t e = 0; e < edges.size(); ++e) {
       if (edges.count[e] != 2) continue;  // bending pairs: edges of exactly two triangles, as mesh_bending_pairs
@@ -52,7 +47,7 @@ void add_mesh_constraints(Target& world, std::span<const std::array<Index, 3>> t
     }
   }
   if (sets.area) {
-    reserve_area(world, triangles.size());
+    reserve_more<AreaConstraint>(world, triangles.size());
     for (const auto& t : triangles) world.add_area(t[0], t[1], t[2], *sets.area);
   }
   if (sets.volume) world.add_volume(triangles, *sets.volume, sets.pressure);

@@ -20,6 +20,8 @@
 #include <limits>
 #include <sstream>
 #include <string_view>
+#include <type_traits>
+#include <vector>
 
 namespace pbd {
 namespace {
@@ -30,6 +32,11 @@ using detail::message;
 
 constexpr std::uintmax_t kMaxSceneBytes = 64u << 20;  // a scene file names generators, not meshes: 64 MiB is plenty
 constexpr long kMaxParticles = detail::kMaxSceneParticles;
+// The keys of the types a body's mesh makes (SceneForm::mesh), as their headers declare them; the generators below
+// know which edges and triangles each one takes.
+constexpr const char* kStretchKey = StretchConstraint<double>::kSceneKey;
+constexpr const char* kBendingKey = BendingConstraint<double>::kSceneKey;
+constexpr const char* kAreaKey = AreaConstraint<double>::kSceneKey;
 
 // Throws unless a body of `count` particles still fits in the scene's particle limit: checked before anything is
 // generated, so a huge resolution is refused instead of allocated.
@@ -79,19 +86,9 @@ Index local_index(const nlohmann::json& v, const std::string& file, const std::s
   return Index(detail::json_integer(v, file, path, 0, long(count) - 1));
 }
 
-// "anchors": {"particles": [local indices], stiffness...}: anchors at the particles' initial positions.
-void read_anchors(const JsonObject& body, DescriptionBuilder& world, const Body& b) {
-  if (!body.has("anchors")) return;
-  const JsonObject a = body.object("anchors");
-  const Index set = world.add_constraint_set(read_stiffness(a));
-  for (const auto& [v, path] : a.array("particles"))
-    world.add_anchor(b.first_particle + local_index(*v, a.file(), path, b.num_particles), set);
-  a.reject_unknown_keys();
-}
-
 std::optional<Index> read_stretch_set(const JsonObject& body, DescriptionBuilder& world) {
-  if (!body.has("stretch")) return std::nullopt;
-  const JsonObject s = body.object("stretch");
+  if (!body.has(kStretchKey)) return std::nullopt;
+  const JsonObject s = body.object(kStretchKey);
   const Index set = world.add_constraint_set(read_stiffness(s));
   s.reject_unknown_keys();
   return set;
@@ -109,8 +106,8 @@ std::optional<Index> read_set(const JsonObject& body, const std::string& key, De
 // "bending", "area" and (if allowed) "volume": {stiffness..., "pressure": {"from", "to", "duration"}}.
 MeshConstraintSets read_surface_sets(const JsonObject& body, DescriptionBuilder& world, bool allow_volume) {
   MeshConstraintSets sets;
-  sets.bending = read_set(body, "bending", world);
-  sets.area = read_set(body, "area", world);
+  sets.bending = read_set(body, kBendingKey, world);
+  sets.area = read_set(body, kAreaKey, world);
   if (allow_volume && body.has("volume")) {
     const JsonObject v = body.object("volume");
     sets.volume = world.add_constraint_set(read_stiffness(v));
@@ -190,7 +187,7 @@ Body read_mesh(const JsonObject& o, DescriptionBuilder& world) {
   if (o.has("pinned"))
     for (const auto& [v, path] : o.array("pinned")) opts.pinned.push_back(local_index(*v, o.file(), path, mesh.num_vertices()));
   MeshConstraintSets sets;
-  sets.stretch = read_set(o, "stretch", world);
+  sets.stretch = read_set(o, kStretchKey, world);
   const MeshConstraintSets surface = read_surface_sets(o, world, true);
   sets.bending = surface.bending;
   sets.area = surface.area;
@@ -287,8 +284,8 @@ Body read_particles(const JsonObject& o, DescriptionBuilder& world) {
   b.first_particle = world.add_particles(x, m);
   b.num_particles = n;
   world.velocities().rightCols(n) = vel;
-  if (o.has("stretch")) {
-    const JsonObject s = o.object("stretch");
+  if (o.has(kStretchKey)) {
+    const JsonObject s = o.object(kStretchKey);
     const Index set = world.add_constraint_set(read_stiffness(s));
     for (const auto& [pair, path] : s.array("pairs")) {
       if (!pair->is_array() || pair->size() != 2) detail::json_fail(o.file(), path, "expected a pair [a, b]");
@@ -334,6 +331,56 @@ template <class Read> void at_path(const std::string& file, const std::string& p
   }
 }
 
+// The key of a listed constraint type C (SceneForm::listed, e.g. "anchors"): {"particles": [entries], <its scene
+// fields>, stiffness...}, one constraint per entry on the body's particles (an entry is a local index, or an array of
+// kArity of them); the rest values not given are measured where the particles start. The constraint is added with
+// the engine's checks (DescriptionBuilder::add), an error naming the entry's path.
+template <class C> void read_listed(const JsonObject& body, DescriptionBuilder& world, const Body& b) {
+  if (!body.has(C::kSceneKey)) return;
+  const JsonObject o = body.object(C::kSceneKey);
+  C proto = blank_constraint<C>();
+  proto.set = world.add_constraint_set(read_stiffness(o));
+  FieldMask given = 0;
+  for_each_field<C>([&](const auto& field, auto i) {
+    if (!field.in_scene || !o.has(field.name)) return;
+    if constexpr (std::is_arithmetic_v<typename std::decay_t<decltype(field)>::type>)
+      proto.*field.member = o.number(field.name, -kInf, kInf);
+    else
+      proto.*field.member = vec(o.vec3(field.name));
+    given |= FieldMask(1) << decltype(i)::value;
+  });
+  for (const auto& [v, path] : o.array("particles")) {
+    C c = proto;
+    if constexpr (C::kArity == 1) {
+      c.particles[0] = b.first_particle + local_index(*v, o.file(), path, b.num_particles);
+    } else {
+      if (!v->is_array() || v->size() != std::size_t(C::kArity))
+        detail::json_fail(o.file(), path, message("expected an array of ", C::kArity, " particle indices"));
+      for (int k = 0; k < C::kArity; ++k)
+        c.particles[k] = b.first_particle + local_index((*v)[k], o.file(), message(path, "/", k), b.num_particles);
+    }
+    at_path(o.file(), path, [&, &c = c] { world.add(c, given); });
+  }
+  o.reject_unknown_keys();
+}
+
+// Every listed constraint type's key of a body, in the list's order.
+void read_listed_types(const JsonObject& body, DescriptionBuilder& world, const Body& b) {
+  for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) {
+    using C = typename decltype(type)::type;
+    if constexpr (C::kSceneForm == SceneForm::listed) read_listed<C>(body, world, b);
+  });
+}
+
+// The measures a scene's primary_error may name: each built-in type's name, volume, penetration (collisions) and
+// overlap (particle contacts).
+std::vector<std::string> error_measures() {
+  std::vector<std::string> names;
+  for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) { names.push_back(decltype(type)::type::kName); });
+  for (const char* other : {"volume", "penetration", "overlap"}) names.push_back(other);
+  return names;
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source) {
@@ -354,10 +401,14 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   scene.steps = int(o.integer("steps", 1, 100'000'000, 100));
   if (o.has("primary_error")) {
     scene.primary_error = o.string("primary_error");
-    const std::array<const char*, 7> measures{"stretch", "bending", "area", "volume", "penetration", "overlap", "anchor"};
-    if (std::find(measures.begin(), measures.end(), scene.primary_error) == measures.end())
-      o.fail("primary_error", message("unknown error measure ", detail::quoted(scene.primary_error),
-                                      " (expected stretch, bending, area, volume, penetration, overlap or anchor)"));
+    const std::vector<std::string> measures = error_measures();
+    if (std::find(measures.begin(), measures.end(), scene.primary_error) == measures.end()) {
+      std::string expected;
+      for (std::size_t i = 0; i < measures.size(); ++i)
+        expected += (i == 0 ? "" : i + 1 == measures.size() ? " or " : ", ") + measures[i];
+      o.fail("primary_error", message("unknown error measure ", detail::quoted(scene.primary_error), " (expected ",
+                                      expected, ")"));
+    }
   }
   StepParams<double> p;
   p.dt = o.number("dt", 1e-9, 10.0);
@@ -385,7 +436,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
       else if (type == "grains") body = read_grains(b, world);
       else b.fail("type", message("unknown body type ", detail::quoted(type),
                                   " (expected \"cloth\", \"rope\", \"particles\", \"mesh\" or \"grains\")"));
-      read_anchors(b, world, body);
+      read_listed_types(b, world, body);
       detail::read_contact_body(b, body, world);
       b.reject_unknown_keys();
       scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());

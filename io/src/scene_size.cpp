@@ -1,6 +1,7 @@
 #include "scene_size.hpp"
 
 #include "json_reader.hpp"
+#include "pbd/constraint_types.hpp"
 #include "pbd/detail/message.hpp"
 
 #include <algorithm>
@@ -40,9 +41,24 @@ double elements(const nlohmann::json& o, const char* key) {
 
 bool has(const nlohmann::json& o, const char* key) { return o.contains(key); }
 
+// Constraints a body's listed-type keys ask for (SceneForm::listed, e.g. "anchors"): one per entry of "particles".
+double listed_constraints(const nlohmann::json& b) {
+  double n = 0;
+  for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) {
+    using C = typename decltype(type)::type;
+    if constexpr (C::kSceneForm == SceneForm::listed) {
+      const auto it = b.find(C::kSceneKey);
+      if (it != b.end() && it->is_object()) n += elements(*it, "particles");
+    }
+  });
+  return n;
+}
+
 // A triangle mesh of v vertices, e edges and t triangles with the constraint sets `o` asks for.
 Size surface(const nlohmann::json& o, double v, double e, double t, std::string key) {
-  const double constraints = (has(o, "stretch") ? e : 0) + (has(o, "bending") ? e : 0) + (has(o, "area") ? t : 0) +
+  const double constraints = (has(o, StretchConstraint<double>::kSceneKey) ? e : 0) +
+                             (has(o, BendingConstraint<double>::kSceneKey) ? e : 0) +
+                             (has(o, AreaConstraint<double>::kSceneKey) ? t : 0) +
                              (has(o, "volume") ? 1 : 0);
   return {v, constraints, std::move(key)};
 }
@@ -57,7 +73,7 @@ Size body_size(const nlohmann::json& b) {
   }
   if (t == "rope") {
     const double m = count(b, "particles", double(kMaxSceneParticles));
-    return {m, has(b, "stretch") ? m : 0, "particles"};
+    return {m, has(b, StretchConstraint<double>::kSceneKey) ? m : 0, "particles"};
   }
   if (t == "grains") {
     const auto c = b.find("count");
@@ -70,7 +86,7 @@ Size body_size(const nlohmann::json& b) {
     return {n, 0, "count"};
   }
   if (t == "particles") {
-    const auto s = b.find("stretch");
+    const auto s = b.find(StretchConstraint<double>::kSceneKey);
     return {elements(b, "positions"), s != b.end() && s->is_object() ? elements(*s, "pairs") : 0, "positions"};
   }
   if (t == "mesh") {
@@ -107,7 +123,7 @@ void check_scene_size(const nlohmann::json& root, const std::string& file) {
     const nlohmann::json& b = (*bodies)[i];
     if (!b.is_object()) continue;
     Size s = body_size(b);
-    s.constraints += b.contains("anchors") && b["anchors"].is_object() ? elements(b["anchors"], "particles") : 0;
+    s.constraints += listed_constraints(b);
     const std::string path = message("/bodies/", i, "/", s.key.empty() ? "type" : s.key);
     if (particles + s.particles > double(kMaxSceneParticles))
       json_fail(file, path, message("this body has ", shown(s.particles), " particles; with the ", shown(particles),

@@ -54,6 +54,12 @@ TYPED_TEST(MetricsTest, EveryTypeIsZeroAtRest) {
   }
   EXPECT_EQ(find(v, "volume")->value.count, 1u);
   EXPECT_EQ(find(v, "collision")->value.count, std::size_t(world.num_particles()));  // one plane
+  // Each type comes with the Measure its header declares: the study's error keys and units.
+  std::vector<std::string> keys;
+  for (const auto& t : v) keys.push_back(std::string(t.measure.key) + " " + t.measure.unit);
+  EXPECT_EQ(keys, (std::vector<std::string>{"stretch_pct %", "anchor_mm mm", "bending_rad rad", "area_pct %",
+                                            "volume_pct %", "penetration_mm mm"}));
+  for (const auto& t : v) EXPECT_EQ(find_measure(t.type)->scale, t.measure.scale) << t.type;
   EXPECT_EQ(pooled(v).max, 0.0 + std::max({v[0].value.max, v[1].value.max, v[2].value.max, v[3].value.max,
                                             v[4].value.max, v[5].value.max}));
 }

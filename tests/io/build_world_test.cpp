@@ -30,25 +30,29 @@ template <class Real> void expect_cast_of(const WorldDescription& d, const World
     ASSERT_EQ(w.inverse_masses()[i], Real(d.inverse_masses[i])) << what << " particle " << i;
   ASSERT_EQ(w.constraint_sets().size(), d.sets.size()) << what;
   const auto& stretch = w.template constraints<StretchConstraint<Real>>();
-  ASSERT_EQ(stretch.size(), d.stretch.size()) << what;
+  ASSERT_EQ(stretch.size(), d.constraints<StretchConstraint<double>>().size()) << what;
   for (std::size_t i = 0; i < stretch.size(); ++i) {
-    ASSERT_EQ(stretch[i].particles, d.stretch[i].particles) << what << " stretch " << i;
-    ASSERT_EQ(stretch[i].set, d.stretch[i].set) << what << " stretch " << i;
-    ASSERT_EQ(stretch[i].rest, Real(d.stretch[i].rest)) << what << " stretch " << i;
+    ASSERT_EQ(stretch[i].particles, d.constraints<StretchConstraint<double>>()[i].particles)
+        << what << " stretch " << i;
+    ASSERT_EQ(stretch[i].set, d.constraints<StretchConstraint<double>>()[i].set) << what << " stretch " << i;
+    ASSERT_EQ(stretch[i].rest, Real(d.constraints<StretchConstraint<double>>()[i].rest)) << what << " stretch " << i;
   }
   const auto& bending = w.template constraints<BendingConstraint<Real>>();
-  ASSERT_EQ(bending.size(), d.bending.size()) << what;
+  ASSERT_EQ(bending.size(), d.constraints<BendingConstraint<double>>().size()) << what;
   for (std::size_t i = 0; i < bending.size(); ++i) {
-    ASSERT_EQ(bending[i].particles, d.bending[i].particles) << what << " bending " << i;
-    ASSERT_EQ(bending[i].rest, Real(d.bending[i].rest)) << what << " bending " << i;
+    ASSERT_EQ(bending[i].particles, d.constraints<BendingConstraint<double>>()[i].particles)
+        << what << " bending " << i;
+    ASSERT_EQ(bending[i].rest, Real(d.constraints<BendingConstraint<double>>()[i].rest)) << what << " bending " << i;
   }
   const auto& area = w.template constraints<AreaConstraint<Real>>();
-  ASSERT_EQ(area.size(), d.area.size()) << what;
-  for (std::size_t i = 0; i < area.size(); ++i) ASSERT_EQ(area[i].rest, Real(d.area[i].rest)) << what << " area " << i;
+  ASSERT_EQ(area.size(), d.constraints<AreaConstraint<double>>().size()) << what;
+  for (std::size_t i = 0; i < area.size(); ++i)
+    ASSERT_EQ(area[i].rest, Real(d.constraints<AreaConstraint<double>>()[i].rest)) << what << " area " << i;
   const auto& anchors = w.template constraints<AnchorConstraint<Real>>();
-  ASSERT_EQ(anchors.size(), d.anchors.size()) << what;
+  ASSERT_EQ(anchors.size(), d.constraints<AnchorConstraint<double>>().size()) << what;
   for (std::size_t i = 0; i < anchors.size(); ++i)
-    ASSERT_EQ(anchors[i].target, d.anchors[i].target.cast<Real>()) << what << " anchor " << i;
+    ASSERT_EQ(anchors[i].target, d.constraints<AnchorConstraint<double>>()[i].target.cast<Real>())
+        << what << " anchor " << i;
   ASSERT_EQ(w.volumes().size(), d.volumes.size()) << what;
   for (std::size_t i = 0; i < d.volumes.size(); ++i) {
     EXPECT_EQ(w.volumes().items[i].rest, Real(d.volumes[i].rest)) << what << " volume " << i;

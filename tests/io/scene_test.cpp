@@ -33,10 +33,10 @@ TEST(Scene, EveryBuiltInSceneLoadsAndStepsUnderEverySolver) {
 TEST(Scene, ClothSceneHasWhatItAsksForAndNothingElse) {
   const Scene s = load_scene_by_name("cloth", PBD_TEST_SCENE_DIR);
   EXPECT_EQ(s.world.num_particles(), 900u);
-  EXPECT_EQ(s.world.stretch.size(), std::size_t(2 * 30 * 29 + 29 * 29));
-  EXPECT_EQ(s.world.bending.size(), std::size_t(3 * 29 * 29 - 2 * 29));  // interior edges
-  EXPECT_TRUE(s.world.anchors.empty());
-  EXPECT_TRUE(s.world.area.empty());
+  EXPECT_EQ(s.world.constraints<StretchConstraint<double>>().size(), std::size_t(2 * 30 * 29 + 29 * 29));
+  EXPECT_EQ(s.world.constraints<BendingConstraint<double>>().size(), std::size_t(3 * 29 * 29 - 2 * 29));  // interior
+  EXPECT_TRUE(s.world.constraints<AnchorConstraint<double>>().empty());
+  EXPECT_TRUE(s.world.constraints<AreaConstraint<double>>().empty());
   EXPECT_TRUE(s.world.volumes.empty());
   EXPECT_EQ(s.world.spheres.size(), 1u);
   EXPECT_EQ(s.world.planes.size(), 1u);
@@ -62,7 +62,7 @@ TEST(Scene, MeshScenesHaveTheirVolumesAndTriangles) {
 // Longest rest length of the stretch constraints on particles [first, first + count).
 double longest_edge(const WorldDescription& d, Index first, Index count) {
   double longest = 0.0;
-  for (const auto& s : d.stretch)
+  for (const auto& s : d.constraints<StretchConstraint<double>>())
     if (s.particles[0] >= first && s.particles[0] < first + count) longest = std::max(longest, s.rest);
   return longest;
 }
@@ -144,9 +144,10 @@ TEST(Scene, ParsesMeshBodies) {
   EXPECT_EQ(s.world.num_particles(), 42u + 26u + 16u + 32u + 9u);
   EXPECT_EQ(c.volumes.size(), 2u);
   EXPECT_DOUBLE_EQ(c.volumes[0].pressure.at(1.5), 1.5);
-  EXPECT_EQ(c.stretch.size(), 120u);
-  EXPECT_EQ(c.area.size(), 80u + 8u);
-  EXPECT_EQ(c.bending.size(), 120u + 21u + 8u);  // sphere edges, 4x4 grid interior edges, 3x3 cloth interior edges
+  EXPECT_EQ(c.constraints<StretchConstraint<double>>().size(), 120u);
+  EXPECT_EQ(c.constraints<AreaConstraint<double>>().size(), 80u + 8u);
+  // sphere edges, 4x4 grid interior edges, 3x3 cloth interior edges
+  EXPECT_EQ(c.constraints<BendingConstraint<double>>().size(), 120u + 21u + 8u);
   EXPECT_EQ(s.world.inverse_masses[0], 0.0);
   EXPECT_NEAR(s.world.positions.col(1).norm(), 0.0, 3.0);
   EXPECT_EQ(s.triangles.size(), 80u + 48u + 18u + 60u + 8u);
@@ -174,11 +175,11 @@ TEST(Scene, ParsesEveryFieldOfTheFormat) {
   EXPECT_EQ(w.inverse_masses[0], 0.0);
   EXPECT_DOUBLE_EQ(w.inverse_masses[2], 1.0 / 3.0);
   EXPECT_DOUBLE_EQ(w.velocities(1, 1), 1.0);
-  ASSERT_EQ(w.stretch.size(), 2u);
+  ASSERT_EQ(w.constraints<StretchConstraint<double>>().size(), 2u);
   EXPECT_EQ(w.sets[0].mode, StiffnessMode::xpbd);
   EXPECT_EQ(w.sets[1].mode, StiffnessMode::pbd_iteration_independent);
-  ASSERT_EQ(w.anchors.size(), 1u);
-  EXPECT_EQ(w.anchors[0].particle, 2u);
+  ASSERT_EQ(w.constraints<AnchorConstraint<double>>().size(), 1u);
+  EXPECT_EQ(w.constraints<AnchorConstraint<double>>()[0].particles[0], 2u);
   ASSERT_EQ(w.planes.size(), 1u);
   EXPECT_DOUBLE_EQ(w.planes[0].offset, -1.0);  // normal normalized, offset is n·x with the unit normal
   EXPECT_EQ(w.spheres.size(), 1u);

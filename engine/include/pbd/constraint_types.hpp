@@ -1,8 +1,12 @@
 #pragma once
 /// \file constraint_types.hpp
-/// THE list of built-in fixed-arity constraint types, in solver order. Every pass over the constraints (storage,
-/// coloring, sweeps, λ, Jacobi counts, removal, statistics, error measures) folds over this list, so a new built-in
-/// type is: its header under constraints/ (struct, evaluate, violation), one entry here, its scene key.
+/// THE list of built-in fixed-arity constraint types, in solver order. Every pass over the constraints folds over
+/// this list: storage, coloring, sweeps, λ, Jacobi counts, removal and validate() (World), the input checks
+/// (checks.hpp), the metrics with their units (metrics.hpp), and outside the engine the scene keys and their checks,
+/// scene sizes, world descriptions and the describe round trip (pbd::io), the Python bindings (add_<name>,
+/// <name>_violation), `pbd run`'s summary and the study's per-type errors. So a new built-in type is its header
+/// under constraints/ (the struct, `evaluate`, and what constraints/traits.hpp lists: name, scene key, violation and
+/// its unit, rest values, checks), its SIMD kernel if it has one, and one entry here. tests/new_type shows it.
 /// Volume constraints (one spans a whole mesh) and the per-step collision constraints are not in the list: the sweep
 /// projects them after these types, in that order (engine/src/solve/sweep.hpp).
 #include "pbd/constraints/anchor.hpp"
@@ -12,6 +16,7 @@
 
 #include <cstddef>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 
 namespace pbd {
@@ -38,5 +43,19 @@ template <class C, class... Ts> struct TypeIndex<C, std::tuple<Ts...>> {
 /// True when C is one of the built-in fixed-arity types of precision Real.
 template <class C, class Real>
 inline constexpr bool is_builtin_v = TypeIndex<C, BuiltinConstraintTypes<Real>>::value < kNumBuiltinTypes;
+
+/// Calls f(std::type_identity<C>{}, index) for each type C of the tuple Types, in order (index: a
+/// std::integral_constant, C's position). The one way the passes outside the solver visit the list.
+template <class Types, class F> constexpr void for_each_type(F&& f) {
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    (f(std::type_identity<std::tuple_element_t<I, Types>>{}, std::integral_constant<std::size_t, I>{}), ...);
+  }(std::make_index_sequence<std::tuple_size_v<Types>>{});
+}
+
+/// std::tuple<std::vector<C>...> and the like: Wrap<C> for each type of a tuple.
+template <template <class> class Wrap, class Types> struct EachOf;
+template <template <class> class Wrap, class... Cs> struct EachOf<Wrap, std::tuple<Cs...>> {
+  using type = std::tuple<Wrap<Cs>...>;  ///< one Wrap<C> per type
+};
 
 }  // namespace pbd

@@ -3,11 +3,9 @@
 /// Error measures of a world's state: how far its constraints are from being satisfied, how far its positions are
 /// from a reference, its energy, and a bitwise hash of its positions. All sums are taken in double.
 ///
-/// Normalized violation of one constraint, per type (a new fixed-arity type needs one `violation` overload below):
-///   stretch    |(|x_a − x_b| − d)| / d            relative stretch (absolute length in m where d = 0)
-///   anchor     |x − target|                       metres
-///   bending    |φ − φ0|                           radians (a degenerate triangle is not measured)
-///   area       |A − A0| / A0                      relative area error (absolute area in m² where A0 = 0)
+/// Normalized violation of one constraint, per type, and the unit it is reported in (Measure). A built-in type's
+/// header defines its own `violation(c, x)` and kMeasure (stretch.hpp, ...: relative stretch in %, anchor distance
+/// in mm, angle error in rad, relative area error in %); the others are measured here:
 ///   volume     |V − V_target(t)| / V_target(t)    relative volume error against the target at world.time()
 ///   collision  max(0, depth)                      penetration in metres, per (movable particle, collider), the
 ///                                                 particle's contact radius included
@@ -23,21 +21,22 @@
 
 namespace pbd {
 
-/// Read-only view of 3×N positions (a Matrix3X or the map World::positions() returns), no copy.
-/// (Non-deduced, so Real comes from the constraint and any matrix or map converts.)
-template <class Real> using PositionsView = std::type_identity_t<Eigen::Ref<const Matrix3X<Real>>>;
+/// The violation of every constraint of built-in type C (its header's `violation`; constraints it cannot measure,
+/// such as a degenerate bending pair, are left out).
+template <class C, class Real> Violation violation_of(const World<Real>& world) {
+  const auto x = world.positions();
+  ViolationAccumulator acc;
+  for (const C& c : world.template constraints<C>()) {
+    const double e = violation(c, x);
+    if (e >= 0.0) acc.add(e);  // negative: not measurable (degenerate), left out
+  }
+  return acc.result();
+}
 
-/// Relative stretch |(|x_a − x_b| − d)| / d of one stretch constraint (absolute length where d = 0).
-template <class Real> double violation(const StretchConstraint<Real>& c, const PositionsView<Real>& x);
-/// Distance |x − target| of one anchor, metres.
-template <class Real> double violation(const AnchorConstraint<Real>& c, const PositionsView<Real>& x);
-/// Angle error |φ − φ0| of one bending constraint, radians; negative when a triangle is degenerate (not measured).
-template <class Real> double violation(const BendingConstraint<Real>& c, const PositionsView<Real>& x);
-/// Relative area error |A − A0| / A0 of one triangle (absolute area where A0 = 0).
-template <class Real> double violation(const AreaConstraint<Real>& c, const PositionsView<Real>& x);
-
-/// Relative stretch of every stretch constraint.
-template <class Real> Violation stretch_violation(const World<Real>& world);
+/// Relative stretch of every stretch constraint: violation_of<StretchConstraint<Real>>.
+template <class Real> Violation stretch_violation(const World<Real>& world) {
+  return violation_of<StretchConstraint<Real>>(world);
+}
 
 /// Penetration depth max(0, −C) of every collider for every movable particle at the current positions (m).
 template <class Real> Violation penetration(const World<Real>& world);
@@ -48,9 +47,20 @@ template <class Real> Violation particle_overlap(const World<Real>& world);
 /// Relative error |V − V_target| / V_target of every volume constraint, target taken at world.time().
 template <class Real> Violation volume_violation(const World<Real>& world);
 
-/// One entry per constraint type the world has (built-in fixed-arity types in solver order, then "volume", then "collision"
-/// if it has colliders); types without constraints are left out.
+/// One entry per constraint type the world has (built-in fixed-arity types in solver order, then "volume", then
+/// "collision" if it has colliders, then "particle contact" if a contact body has a radius), each with its Measure;
+/// types without constraints are left out.
 template <class Real> std::vector<NamedViolation> constraint_violations(const World<Real>& world);
+
+/// A violation type's name and how it is reported.
+struct NamedMeasure {
+  std::string type;  ///< "stretch", ..., "volume", "collision", "particle contact"
+  Measure measure;   ///< its report key, label, unit and scale
+};
+/// Every violation type constraint_violations can report, in its order, with its Measure.
+std::vector<NamedMeasure> violation_measures();
+/// The Measure of violation type `type` (violation_measures()), or nullptr for a type it does not know.
+const Measure* find_measure(const std::string& type);
 
 /// RMS and maximum over every item of every entry of `v` pooled together (count = total items).
 Violation pooled(const std::vector<NamedViolation>& v);

@@ -89,6 +89,12 @@ public:
   /// colored and projected like the built-in types, after them. Returns its index among the constraints of type C.
   template <class C> Index add_custom(const C& constraint);
 
+  /// Adds a constraint of built-in type C given whole: its particles, its set and the rest values in `given` (bit i:
+  /// C::fields()[i]; the others are measured at the current positions), checked as pbd/checks.hpp says.
+  template <class C> Index add(const C& constraint, FieldMask given = kAllFields);
+  /// As remove_stretch, for the constraints of built-in type C.
+  template <class C> void remove_constraints(std::span<const Index> indices);
+
   /// Makes room for n constraints of built-in type C in all (a loader that knows the count adds them faster).
   template <class C> void reserve(std::size_t n) { model_.template store<C>().items.reserve(n); }
 

@@ -14,6 +14,13 @@ Index root(std::vector<Index>& parent, Index i) {
   return i;
 }
 
+// Whether constraint type C holds its particles to fixed points: its header's kTiesToWorld (constraints/traits.hpp);
+// a type that does not say (a user-defined one) does not.
+template <class C> constexpr bool ties_to_world() {
+  if constexpr (requires { C::kTiesToWorld; }) return C::kTiesToWorld;
+  else return false;
+}
+
 }  // namespace
 
 template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<Real>& f) {
@@ -30,7 +37,8 @@ template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<R
   for_each_store(m.stores, [&](const auto& s, auto) {
     for (const auto& c : s.items) {
       using C = std::decay_t<decltype(c)>;
-      if constexpr (std::is_same_v<C, AnchorConstraint<Real>>) held[c.particles[0]] = 1;  // tied to the world
+      if constexpr (ties_to_world<C>())  // tied to the world: its particles are held
+        for (Index p : c.particles) held[p] = 1;
       for (int i = 1; i < C::kArity; ++i) join(c.particles[0], c.particles[i]);
     }
   });

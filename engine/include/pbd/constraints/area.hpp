@@ -2,6 +2,7 @@
 /// \file area.hpp
 /// Triangle area constraint: C = ½|(p2 − p1) × (p3 − p1)| − A0 (Müller et al. 2006).
 #include "pbd/constraints/degenerate.hpp"
+#include "pbd/constraints/traits.hpp"
 #include "pbd/detail/area_math.hpp"
 #include "pbd/stiffness.hpp"
 
@@ -15,9 +16,17 @@ template <class Real> struct AreaConstraint {
   static constexpr const char* kName = "area";  ///< name in reports and on the command line
   static constexpr int kArity = 3;            ///< particles per constraint
   static constexpr bool kInequality = false;  ///< an equality
+  static constexpr const char* kNoun = "area constraint";                        ///< the item in error messages
+  static constexpr std::array<const char*, 3> kParticleNames{"a", "b", "c"};      ///< argument names (Python)
+  static constexpr const char* kSceneKey = "area";          ///< a body's key: area on its triangles
+  static constexpr SceneForm kSceneForm = SceneForm::mesh;  ///< made by the body's generator
+  static constexpr bool kTiesToWorld = false;               ///< between three particles
+  static constexpr Measure kMeasure{"area_pct", "area error", "%", 100.0};  ///< relative area error, in percent
   std::array<Index, 3> particles;             ///< the triangle's corners p1, p2, p3
   Index set;                                  ///< constraint set (stiffness) it belongs to
   Real rest;                                  ///< rest area A0 ≥ 0
+  /// The rest value: area A0 in m² (default: the current area).
+  static constexpr auto fields() { return std::tuple{Field{"rest", "rest area", &AreaConstraint::rest}}; }
 };
 
 /// C = ½|u × v| − A0 with u = p2 − p1, v = p3 − p1 and unit normal n = u × v / |u × v|:
@@ -56,6 +65,28 @@ inline bool correction(const AreaConstraint<Real>& c, const Vec3<Real> (&p)[3], 
 /// Area of the triangle (a, b, c).
 template <class Real> Real triangle_area(const Vec3<Real>& a, const Vec3<Real>& b, const Vec3<Real>& c) {
   return Real(0.5) * (b - a).cross(c - a).norm();
+}
+
+/// Relative area error |A − A0| / A0 (absolute area in m² where A0 = 0).
+template <class Real> double violation(const AreaConstraint<Real>& c, const PositionsView<Real>& x) {
+  return detail::relative_error(triangle_area<double>(detail::position_of<Real>(x, c.particles[0]),
+                                                      detail::position_of<Real>(x, c.particles[1]),
+                                                      detail::position_of<Real>(x, c.particles[2])),
+                                double(c.rest));
+}
+
+/// Default rest area: the triangle's area in x.
+template <class Real, class X> const char* measure_rest(AreaConstraint<Real>& c, const X& x, FieldMask given) {
+  const auto& p = c.particles;
+  if (!(given & 1u)) c.rest = triangle_area<Real>(x.col(p[0]), x.col(p[1]), x.col(p[2]));
+  return nullptr;
+}
+
+/// A rest area is finite and ≥ 0.
+template <class Real> std::string rest_error(const AreaConstraint<Real>& c) {
+  if (!std::isfinite(c.rest) || c.rest < Real(0))
+    return detail::message("rest area must be finite and >= 0, got ", c.rest);
+  return {};
 }
 
 }  // namespace pbd

@@ -10,6 +10,7 @@
 ///           \  /          Two flat triangles on either side of the edge have n2 = −n1: φ = π.
 ///            p4           φ is unsigned: folding either way from flat lowers it.
 #include "pbd/constraints/degenerate.hpp"
+#include "pbd/constraints/traits.hpp"
 #include "pbd/detail/bending_math.hpp"
 #include "pbd/stiffness.hpp"
 
@@ -24,9 +25,17 @@ template <class Real> struct BendingConstraint {
   static constexpr const char* kName = "bending";  ///< name in reports and on the command line
   static constexpr int kArity = 4;            ///< particles per constraint
   static constexpr bool kInequality = false;  ///< an equality
+  static constexpr const char* kNoun = "bending constraint";                          ///< the item in messages
+  static constexpr std::array<const char*, 4> kParticleNames{"p1", "p2", "p3", "p4"};  ///< argument names (Python)
+  static constexpr const char* kSceneKey = "bending";       ///< a body's key: bending on its interior edges
+  static constexpr SceneForm kSceneForm = SceneForm::mesh;  ///< made by the body's generator
+  static constexpr bool kTiesToWorld = false;               ///< between four particles
+  static constexpr Measure kMeasure{"bending_rad", "bending", "rad", 1.0};  ///< angle error, in radians
   std::array<Index, 4> particles;             ///< p1, p2 (the shared edge), p3, p4 (the opposite corners)
   Index set;                                  ///< constraint set (stiffness) it belongs to
   Real rest;                                  ///< rest angle φ0 in [0, π]
+  /// The rest value: angle φ0 in rad (default: the current dihedral angle).
+  static constexpr auto fields() { return std::tuple{Field{"rest", "rest angle", &BendingConstraint::rest}}; }
 };
 
 /// The dihedral angle φ = acos(n1·n2) of the sketch above, or a negative value if a triangle is degenerate.
@@ -75,6 +84,31 @@ inline bool correction(const BendingConstraint<Real>& c, const Vec3<Real> (&p)[4
   dlambda = r.dlambda;
   for (int i = 0; i < 4; ++i) dp[i] = Vec3<Real>(r.dp[i].x, r.dp[i].y, r.dp[i].z);
   return true;
+}
+
+/// Angle error |φ − φ0| in rad; negative when a triangle is degenerate (not measured).
+template <class Real> double violation(const BendingConstraint<Real>& c, const PositionsView<Real>& x) {
+  const double phi = dihedral_angle<double>(detail::position_of<Real>(x, c.particles[0]),
+                                            detail::position_of<Real>(x, c.particles[1]),
+                                            detail::position_of<Real>(x, c.particles[2]),
+                                            detail::position_of<Real>(x, c.particles[3]));
+  return phi < 0.0 ? -1.0 : std::abs(phi - double(c.rest));
+}
+
+/// Default rest angle: the dihedral angle in x; undefined where a triangle is degenerate.
+template <class Real, class X> const char* measure_rest(BendingConstraint<Real>& c, const X& x, FieldMask given) {
+  if (given & 1u) return nullptr;
+  const auto& p = c.particles;
+  c.rest = dihedral_angle<Real>(x.col(p[0]), x.col(p[1]), x.col(p[2]), x.col(p[3]));
+  return c.rest < Real(0) ? "a triangle is degenerate, so the rest angle is undefined (give it)" : nullptr;
+}
+
+/// A rest angle is in [0, π]; π rounded to float (just above π in double) is accepted, so a float world's rest
+/// angles describe a double one.
+template <class Real> std::string rest_error(const BendingConstraint<Real>& c) {
+  if (!(c.rest >= Real(0) && c.rest <= Real(3.14159265358979323846f)))
+    return detail::message("rest angle must be in [0, pi], got ", c.rest);
+  return {};
 }
 
 }  // namespace pbd

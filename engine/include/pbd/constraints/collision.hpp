@@ -5,6 +5,7 @@
 #include "pbd/constraints/contact_material.hpp"
 #include "pbd/constraints/projection.hpp"
 #include "pbd/types.hpp"
+#include "pbd/violation.hpp"
 
 #include <array>
 
@@ -17,6 +18,8 @@ template <class Real> struct CollisionConstraint {
   static constexpr int kArity = 1;           ///< particles per constraint
   static constexpr bool kInequality = true;  ///< projected only while C < 0
   static constexpr bool kUnitGradients = true;  ///< |∇C| = |n| = 1
+  /// Its violation is the penetration depth in m (metrics.hpp), reported in millimetres.
+  static constexpr Measure kMeasure{"penetration_mm", "penetration", "mm", 1000.0};
   std::array<Index, 1> particles;            ///< the colliding particle
   Vec3<Real> normal;                         ///< unit surface normal n at the contact
   Real offset;                               ///< n·q for the contact point q (plus the particle's radius)

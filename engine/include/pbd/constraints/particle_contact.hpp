@@ -5,6 +5,7 @@
 #include "pbd/constraints/contact_material.hpp"
 #include "pbd/constraints/projection.hpp"
 #include "pbd/types.hpp"
+#include "pbd/violation.hpp"
 
 #include <array>
 
@@ -19,6 +20,8 @@ template <class Real> struct ParticleContact {
   static constexpr int kArity = 2;                  ///< particles per constraint
   static constexpr bool kInequality = true;         ///< projected only while C < 0
   static constexpr bool kUnitGradients = true;      ///< |∇_a C| = |∇_b C| = 1
+  /// Its violation is the overlap as a fraction of the radii sum (metrics.hpp), reported in percent.
+  static constexpr Measure kMeasure{"overlap_pct", "overlap", "%", 100.0};
   std::array<Index, 2> particles;                   ///< a, b (a < b)
   Vec3<Real> normal;                                ///< unit normal of first contact, from b to a
   Real distance;                                    ///< r_a + r_b, m

@@ -9,6 +9,7 @@
 /// parallel one inside the colored solver), both built on the same fixed-shape blocked reduction.
 #include "pbd/stiffness.hpp"
 #include "pbd/types.hpp"
+#include "pbd/violation.hpp"
 
 #include <Eigen/Geometry>
 #include <array>
@@ -28,6 +29,9 @@ struct PressureSchedule {
 
 /// One closed mesh's volume constraint; its triangles and gradient rings live in VolumeConstraints.
 template <class Real> struct VolumeConstraint {
+  static constexpr const char* kName = "volume";  ///< name in reports
+  /// Its violation is the relative volume error against the target (metrics.hpp), reported in percent.
+  static constexpr Measure kMeasure{"volume_pct", "volume error", "%", 100.0};
   Index set;                           ///< constraint set (stiffness) it belongs to
   Index triangle_begin, triangle_end;  ///< its triangles: VolumeConstraints::triangles[begin, end)
   Index row_begin, row_end;            ///< its particles: VolumeConstraints::particles[begin, end), ascending

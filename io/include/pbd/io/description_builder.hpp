@@ -2,6 +2,7 @@
 /// \file description_builder.hpp
 /// A WorldDescription built item by item through World's own calls: the scene reader and the generators (add_cloth,
 /// add_rope, add_grains, add_mesh) fill one without building a World<double>.
+#include "pbd/checks.hpp"
 #include "pbd/io/world_description.hpp"
 
 #include <limits>
@@ -10,9 +11,10 @@
 
 namespace pbd {
 
-/// Has World<double>'s add_* / set_params calls with World<double>'s checks, error messages and arithmetic: the rest
-/// values it stores are bit for bit those World<double> computes for the same calls, and a bad call throws the same
-/// pbd::Error and adds nothing. tests/io/description_builder_test.cpp holds the two side by side.
+/// Has World<double>'s add_* / set_params calls with World<double>'s checks (the engine's own, pbd/checks.hpp), error
+/// messages and arithmetic: the rest values it stores are bit for bit those World<double> computes for the same
+/// calls, and a bad call throws the same pbd::Error and adds nothing. tests/io/description_builder_test.cpp holds the
+/// two side by side.
 class DescriptionBuilder {
 public:
   using Vec = Vec3<double>;           ///< 3-vector
@@ -24,6 +26,13 @@ public:
   Index add_particles(const Positions& positions, const VectorX<double>& masses);
   /// As World::add_constraint_set.
   Index add_constraint_set(const Stiffness& stiffness);
+  /// As World::add<C>: a constraint of built-in type C (in double, e.g. StretchConstraint<double>) with the rest
+  /// values in `given`, the others measured at the particles' positions; returns its index among its type.
+  template <class C> Index add(const C& constraint, FieldMask given = kAllFields) {
+    std::vector<C>& list = d_.constraints<C>();
+    list.push_back(checked_constraint(constraint, given, d_.positions, d_.sets.size(), list.size()));
+    return Index(list.size() - 1);
+  }
   /// As World::add_stretch: rest distance in m, by default the particles' current distance.
   Index add_stretch(Index a, Index b, Index set, std::optional<double> rest = std::nullopt);
   /// As World::add_anchor: target in m, by default the particle's position.
@@ -46,12 +55,11 @@ public:
   /// As World::set_params.
   void set_params(const StepParams<double>& params);
 
-  /// Room for this many more stretch constraints (no effect on results).
-  void reserve_stretch(std::size_t more) { d_.stretch.reserve(d_.stretch.size() + more); }
-  /// Room for this many more bending constraints (no effect on results).
-  void reserve_bending(std::size_t more) { d_.bending.reserve(d_.bending.size() + more); }
-  /// Room for this many more area constraints (no effect on results).
-  void reserve_area(std::size_t more) { d_.area.reserve(d_.area.size() + more); }
+  /// Room for this many more constraints of built-in type C (no effect on results).
+  template <class C> void reserve_more(std::size_t more) {
+    std::vector<C>& list = d_.constraints<C>();
+    list.reserve(list.size() + more);
+  }
 
   /// Number of particles.
   Index num_particles() const { return d_.num_particles(); }
@@ -67,8 +75,6 @@ public:
   WorldDescription description() && { return std::move(d_); }
 
 private:
-  void check_particle(Index i, const char* item, std::size_t index) const;  // throws naming "item index"
-  void check_set(Index set, const char* item, std::size_t index) const;
   WorldDescription d_;
 };
 

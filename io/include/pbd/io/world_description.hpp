@@ -12,26 +12,14 @@
 
 #include <array>
 #include <cstddef>
+#include <tuple>
 #include <vector>
 
 namespace pbd {
 
-/// One constraint of a fixed-arity type: its particles, its constraint set and its rest value.
-template <int N> struct ConstraintDescription {
-  std::array<Index, N> particles;  ///< particle indices, in the order of the engine's constraint type
-  Index set = 0;                   ///< constraint set (index into WorldDescription::sets)
-  double rest = 0.0;               ///< rest value: length in m, angle in rad or area in m², by type
-};
-using StretchDescription = ConstraintDescription<2>;  ///< rest: distance in m
-using BendingDescription = ConstraintDescription<4>;  ///< p1–p2 the shared edge, p3, p4 the opposite corners; rest: dihedral angle in rad, in [0, π]
-using AreaDescription = ConstraintDescription<3>;     ///< rest: triangle area in m²
-
-/// An anchor pulling one particle to a fixed point.
-struct AnchorDescription {
-  Index particle = 0;       ///< the anchored particle
-  Index set = 0;            ///< constraint set
-  Eigen::Vector3d target;   ///< the anchor point in m
-};
+/// The constraints of every built-in fixed-arity type (constraint_types.hpp), one list per type in the list's order,
+/// each constraint in double as the type's own struct: its particles, its set and its rest values (fields()).
+using ConstraintLists = EachOf<std::vector, BuiltinConstraintTypes<double>>::type;
 
 /// A volume constraint on one closed mesh.
 struct VolumeDescription {
@@ -61,10 +49,7 @@ struct WorldDescription {
   Matrix3X<double> velocities;                 ///< 3×N particle velocities in m/s
   VectorX<double> inverse_masses;              ///< N inverse masses in 1/kg (0 = pinned)
   std::vector<Stiffness> sets;                 ///< stiffness of each constraint set
-  std::vector<StretchDescription> stretch;     ///< stretch constraints, in insertion order
-  std::vector<AnchorDescription> anchors;      ///< anchors, in insertion order
-  std::vector<BendingDescription> bending;     ///< dihedral bending constraints, in insertion order
-  std::vector<AreaDescription> area;           ///< triangle area constraints, in insertion order
+  ConstraintLists constraint_lists;            ///< built-in fixed-arity constraints, per type, in insertion order
   std::vector<VolumeDescription> volumes;      ///< volume constraints, in insertion order
   std::vector<PlaneDescription> planes;        ///< plane colliders
   std::vector<SphereDescription> spheres;      ///< sphere colliders
@@ -76,9 +61,16 @@ struct WorldDescription {
 
   /// Number of particles.
   Index num_particles() const { return Index(positions.cols()); }
+  /// The constraints of built-in type C (in double, e.g. StretchConstraint<double>), in insertion order.
+  template <class C> std::vector<C>& constraints() { return std::get<std::vector<C>>(constraint_lists); }
+  template <class C> const std::vector<C>& constraints() const {  ///< read-only constraints()
+    return std::get<std::vector<C>>(constraint_lists);
+  }
   /// Number of constraints of all types.
   std::size_t num_constraints() const {
-    return stretch.size() + anchors.size() + bending.size() + area.size() + volumes.size();
+    std::size_t n = volumes.size();
+    std::apply([&](const auto&... lists) { ((n += lists.size()), ...); }, constraint_lists);
+    return n;
   }
 };
 

@@ -1,0 +1,101 @@
+#pragma once
+/// \file traits.hpp
+/// The words a constraint type's header declares itself with, so that every pass outside the solver (checks,
+/// metrics, scenes, descriptions, Python, reports) is derived from the list in constraint_types.hpp.
+///
+/// A built-in fixed-arity type C<Real> declares, besides what the solver needs (kArity, kInequality, particles, set,
+/// `evaluate`; see stretch.hpp):
+///   kName          "stretch": reports, add_<kName> / remove_<kName> in C++ and Python, <kName>_violation
+///   kNoun          "stretch constraint": the item in error messages ("add_stretch: stretch constraint 3: ...")
+///   kParticleNames the particles' argument names in Python ("a", "b")
+///   kSceneKey      its key in a scene body ("stretch", "anchors"), read as kSceneForm says
+///   kTiesToWorld   its constraints hold particles to fixed points (a body they hold is not free: free_bodies.cpp)
+///   kMeasure       how its violation is reported: the study's error key, label, unit and scale ("stretch_pct", %)
+///   fields()       its rest values (members), each with its name, its noun in messages and whether a scene gives it
+/// and three free functions found by argument-dependent lookup:
+///   violation(c, x)          the normalized violation at positions x, in double (negative: not measurable)
+///   measure_rest(c, x, given) fills the rest values not in `given` from positions x (a world's current ones);
+///                             returns why one is undefined there, or nullptr
+///   rest_error(c)            why c's rest values are invalid ("rest distance must be ..."), or "" when valid
+#include "pbd/detail/message.hpp"
+#include "pbd/types.hpp"
+#include "pbd/violation.hpp"
+
+#include <cstdint>
+#include <tuple>
+#include <type_traits>
+
+namespace pbd {
+
+/// How a scene makes the constraints of a type.
+enum class SceneForm : std::uint8_t {
+  mesh,    ///< a body's generator makes them from its mesh (edges, triangles); the key is a stiffness object
+  listed,  ///< the key is {"particles": [...], <scene fields>, stiffness...}: one constraint per entry (an entry is a
+           ///< local particle index, or an array of kArity of them), rest values not given measured at the start
+};
+
+/// Bit i set: rest value i of a constraint (fields() order) is given; the others are measured (measure_rest).
+using FieldMask = std::uint32_t;
+inline constexpr FieldMask kAllFields = ~FieldMask(0);  ///< every rest value given
+
+/// One rest value of constraint type C: the member `member` of type T (Real, or Vec3<Real>).
+template <class C, class T> struct Field {
+  using type = T;           ///< the member's type
+  const char* name;         ///< its name: the Python keyword and the scene key ("rest", "target", "length")
+  const char* noun;         ///< what messages call it ("rest length", "target")
+  T C::*member;             ///< the member
+  bool in_scene = false;    ///< a scene may give it (one value for all the key's entries); else measured
+};
+template <class C, class T> Field(const char*, const char*, T C::*, bool) -> Field<C, T>;
+template <class C, class T> Field(const char*, const char*, T C::*) -> Field<C, T>;
+
+/// Number of rest values of C.
+template <class C> inline constexpr std::size_t kNumFields = std::tuple_size_v<decltype(C::fields())>;
+
+/// Calls f(field, i) for each rest value of C, in order (i: std::integral_constant).
+template <class C, class F> constexpr void for_each_field(F&& f) {
+  constexpr auto fields = C::fields();
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    (f(std::get<I>(fields), std::integral_constant<std::size_t, I>{}), ...);
+  }(std::make_index_sequence<kNumFields<C>>{});
+}
+
+/// A constraint of type C with no particles named yet (all 0), set 0 and every rest value zero (a vector's too).
+template <class C> C blank_constraint() {
+  C c{};
+  for_each_field<C>([&](const auto& field, auto) {
+    using T = typename std::decay_t<decltype(field)>::type;
+    if constexpr (std::is_arithmetic_v<T>) c.*field.member = T(0);
+    else c.*field.member = T::Zero();
+  });
+  return c;
+}
+
+/// `value` in precision To: a scalar cast, or a vector's components cast (as build_world and describe_world convert).
+template <class To, class From> To convert_value(const From& value) {
+  if constexpr (std::is_arithmetic_v<From>) return To(value);
+  else return To(value.template cast<typename To::Scalar>());
+}
+
+/// C<Real> as C<To> (every built-in type is a template on its precision alone).
+template <class C, class To> struct Rebind;
+template <template <class> class T, class R, class To> struct Rebind<T<R>, To> {
+  using type = T<To>;  ///< the same type in precision To
+};
+template <class C, class To> using rebind_t = typename Rebind<C, To>::type;  ///< C in precision To
+
+/// Constraint c in precision To: the same particles and set, each rest value converted (convert_value).
+template <class To, class C> rebind_t<C, To> convert_constraint(const C& c) {
+  using D = rebind_t<C, To>;
+  D out{};
+  out.particles = c.particles;
+  out.set = c.set;
+  constexpr auto to = D::fields();
+  for_each_field<C>([&](const auto& from, auto i) {
+    const auto& field = std::get<decltype(i)::value>(to);
+    out.*field.member = convert_value<typename std::decay_t<decltype(field)>::type>(c.*from.member);
+  });
+  return out;
+}
+
+}  // namespace pbd
