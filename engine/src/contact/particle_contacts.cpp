@@ -2,8 +2,8 @@
 
 #include "pbd/constraint_types.hpp"
 
-#include "../solve/kernels_avx2.hpp"  // avx2_enabled
-#include "../solve/wide.hpp"
+#include "simd/cpu.hpp"  // avx2_enabled
+#include "simd/wide.hpp"
 #include "near_avx2.hpp"
 
 #include <oneapi/tbb/blocked_range.h>
