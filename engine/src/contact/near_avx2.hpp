@@ -17,7 +17,7 @@ constexpr std::ptrdiff_t kJoinedFirstGroups = 2;
 
 /// Bit k set when particle others[k] (k < count ≤ 64) comes within reach of particle a: movers holds eight floats per
 /// particle, 16-byte aligned (x y z radius, then p x y z and the pinned flag); others[count, count + 8) must be valid
-/// particles (they are tested and masked off). The test is particle_contacts.cpp's near_pair.
+/// particles (they are tested and masked off). The test is pair_test.hpp's near_pair.
 std::uint64_t near_bits_avx2(const float* movers, Index a, const Index* others, std::uint32_t count, float margin);
 
 /// A dense grid's entries as the walk reads them (particle_contacts.hpp, phases 3 and 4).

@@ -10,19 +10,19 @@
 //                falling cloth's boxes stay short) grown by its radius and half the margin. Δ̄ and level 0's cell
 //                widths are the last sub-step's (kept here), so level 0's cells are found in this pass; the first
 //                sub-step, or one with a new particle count, finds them in passes of their own (mean_path,
-//                find_cells). Neither changes the result, only which pairs are tested. The pass stores
-//                what a pair test reads (movers) and level 0's cells, not the boxes: the few a later level needs are
-//                found again from the movers, the same corners (cells.hpp: box_of)
-//   3. grid      (grid.cpp: find_cells, build_grid) a uniform grid whose cells are as wide as the boxes are on
-//                average, along each axis. A box that
-//                spans at most two cells along every axis ("small") is entered once, by the cell of its lower corner,
-//                into the bucket of that cell's row along x (a counting sort into one bucket per row (y, z) of the
-//                lower corners' bounding grid, or when those rows are sparse a hash table of about twice as many
-//                buckets as boxes), sorted within a bucket by cell and particle (a dense grid is counting-sorted by
-//                cell x before the sort by row, so no row needs sorting). A box that spans three or four cells along
-//                some axis (a fast particle's) is entered as up to kMaxPieces pieces of two cells, two cells apart,
-//                which cover it: a box that overlaps it overlaps a piece, and no two pieces of one box are paired
-//                (a pair may be found through two pieces: the output drops the repeat). Larger boxes are left out
+//                find_cells). Neither changes the result, only which pairs are tested. The pass stores what a pair
+//                test reads (movers) and level 0's cells, not the boxes: the few a later level needs are found again
+//                from the movers, the same corners (cells.hpp: box_of)
+//   3. grid      (grid.cpp: find_cells, build_grid) a uniform grid whose cells are as wide as the boxes are on average,
+//                along each axis. A box that spans at most two cells along every axis ("small") is entered once, by the
+//                cell of its lower corner, into the bucket of that cell's row along x (a counting sort into one bucket
+//                per row (y, z) of the lower corners' bounding grid, or when those rows are sparse a hash table of
+//                about twice as many buckets as boxes), sorted within a bucket by cell and particle (a dense grid is
+//                counting-sorted by cell x before the sort by row, so no row needs sorting). A box that spans three or
+//                four cells along some axis (a fast particle's) is entered as up to kMaxPieces pieces of two cells, two
+//                cells apart, which cover it: a box that overlaps it overlaps a piece, and no two pieces of one box are
+//                paired (a pair may be found through two pieces: the output drops the repeat). Larger boxes are
+//                not entered (large)
 //   4. walk      (walk.cpp: walk_entries, query_large, pair_each_with_each; the test in pair_test.hpp) two small
 //                boxes that overlap have lower corners at most one cell apart along each axis, so each entry is paired
 //                with the entries of its own row in its cell (after it) and the next, and with those of the rows
@@ -46,9 +46,9 @@
 // Why this order: each phase reads only what the ones before it wrote. The exclusions come first because the walk
 // masks candidates with them; the boxes' pass writes the movers every later test reads and, from the boxes' sizes,
 // the widths of the cells (this sub-step's for level 0 when not known, the next sub-step's always); a level's grid
-// must hold all its entries, sorted, before the walk can find a box's neighbours in it, and only the walk of a level
-// leaves the boxes the next level is built of; the order is last because the walk's lists are in chunk and bucket
-// order, which depends on the cells. Sums, cells, sorts, pairs and queries run in fixed chunks (phases.hpp:
+// must hold all its entries, sorted, before the walk can find a box's neighbours in it, and a level's large boxes
+// are paired with its entries before they form the next level; the order is last because the walk's lists are in
+// chunk and bucket order, which depends on the cells. Sums, cells, sorts, pairs and queries run in fixed chunks (phases.hpp:
 // over_chunks), in parallel when asked, and the chunks' results are joined in chunk order.
 // A world without contact bodies of non-zero radius runs none of this.
 #include "pbd/constraints/particle_contact.hpp"
