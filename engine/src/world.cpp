@@ -4,7 +4,7 @@
 
 #include "pbd/detail/message.hpp"
 #include "pbd/metrics.hpp"
-#include "contact/particle_contacts.hpp"
+#include "contact/scratch.hpp"
 #include "solve/integrate.hpp"
 #include "solve/restitution.hpp"
 #include "solve/parallel_range.hpp"
@@ -169,17 +169,18 @@ template <class Real> void World<Real>::advance(const Real* forces) {
       k.collisions.clear();
       k.particle_contacts.clear();
       if (!model_.contact.empty()) detail::cook_contact_bodies(model_);
+      if (!k.contact) k.contact = std::make_shared<detail::ContactScratch<Real>>();
       const ParticleSurfaces<Real> surfaces =
           model_.contact.empty() ? ParticleSurfaces<Real>{}
                                  : ParticleSurfaces<Real>{model_.contact.radius.data(), model_.contact.material.data()};
       auto colliders = [&] {
         detail::generate_collisions_chunked(model_.colliders, state_.x, k.p, state_.v, model_.inverse_mass,
-                                            params_.collision_margin, surfaces, parallel, k.collision_chunks,
+                                            params_.collision_margin, surfaces, parallel, k.contact->collision_chunks,
                                             k.collisions.items);
       };
       auto contacts = [&] {
-        detail::generate_particle_contacts(model_, state_.x, k.p, state_.v, params_.collision_margin, parallel, k.grid,
-                                           k.particle_contacts.items);
+        detail::generate_particle_contacts(model_, state_.x, k.p, state_.v, params_.collision_margin, parallel,
+                                           k.contact->grid, k.particle_contacts.items);
       };
       // Both at once when both run in parallel: their outputs are apart, and the colliders' chunks fill the other
       // threads while the broad phase runs its serial passes. Not below the particles from which the broad phase

@@ -1,43 +1,32 @@
-// AVX2 build of the particle contacts' walk over a dense grid and its pair test (near_avx2.hpp). This file alone among
-// the contact files is compiled with -mavx2 -mno-fma (engine/CMakeLists.txt); it instantiates no inline function another
-// file does (no standard container: the pairs leave through the caller's sink).
+// AVX2 build of the particle contacts' walk over a dense grid and its pair test (near_avx2.hpp), in the 256-bit lanes of
+// simd/wide_avx.hpp. This file alone among the contact files is compiled with -mavx2 -mno-fma (engine/CMakeLists.txt);
+// it instantiates no inline function a file built without AVX2 does (no standard container: the pairs leave through
+// the caller's sink; wide_avx.hpp is included only by AVX2 files).
 #include "near_avx2.hpp"
 
-#include <cstdlib>
+#include "simd/wide_avx.hpp"
 
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
+#include <cstdlib>
 
 namespace pbd::detail {
 
 #if defined(__AVX2__)
 namespace {
 
-// Points at[0..8) (four floats each, 16-byte aligned) → their four coordinates across the lanes.
-[[gnu::always_inline]] inline void gather(const float* const (&at)[8], __m256 (&xyzw)[4]) {
-  __m256 r[4];
-  for (int j = 0; j < 4; ++j)  // lane j holds point j in its low half and point j + 4 in its high half
-    r[j] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(at[j])), _mm_load_ps(at[j + 4]), 1);
-  const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpacklo_ps(r[2], r[3]);
-  const __m256 t2 = _mm256_unpackhi_ps(r[0], r[1]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
-  xyzw[0] = _mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(1, 0, 1, 0));
-  xyzw[1] = _mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(3, 2, 3, 2));
-  xyzw[2] = _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(1, 0, 1, 0));
-  xyzw[3] = _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(3, 2, 3, 2));
-}
+using namespace wide8;
 
 // x + (y + z) of three products, as the scalar dot product sums them
-[[gnu::always_inline]] inline __m256 dot(__m256 ax, __m256 ay, __m256 az, __m256 bx, __m256 by, __m256 bz) {
-  return _mm256_add_ps(_mm256_mul_ps(ax, bx), _mm256_add_ps(_mm256_mul_ps(ay, by), _mm256_mul_ps(az, bz)));
+[[gnu::always_inline]] inline FloatW8 dot(FloatW8 ax, FloatW8 ay, FloatW8 az, FloatW8 bx, FloatW8 by, FloatW8 bz) {
+  return ax * bx + (ay * by + az * bz);
 }
 
 // near_bits_avx2's test (below), for others[0, count) and a's eight floats at A
 [[gnu::always_inline]] inline std::uint64_t near8(const float* movers, const float* A, const Index* others,
                                                   std::uint32_t count, float margin) {
-  const __m256 ax = _mm256_set1_ps(A[0]), ay = _mm256_set1_ps(A[1]), az = _mm256_set1_ps(A[2]);
-  const __m256 ar = _mm256_set1_ps(A[3]), px = _mm256_set1_ps(A[4]), py = _mm256_set1_ps(A[5]);
-  const __m256 pz = _mm256_set1_ps(A[6]), m = _mm256_set1_ps(margin), zero = _mm256_setzero_ps();
+  using L = Lanes<FloatW8>;
+  const FloatW8 ax = L::splat(A[0]), ay = L::splat(A[1]), az = L::splat(A[2]);
+  const FloatW8 ar = L::splat(A[3]), px = L::splat(A[4]), py = L::splat(A[5]);
+  const FloatW8 pz = L::splat(A[6]), m = L::splat(margin), zero = L::zero();
   std::uint64_t bits = 0;
   for (std::uint32_t k = 0; k < count; k += 8) {
     const float* at_x[8];
@@ -46,23 +35,22 @@ namespace {
       at_x[j] = movers + 8 * std::size_t(others[k + j]);
       at_p[j] = at_x[j] + 4;
     }
-    __m256 b[4], q[4];
-    gather(at_x, b);
-    gather(at_p, q);
-    const __m256 R = _mm256_add_ps(_mm256_add_ps(ar, b[3]), m), reach = _mm256_mul_ps(R, R);
-    const __m256 d0x = _mm256_sub_ps(ax, b[0]), d0y = _mm256_sub_ps(ay, b[1]), d0z = _mm256_sub_ps(az, b[2]);
-    const __m256 d1x = _mm256_sub_ps(px, q[0]), d1y = _mm256_sub_ps(py, q[1]), d1z = _mm256_sub_ps(pz, q[2]);
-    const __m256 ex = _mm256_sub_ps(d1x, d0x), ey = _mm256_sub_ps(d1y, d0y), ez = _mm256_sub_ps(d1z, d0z);
-    const __m256 ee = dot(ex, ey, ez, ex, ey, ez), de = dot(d0x, d0y, d0z, ex, ey, ez);
-    const __m256 q0 = dot(d0x, d0y, d0z, d0x, d0y, d0z), q1 = dot(d1x, d1y, d1z, d1x, d1y, d1z);
-    const __m256 ahead = _mm256_cmp_ps(de, zero, _CMP_GE_OQ);
-    const __m256 past = _mm256_cmp_ps(_mm256_xor_ps(de, _mm256_set1_ps(-0.0f)), ee, _CMP_GE_OQ);
-    const __m256 start = _mm256_and_ps(ahead, _mm256_cmp_ps(q0, reach, _CMP_LT_OQ));
-    const __m256 end = _mm256_andnot_ps(ahead, _mm256_and_ps(past, _mm256_cmp_ps(q1, reach, _CMP_LT_OQ)));
-    const __m256 gap = _mm256_sub_ps(_mm256_mul_ps(q0, ee), _mm256_mul_ps(de, de));
-    const __m256 mid = _mm256_andnot_ps(_mm256_or_ps(ahead, past),
-                                        _mm256_cmp_ps(gap, _mm256_mul_ps(reach, ee), _CMP_LT_OQ));
-    bits |= std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(start, end), mid)))) << k;
+    FloatW8 b[4], q[4];
+    L::gather(at_x, b);
+    L::gather(at_p, q);
+    const FloatW8 R = (ar + b[3]) + m, reach = R * R;
+    const FloatW8 d0x = ax - b[0], d0y = ay - b[1], d0z = az - b[2];
+    const FloatW8 d1x = px - q[0], d1y = py - q[1], d1z = pz - q[2];
+    const FloatW8 ex = d1x - d0x, ey = d1y - d0y, ez = d1z - d0z;
+    const FloatW8 ee = dot(ex, ey, ez, ex, ey, ez), de = dot(d0x, d0y, d0z, ex, ey, ez);
+    const FloatW8 q0 = dot(d0x, d0y, d0z, d0x, d0y, d0z), q1 = dot(d1x, d1y, d1z, d1x, d1y, d1z);
+    const MaskF8 ahead = de >= zero;
+    const MaskF8 past = -de >= ee;
+    const MaskF8 start = ahead & (q0 < reach);
+    const MaskF8 end = andnot(ahead, past & (q1 < reach));
+    const FloatW8 gap = q0 * ee - de * de;
+    const MaskF8 mid = andnot(ahead | past, gap < reach * ee);
+    bits |= std::uint64_t(unsigned(wide8::bits((start | end) | mid))) << k;
   }
   return count == 64 ? bits : bits & ((std::uint64_t(1) << count) - 1);
 }
@@ -81,11 +69,11 @@ void walk_dense_avx2(const DenseWalk& w, Index first, Index last, NearSink sink,
   std::size_t found = 0;
   std::uint32_t size = 0;
   Index a = 0;
-  const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const IntW8 lanes = lanes_int(0, 1, 2, 3, 4, 5, 6, 7);
   // of[0, size) against a: near, and not joined to it (joined_bits' rule: the row's first two groups, the rest only
   // when a near candidate is left unmatched); each such pair appended to `near`
   auto flush = [&] {
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(of + size), _mm256_set1_epi32(std::int32_t(a)));
+    storeu8(of + size, splat_int(std::int32_t(a)));
     std::uint64_t bits = size > 0 ? near8(w.movers, w.movers + 8 * std::size_t(a), of, size, w.margin) : 0;
     if (bits != 0 && w.joined) {
       const Index* row = w.joined + w.joined_offsets[a];
@@ -93,16 +81,14 @@ void walk_dense_avx2(const DenseWalk& w, Index first, Index last, NearSink sink,
       std::uint64_t joined = 0;
       auto compare = [&](const Index* from, const Index* to) {  // eight candidates against four of the row's, rotated
         for (std::uint32_t k = 0; k < size; k += 8) {
-          const __m256i c = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(of + k));
-          __m256i any = _mm256_setzero_si256();
+          const IntW8 c = loadu8(of + k);
+          MaskI8 any = none_int();
           for (const Index* q = from; q < to; q += 4) {
-            const __m256i r = _mm256_broadcastsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q)));
-            any = _mm256_or_si256(any, _mm256_or_si256(_mm256_cmpeq_epi32(c, r),
-                                                       _mm256_cmpeq_epi32(c, _mm256_shuffle_epi32(r, 0x39))));
-            any = _mm256_or_si256(any, _mm256_or_si256(_mm256_cmpeq_epi32(c, _mm256_shuffle_epi32(r, 0x4e)),
-                                                       _mm256_cmpeq_epi32(c, _mm256_shuffle_epi32(r, 0x93))));
+            const IntW8 r = broadcast4(q);
+            any = any | ((c == r) | (c == rotate<1>(r)));
+            any = any | ((c == rotate<2>(r)) | (c == rotate<3>(r)));
           }
-          joined |= std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(any)))) << k;
+          joined |= std::uint64_t(unsigned(wide8::bits(any))) << k;
         }
       };
       const Index* split = end - row > 4 * kJoinedFirstGroups ? row + 4 * kJoinedFirstGroups : end;
@@ -126,16 +112,16 @@ void walk_dense_avx2(const DenseWalk& w, Index first, Index last, NearSink sink,
   auto upto = [&](Index from, Index end, std::int32_t below, std::int32_t top, Index& under) {
     Index n = 0;
     under = 0;
-    const __m256i high = _mm256_set1_epi32(top + 1), low_end = _mm256_set1_epi32(below + 1);
-    const __m256i stop = _mm256_set1_epi32(std::int32_t(end));
+    const IntW8 high = splat_int(top + 1), low_end = splat_int(below + 1);
+    const IntW8 stop = splat_int(std::int32_t(end));
     for (;;) {
       const Index at = from + n;  // indices and cells fit in 31 bits: signed compares
-      const __m256i cells = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(w.cx + at));
-      const __m256i index = _mm256_add_epi32(_mm256_set1_epi32(std::int32_t(at)), lanes);
-      const __m256i inside = _mm256_and_si256(_mm256_cmpgt_epi32(stop, index), _mm256_cmpgt_epi32(high, cells));
-      const __m256i lower = _mm256_and_si256(inside, _mm256_cmpgt_epi32(low_end, cells));
-      const Index k8 = Index(__builtin_ctz(~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(inside)))));
-      under += Index(__builtin_ctz(~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(lower)))));
+      const IntW8 cells = loadu8(w.cx + at);
+      const IntW8 index = splat_int(std::int32_t(at)) + lanes;
+      const MaskI8 inside = (index < stop) & (cells < high);
+      const MaskI8 lower = inside & (cells < low_end);
+      const Index k8 = Index(__builtin_ctz(~unsigned(wide8::bits(inside))));
+      under += Index(__builtin_ctz(~unsigned(wide8::bits(lower))));
       n += k8;
       if (k8 < 8) return n;
     }
@@ -148,8 +134,7 @@ void walk_dense_avx2(const DenseWalk& w, Index first, Index last, NearSink sink,
       }
       return;
     }
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(of + size),
-                        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(w.pid + from)));
+    storeu8(of + size, loadu8(w.pid + from));
     for (Index k = 8; k < count; ++k) of[size + k] = w.pid[from + k];
     size += count;
   };

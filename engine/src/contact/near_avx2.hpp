@@ -1,8 +1,8 @@
 #pragma once
 // The AVX2 build of the particle contacts' walk over a dense grid and of its pair test (private;
-// particle_contacts.cpp): eight candidates at a time, the same operations in the same order as the scalar and SSE2
+// walk.cpp, pair_test.hpp): eight candidates at a time, the same operations in the same order as the scalar and SSE2
 // forms, so the same pairs. Compiled with -mavx2 and without FMA in a file of its own (near_avx2.cpp); call these
-// only when avx2_enabled() (solve/kernels_avx2.hpp).
+// only when avx2_enabled() (simd/cpu.hpp).
 #include "pbd/types.hpp"
 
 #include <array>
@@ -12,15 +12,15 @@
 namespace pbd::detail {
 
 /// A joined row's first groups of four compared with every candidate; the rest only when a near candidate is left
-/// unmatched (particle_contacts.cpp, joined_bits).
+/// unmatched (pair_test.hpp, joined_bits).
 constexpr std::ptrdiff_t kJoinedFirstGroups = 2;
 
 /// Bit k set when particle others[k] (k < count ≤ 64) comes within reach of particle a: movers holds eight floats per
 /// particle, 16-byte aligned (x y z radius, then p x y z and the pinned flag); others[count, count + 8) must be valid
-/// particles (they are tested and masked off). The test is particle_contacts.cpp's near_pair.
+/// particles (they are tested and masked off). The test is pair_test.hpp's near_pair.
 std::uint64_t near_bits_avx2(const float* movers, Index a, const Index* others, std::uint32_t count, float margin);
 
-/// A dense grid's entries as the walk reads them (particle_contacts.hpp, steps 3 and 4).
+/// A dense grid's entries as the walk reads them (particle_contacts.hpp, phases 3 and 4).
 struct DenseWalk {
   const std::int32_t* cx = nullptr;        ///< per entry, then 8 more (the largest int): its cell along x
   const Index* pid = nullptr;              ///< per entry, then 8 more: its particle

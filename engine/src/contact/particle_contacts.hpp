@@ -1,33 +1,37 @@
 #pragma once
 // Particle contacts (private): the broad phase and the continuous generation of ParticleContact constraints
 // between the particles of contact bodies (contacts.hpp), once per sub-step, after the prediction.
-//   1. cook      per particle: body, radius, material (when bodies or particles changed); for self-colliding
-//                bodies, the particles each one is joined to by a built-in constraint (when the model changed)
-//   2. boxes     each particle's swept box: its path x → p − Δ̄ (Δ̄ a mean path: relative paths, all a pair test reads,
-//                are the same in any frame that moves with one, where a falling cloth's boxes stay short) grown by its
-//                radius and half the margin. Δ̄ and level 0's cell widths are the last sub-step's (kept here), so level
-//                0's cells are found in this pass; the first sub-step, or one with a new particle count, finds them
-//                in passes of their own. Neither changes the result, only which pairs are tested. The pass stores
-//                what a pair test reads (movers) and level 0's cells, not the boxes: the few a later level needs are
-//                found again from the movers, the same corners
-//   3. levels    a uniform grid whose cells are as wide as the boxes are on average, along each axis. A box that
-//                spans at most two cells along every axis ("small") is entered once, by the cell of its lower corner,
-//                into the bucket of that cell's row along x (a counting sort into one bucket per row (y, z) of the
-//                lower corners' bounding grid, or when those rows are sparse a hash table of about twice as many
-//                buckets as boxes), sorted within a bucket by cell and particle (a dense grid is counting-sorted by
-//                cell x before the sort by row, so no row needs sorting). A box that spans three or four cells along
-//                some axis (a fast particle's) is entered as up to kMaxPieces pieces of two cells, two cells apart,
-//                which cover it: a box that overlaps it overlaps a piece, and no two pieces of one box are paired
-//                (a pair may be found through two pieces: the output drops the repeat). Two small boxes that overlap
-//                have lower corners at most one cell apart along each axis, so each entry is paired with the entries
-//                of its own row in its cell (after it) and the next, and with those of the rows (y + 1, z),
-//                (y − 1, z + 1), (y, z + 1), (y + 1, z + 1) within one cell along x, walked along with its own row:
-//                the 13 of the 26 neighbouring cells that come after its own, so each pair once. A larger box is
-//                paired with the entries whose lower corners lie in its cells or one cell below them (or with all of
-//                them, over kMaxRows rows). The larger boxes then form the next level, with cells at least twice as
-//                wide, until every box is entered or at most kBruteForce boxes are left, which are paired with one
-//                another. Sums, cells, sorts, pairs and queries run in fixed chunks, in parallel when asked
-//   4. pairs     a box's candidates from its neighbouring cells are gathered (a row's are consecutive: counted and
+// generate_particle_contacts runs five phases, each a function of its own file (phases.hpp lists them):
+//   1. cook      per particle: body, radius, material (cook_contact_bodies, when bodies or particles changed); for
+//                self-colliding bodies, the particles each one is joined to by a built-in constraint (exclusions.cpp:
+//                build_exclusions, when the model changed)
+//   2. boxes     (boxes.cpp: mean_path, sweep_boxes) each particle's swept box: its path x → p − Δ̄ (Δ̄ a mean path:
+//                relative paths, all a pair test reads, are the same in any frame that moves with one, where a
+//                falling cloth's boxes stay short) grown by its radius and half the margin. Δ̄ and level 0's cell
+//                widths are the last sub-step's (kept here), so level 0's cells are found in this pass; the first
+//                sub-step, or one with a new particle count, finds them in passes of their own (mean_path,
+//                find_cells). Neither changes the result, only which pairs are tested. The pass stores what a pair
+//                test reads (movers) and level 0's cells, not the boxes: the few a later level needs are found again
+//                from the movers, the same corners (cells.hpp: box_of)
+//   3. grid      (grid.cpp: find_cells, build_grid) a uniform grid whose cells are as wide as the boxes are on average,
+//                along each axis. A box that spans at most two cells along every axis ("small") is entered once, by the
+//                cell of its lower corner, into the bucket of that cell's row along x (a counting sort into one bucket
+//                per row (y, z) of the lower corners' bounding grid, or when those rows are sparse a hash table of
+//                about twice as many buckets as boxes), sorted within a bucket by cell and particle (a dense grid is
+//                counting-sorted by cell x before the sort by row, so no row needs sorting). A box that spans three or
+//                four cells along some axis (a fast particle's) is entered as up to kMaxPieces pieces of two cells, two
+//                cells apart, which cover it: a box that overlaps it overlaps a piece, and no two pieces of one box are
+//                paired (a pair may be found through two pieces: the output drops the repeat). Larger boxes are
+//                not entered (large)
+//   4. walk      (walk.cpp: walk_entries, query_large, pair_each_with_each; the test in pair_test.hpp) two small
+//                boxes that overlap have lower corners at most one cell apart along each axis, so each entry is paired
+//                with the entries of its own row in its cell (after it) and the next, and with those of the rows
+//                (y + 1, z), (y − 1, z + 1), (y, z + 1), (y + 1, z + 1) within one cell along x, walked along with
+//                its own row: the 13 of the 26 neighbouring cells that come after its own, so each pair once. A larger
+//                box is paired with the entries whose lower corners lie in its cells or one cell below them (or with
+//                all of them, over kMaxRows rows). The larger boxes then form the next level (3 and 4 again), with
+//                cells at least twice as wide, until every box is entered or at most kBruteForce boxes are left, which
+//                are paired with one another. A box's candidates are gathered (a row's are consecutive: counted and
 //                copied eight at a time without a branch) and tested together, eight at a time with AVX2, four with
 //                SSE2, one at a time otherwise, all giving the same bits: a pair is kept when the relative path
 //                (x_i − x_j) → (p_i − p_j) comes within r_i + r_j + margin: continuous, so nothing passes through
@@ -36,8 +40,16 @@
 //                row of joined particles, nearest first: its first two groups of four with every candidate, the rest
 //                only when a near candidate is left unmatched (a cloth's near pairs are nearly all its edges); then
 //                pairs of one body that does not self-collide or of two pinned particles are dropped. A dense float
-//                grid on a CPU with AVX2 is walked by near_avx2.hpp's build of this step (the same pairs)
-//   5. output    sorted by pair (i, j), i < j, each once: the same list for any thread count, cells or frame
+//                grid on a CPU with AVX2 is walked by near_avx2.hpp's build of this phase (the same pairs)
+//   5. order     (order.cpp: order_contacts) sorted by pair (i, j), i < j, each once: the same list for any thread
+//                count, cells or frame
+// Why this order: each phase reads only what the ones before it wrote. The exclusions come first because the walk
+// masks candidates with them; the boxes' pass writes the movers every later test reads and, from the boxes' sizes,
+// the widths of the cells (this sub-step's for level 0 when not known, the next sub-step's always); a level's grid
+// must hold all its entries, sorted, before the walk can find a box's neighbours in it, and a level's large boxes
+// are paired with its entries before they form the next level; the order is last because the walk's lists are in
+// chunk and bucket order, which depends on the cells. Sums, cells, sorts, pairs and queries run in fixed chunks (phases.hpp:
+// over_chunks), in parallel when asked, and the chunks' results are joined in chunk order.
 // A world without contact bodies of non-zero radius runs none of this.
 #include "pbd/constraints/particle_contact.hpp"
 #include "pbd/detail/model.hpp"
@@ -49,7 +61,7 @@
 namespace pbd::detail {
 
 /// Scratch of the broad phase, kept between sub-steps so that nothing is reallocated; also the last sub-step's frame
-/// and cell widths (step 2).
+/// and cell widths (phase 2).
 template <class Real> struct ParticleGrid {
   using Cell = std::array<std::int32_t, 3>;
   std::uint64_t joined_edits = ~std::uint64_t(0);  // Model::edits the exclusions below were built at
@@ -96,7 +108,7 @@ template <class Real> struct ParticleGrid {
   std::vector<std::vector<ParticleContact<Real>>> lists;  // per chunk of each level's work: its contacts
 };
 
-/// Items from which the broad phase's loops run in parallel (fewer take a few microseconds: a fork costs more).
+/// Items from which the broad phase's loops run in parallel (a loop over fewer is shorter than a fork costs).
 constexpr Index kParallelContactsFrom = 4096;
 
 /// Brings m.contact's per-particle arrays up to date (after bodies or particles were added).

@@ -4,7 +4,7 @@
 // AVX2 copy of a function other files call on machines without AVX2.
 #include "kernels_avx2.hpp"
 
-#include "wide_avx.hpp"
+#include "simd/wide_avx.hpp"
 
 #include <cstdint>
 #include <cstdlib>

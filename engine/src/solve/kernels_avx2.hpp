@@ -9,11 +9,9 @@
 #include "pbd/constraints/stretch.hpp"
 #include "pbd/detail/model.hpp"  // kMixedSets
 #include "pbd/stiffness.hpp"
+#include "simd/cpu.hpp"  // avx2_enabled
 
 namespace pbd::detail {
-
-/// True when the CPU has AVX2 and the environment does not ask for SSE2 alone (PBD_SIMD=sse2); checked once.
-bool avx2_enabled();
 
 /// Bending on padded positions q: eight constraints at a time in float, four in double.
 void project_bending_range_avx2(const BendingConstraint<float>* c, Index b, Index e, float* q,

@@ -3,11 +3,10 @@
 // Per-step scratch of a world (private): what a step computes and throws away. Kept between steps only so that
 // nothing is reallocated; a copied world starts with an empty one.
 #include "pbd/constraints/collision.hpp"
+#include "pbd/constraints/particle_contact.hpp"
 #include "pbd/constraints/volume.hpp"
 #include "pbd/detail/constraint_store.hpp"
 #include "free_bodies.hpp"
-#include "contact/colliders.hpp"
-#include "contact/particle_contacts.hpp"
 #include "pbd/stiffness.hpp"
 
 #include <oneapi/tbb/partitioner.h>
@@ -18,6 +17,11 @@
 #include <new>
 
 namespace pbd::detail {
+
+/// The contact generators' buffers (contact/scratch.hpp), complete only where the step makes them (world.cpp). Held
+/// by a shared_ptr, which frees it with the deleter made there, so a Scratch is destroyed wherever, as the solver
+/// benchmarks' fixture does, without the type.
+template <class Real> struct ContactScratch;
 
 /// Affinity partitioners, one per parallel loop of a sub-step (each color, each particle pass), created on first
 /// use: a thread tends to get the same slice every sweep. Only a cache hint: results never depend on it.
@@ -73,10 +77,9 @@ template <class Real> struct Scratch {
   Matrix3X<Real> p;                                 // predicted positions
   Store<CollisionConstraint<Real>> collisions;      // this sub-step's collisions (color order for colored solvers)
   std::vector<Real> collision_lambda;               // their λ, stored order (counts the projections that moved one)
-  CollisionChunks<Real> collision_chunks;           // their generation's per-chunk lists
   Store<ParticleContact<Real>> particle_contacts;   // this sub-step's particle contacts (color order likewise)
   std::vector<Real> particle_contact_lambda;        // their λ likewise
-  ParticleGrid<Real> grid;                          // the particle contacts' broad phase
+  std::shared_ptr<ContactScratch<Real>> contact;    // the contact generators' buffers (made by the first step), unshared
   FirstFitScratch<CollisionConstraint<Real>> collision_coloring;  // their colorings' buffers
   FirstFitScratch<ParticleContact<Real>> contact_coloring;
   std::vector<SolveCoefficients<Real>> coeff;       // per constraint set, for this step's sub-step length

@@ -9,7 +9,7 @@
 #include "pbd/constraints/stretch.hpp"
 #include "pbd/detail/model.hpp"  // kMixedSets
 
-#include "wide.hpp"
+#include "simd/wide.hpp"
 
 namespace pbd::detail {
 

@@ -1,11 +1,15 @@
 #pragma once
 // A thin wide-float layer (private) so that SIMD kernels read like the scalar math they match bit for bit: four
 // float lanes (SSE2) with the arithmetic operators, comparisons giving lane masks, select, and the loads, stores and
-// shuffles the kernels need. Every operation is one correctly rounded instruction per lane (no estimates, no fused
-// multiply-add), so an expression gives each lane the bits the same scalar expression gives. Box2D's b2FloatW
-// helpers (contact_solver.c) are the model.
+// shuffles the kernels need; and four int32 lanes with the few operations the particle contacts' grid needs (cells,
+// counts, particle ids compared four at a time). Every operation is one correctly rounded instruction per lane (no
+// estimates, no fused multiply-add), so an expression gives each lane the bits the same scalar expression gives.
+// Box2D's b2FloatW helpers (contact_solver.c) are the model. Used by solve/ (the kernels) and contact/ (the broad
+// phase); the 256-bit lanes of the AVX2 files are wide_avx.hpp.
 #if defined(__SSE2__)
 #include <emmintrin.h>
+
+#include <cstdint>
 
 namespace pbd::detail::wide {
 
@@ -35,10 +39,13 @@ PBD_WIDE FloatW abs(FloatW a) { return {_mm_andnot_ps(_mm_set1_ps(-0.0f), a.v)};
 
 PBD_WIDE MaskW operator>(FloatW a, FloatW b) { return {_mm_cmpgt_ps(a.v, b.v)}; }   ///< false for NaN
 PBD_WIDE MaskW operator<(FloatW a, FloatW b) { return {_mm_cmplt_ps(a.v, b.v)}; }   ///< false for NaN
+PBD_WIDE MaskW operator>=(FloatW a, FloatW b) { return {_mm_cmpge_ps(a.v, b.v)}; }  ///< false for NaN
 PBD_WIDE MaskW operator==(FloatW a, FloatW b) { return {_mm_cmpeq_ps(a.v, b.v)}; }
 PBD_WIDE MaskW operator!=(FloatW a, FloatW b) { return {_mm_cmpneq_ps(a.v, b.v)}; }
 PBD_WIDE MaskW operator&(MaskW a, MaskW b) { return {_mm_and_ps(a.v, b.v)}; }
 PBD_WIDE MaskW operator|(MaskW a, MaskW b) { return {_mm_or_ps(a.v, b.v)}; }
+/// Lane by lane: b and not a.
+PBD_WIDE MaskW andnot(MaskW a, MaskW b) { return {_mm_andnot_ps(a.v, b.v)}; }
 /// Bit k set when lane k is true.
 PBD_WIDE int bits(MaskW m) { return _mm_movemask_ps(m.v); }
 /// Lane by lane: m ? a : b.
@@ -51,6 +58,15 @@ PBD_WIDE FloatW load(const float* p) { return {_mm_load_ps(p)}; }     ///< 16-by
 PBD_WIDE FloatW loadu(const float* p) { return {_mm_loadu_ps(p)}; }   ///< unaligned
 PBD_WIDE void store(float* p, FloatW a) { _mm_store_ps(p, a.v); }     ///< 16-byte aligned
 PBD_WIDE void storeu(float* p, FloatW a) { _mm_storeu_ps(p, a.v); }   ///< unaligned
+/// p[0..2] in lanes 0..2, 0 in lane 3 (reads three floats only).
+PBD_WIDE FloatW load3(const float* p) {
+  return {_mm_movelh_ps(_mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(p)), _mm_load_ss(p + 2))};
+}
+/// Lanes 0..2 of a, then w in lane 3.
+PBD_WIDE FloatW with_w(FloatW a, float w) {
+  const __m128 tail = _mm_shuffle_ps(a.v, _mm_set_ss(w), _MM_SHUFFLE(0, 0, 2, 2));  // a2, a2, w, w
+  return {_mm_shuffle_ps(a.v, tail, _MM_SHUFFLE(2, 0, 1, 0))};
+}
 /// Lane k of a in every lane.
 template <int k> PBD_WIDE FloatW broadcast(FloatW a) { return {_mm_shuffle_ps(a.v, a.v, _MM_SHUFFLE(k, k, k, k))}; }
 /// x y z of a point held as x y z w, with the w lane set to 0.
@@ -82,6 +98,42 @@ PBD_WIDE void transpose_points(const Vec3W& v, FloatW (&out)[4]) {
 }
 /// |v|² as Eigen computes it for a 3-vector: x² + (y² + z²).
 PBD_WIDE FloatW squared_norm(const Vec3W& v) { return v.x * v.x + (v.y * v.y + v.z * v.z); }
+
+/// Four int32 lanes; lane masks of their comparisons (all bits set = true).
+struct IntW {
+  __m128i v;
+};
+struct MaskIW {
+  __m128i v;
+};
+
+PBD_WIDE IntW splat_int(std::int32_t a) { return {_mm_set1_epi32(a)}; }  ///< a in every lane
+PBD_WIDE IntW lanes_int(std::int32_t a, std::int32_t b, std::int32_t c, std::int32_t d) {  ///< lanes 0..3
+  return {_mm_setr_epi32(a, b, c, d)};
+}
+PBD_WIDE IntW loadu(const std::int32_t* p) { return {_mm_loadu_si128(reinterpret_cast<const __m128i*>(p))}; }  ///< unaligned
+PBD_WIDE IntW loadu(const std::uint32_t* p) { return {_mm_loadu_si128(reinterpret_cast<const __m128i*>(p))}; }  ///< the bits
+PBD_WIDE void store(std::int32_t* p, IntW a) { _mm_store_si128(reinterpret_cast<__m128i*>(p), a.v); }  ///< 16-byte aligned
+PBD_WIDE IntW operator+(IntW a, IntW b) { return {_mm_add_epi32(a.v, b.v)}; }  ///< wraps, as unsigned addition
+PBD_WIDE MaskIW operator==(IntW a, IntW b) { return {_mm_cmpeq_epi32(a.v, b.v)}; }
+PBD_WIDE MaskIW operator<(IntW a, IntW b) { return {_mm_cmplt_epi32(a.v, b.v)}; }  ///< signed
+PBD_WIDE MaskIW operator&(MaskIW a, MaskIW b) { return {_mm_and_si128(a.v, b.v)}; }
+PBD_WIDE MaskIW operator|(MaskIW a, MaskIW b) { return {_mm_or_si128(a.v, b.v)}; }
+/// Every lane false.
+PBD_WIDE MaskIW none_int() { return {_mm_setzero_si128()}; }
+/// Bit k set when lane k is true.
+PBD_WIDE int bits(MaskIW m) { return _mm_movemask_ps(_mm_castsi128_ps(m.v)); }
+/// Lane i of the result is lane (i + k) mod 4 of a.
+template <int k> PBD_WIDE IntW rotate(IntW a) {
+  static_assert(k > 0 && k < 4);
+  return {_mm_shuffle_epi32(a.v, (k & 3) | ((k + 1) & 3) << 2 | ((k + 2) & 3) << 4 | ((k + 3) & 3) << 6)};
+}
+/// floor(a) per lane, for lanes within the int32 range (clamp first): toward zero, then one down where that rounded
+/// up (the comparison's mask is −1 there).
+PBD_WIDE IntW floor_to_int(FloatW a) {
+  const __m128i t = _mm_cvttps_epi32(a.v);
+  return {_mm_add_epi32(t, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(t), a.v)))};
+}
 
 #undef PBD_WIDE
 

@@ -2,12 +2,15 @@
 // 256-bit lanes for the kernels' AVX2 builds (private; include only in a file compiled with -mavx2 -mno-fma, see
 // engine/CMakeLists.txt, and call it only after avx2_enabled()): eight floats or four doubles, with the operations
 // wide.hpp gives its four floats (bending_math.hpp's list), plus the gathers and scatters of padded points
-// (x y z w per particle). Each operation is one correctly rounded instruction per lane and there is no fused
-// multiply-add, so a lane gives the bits of the scalar expression.
+// (x y z w per particle), and eight int32 lanes for the particle contacts' walk (contact/near_avx2.cpp). Each
+// operation is one correctly rounded instruction per lane and there is no fused multiply-add, so a lane gives the bits
+// of the scalar expression.
 // Keep every function here inline and specific to these types: the file is compiled for AVX2 only, and an inline
 // function it shared with the rest of the engine could be the copy the linker keeps.
 #if defined(__AVX2__)
 #include <immintrin.h>
+
+#include <cstdint>
 
 namespace pbd::detail::wide8 {
 
@@ -42,7 +45,10 @@ PBD_W8 MaskF8 operator>(FloatW8 a, FloatW8 b) { return {_mm256_cmp_ps(a.v, b.v, 
 PBD_W8 MaskF8 operator<(FloatW8 a, FloatW8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
 PBD_W8 MaskF8 operator==(FloatW8 a, FloatW8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)}; }
 PBD_W8 MaskF8 operator!=(FloatW8 a, FloatW8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_NEQ_UQ)}; }
+PBD_W8 MaskF8 operator>=(FloatW8 a, FloatW8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GE_OQ)}; }
 PBD_W8 MaskF8 operator&(MaskF8 a, MaskF8 b) { return {_mm256_and_ps(a.v, b.v)}; }
+PBD_W8 MaskF8 operator|(MaskF8 a, MaskF8 b) { return {_mm256_or_ps(a.v, b.v)}; }
+PBD_W8 MaskF8 andnot(MaskF8 a, MaskF8 b) { return {_mm256_andnot_ps(a.v, b.v)}; }  ///< b and not a
 PBD_W8 int bits(MaskF8 m) { return _mm256_movemask_ps(m.v); }
 PBD_W8 FloatW8 select(MaskF8 m, FloatW8 a, FloatW8 b) { return {_mm256_blendv_ps(b.v, a.v, m.v)}; }
 
@@ -64,6 +70,38 @@ PBD_W8 MaskD4 operator&(MaskD4 a, MaskD4 b) { return {_mm256_and_pd(a.v, b.v)}; 
 PBD_W8 int bits(MaskD4 m) { return _mm256_movemask_pd(m.v); }
 PBD_W8 DoubleW4 select(MaskD4 m, DoubleW4 a, DoubleW4 b) { return {_mm256_blendv_pd(b.v, a.v, m.v)}; }
 
+// Eight int32 lanes (particle ids, cells) and the lane masks of their comparisons, for the particle contacts' walk.
+struct IntW8 {
+  __m256i v;
+};
+struct MaskI8 {
+  __m256i v;
+};
+PBD_W8 IntW8 splat_int(std::int32_t a) { return {_mm256_set1_epi32(a)}; }
+PBD_W8 IntW8 lanes_int(std::int32_t a, std::int32_t b, std::int32_t c, std::int32_t d, std::int32_t e, std::int32_t f,
+                       std::int32_t g, std::int32_t h) {
+  return {_mm256_setr_epi32(a, b, c, d, e, f, g, h)};
+}
+PBD_W8 IntW8 loadu8(const std::int32_t* p) { return {_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p))}; }
+PBD_W8 IntW8 loadu8(const std::uint32_t* p) { return {_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p))}; }
+PBD_W8 void storeu8(std::uint32_t* p, IntW8 a) { _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), a.v); }
+/// p[0..4) in both halves.
+PBD_W8 IntW8 broadcast4(const std::uint32_t* p) {
+  return {_mm256_broadcastsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)))};
+}
+PBD_W8 IntW8 operator+(IntW8 a, IntW8 b) { return {_mm256_add_epi32(a.v, b.v)}; }
+PBD_W8 MaskI8 operator==(IntW8 a, IntW8 b) { return {_mm256_cmpeq_epi32(a.v, b.v)}; }
+PBD_W8 MaskI8 operator<(IntW8 a, IntW8 b) { return {_mm256_cmpgt_epi32(b.v, a.v)}; }  ///< signed
+PBD_W8 MaskI8 operator&(MaskI8 a, MaskI8 b) { return {_mm256_and_si256(a.v, b.v)}; }
+PBD_W8 MaskI8 operator|(MaskI8 a, MaskI8 b) { return {_mm256_or_si256(a.v, b.v)}; }
+PBD_W8 MaskI8 none_int() { return {_mm256_setzero_si256()}; }
+PBD_W8 int bits(MaskI8 m) { return _mm256_movemask_ps(_mm256_castsi256_ps(m.v)); }
+/// Within each half: lane i of the result is lane (i + k) mod 4 of a.
+template <int k> PBD_W8 IntW8 rotate(IntW8 a) {
+  static_assert(k > 0 && k < 4);
+  return {_mm256_shuffle_epi32(a.v, (k & 3) | ((k + 1) & 3) << 2 | ((k + 2) & 3) << 4 | ((k + 3) & 3) << 6)};
+}
+
 /// What a kernel needs of a lane type beyond arithmetic: its scalar, its lane count, constants, per-lane values,
 /// λ in and out, and padded points gathered into x, y, z and w across lanes and added back.
 template <class W> struct Lanes;
@@ -78,8 +116,8 @@ template <> struct Lanes<FloatW8> {
   }
   PBD_W8 static FloatW8 loadu(const float* p) { return {_mm256_loadu_ps(p)}; }
   PBD_W8 static void storeu(float* p, FloatW8 a) { _mm256_storeu_ps(p, a.v); }
-  /// Points at[0..8) (x y z w, 16-byte aligned) → x, y, z, w across the lanes.
-  PBD_W8 static void gather(float* const (&at)[8], FloatW8 (&xyzw)[4]) {
+  /// Points at[0..8) (x y z w, 16-byte aligned; P: float* or const float*) → x, y, z, w across the lanes.
+  template <class P> PBD_W8 static void gather(P const (&at)[8], FloatW8 (&xyzw)[4]) {
     __m256 r[4];
     for (int j = 0; j < 4; ++j)  // lane j holds point j in its low half and point j + 4 in its high half
       r[j] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(at[j])), _mm_load_ps(at[j + 4]), 1);
