@@ -4,7 +4,7 @@
 /// inequality): projected only while the tether is stretched (|p − p0| > L); a slack tether exerts nothing.
 ///
 /// This is the throwaway type of tests/new_type (issue 43's proof that a constraint type is one header and one
-/// entry in constraint_types.hpp): check_new_type.cmake copies it to engine/include/pbd/constraints/tether.hpp in a
+/// entry in constraint_types.hpp): check_new_type.sh copies it to engine/include/pbd/constraints/tether.hpp in a
 /// copy of the tree, adds it to the list, and checks that every pass takes it with no other edit.
 #include "pbd/constraints/traits.hpp"
 #include "pbd/types.hpp"
