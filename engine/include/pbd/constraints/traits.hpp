@@ -5,7 +5,8 @@
 ///
 /// A built-in fixed-arity type C<Real> declares, besides what the solver needs (kArity, kInequality, particles, set,
 /// `evaluate`; see stretch.hpp):
-///   kName          "stretch": reports, Python's add_<kName> and <kName>_violation (C++: World::add<C>, remove_constraints<C>)
+///   kName          "stretch": reports, Python's add_<kName> and <kName>_violation (C++ adds any type with
+///                  World::add<C> and removes with remove_constraints<C>)
 ///   kNoun          "stretch constraint": the item in error messages ("add_stretch: stretch constraint 3: ...")
 ///   kParticleNames the particles' argument names in Python ("a", "b")
 ///   kSceneKey      its key in a scene body ("stretch", "anchors"), read as kSceneForm says
