@@ -77,8 +77,7 @@ template <class Real> void World<Real>::ensure_colored() {
 template <class Real> Index World<Real>::num_colors() {
   ensure_colored();
   Index n = model_.volume.num_colors();
-  detail::for_each_store(model_.stores, [&](const auto& s, auto) { n += s.num_colors(); });
-  for (const auto& t : model_.user.types()) n += t->num_colors();
+  detail::for_each_type(model_, [&](const detail::TypeStore<Real>& type, std::size_t) { n += type.num_colors(); });
   return n;
 }
 

@@ -90,8 +90,7 @@ private:
   void gather_lambda() {
     lambda_.clear();
     if (!s_.lambda_dirty) return;
-    for (auto& l : s_.lambda) lambda_.emplace_back(l);
-    for (auto& l : s_.user_lambda) lambda_.emplace_back(l);
+    for (auto& l : s_.lambda) lambda_.emplace_back(l);  // every type's, in for_each_type's order
     lambda_.emplace_back(s_.volume_lambda);
     lambda_.emplace_back(k_.collision_lambda);
     lambda_.emplace_back(k_.particle_contact_lambda);

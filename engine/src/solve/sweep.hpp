@@ -48,71 +48,6 @@
 namespace pbd::detail {
 
 enum class Schedule { insertion, colors, blocks };  // which order a sweep visits the constraints in
-enum class Update { in_place, jacobi };     // Gauss-Seidel or Jacobi
-
-/// Every constraint of `st` in insertion order (kReverse: backwards), each projected into `out`. A function of its
-/// own (not inlined into the sweep), like each color's range, so that the projection is inlined into its loop.
-/// kInPlace: out is p (Gauss-Seidel) and relax is 1, and the compiler sees both.
-template <bool kInPlace, bool kReverse, class C, class Real, class CoeffOf>
-[[gnu::noinline]] void project_in_insertion_order(const Store<C>& st, Real* lam, Real* p, const Real* w,
-                                                  const CoeffOf& coeff_of, Real relax, Real* out) {
-  if constexpr (kInPlace) {
-    out = p;
-    relax = Real(1);
-  }
-  const Index n = Index(st.size());
-  if (st.slot.empty()) {  // never colored: stored order is insertion order
-    if constexpr (kReverse) {
-      for (Index i = n; i-- > 0;) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
-    } else {
-      for (Index i = 0; i < n; ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
-    }
-  } else {
-    if constexpr (kReverse) {
-      for (Index u = n; u-- > 0;) {
-        const Index i = st.slot[u];
-        project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
-      }
-    } else {
-      for (Index i : st.slot) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
-    }
-  }
-}
-
-/// Blocks handled by one task of the block schedule's scalar interiors: they are projected interleaved, the k-th
-/// constraint of each in turn, so that the processor overlaps independent dependency chains (a block's own
-/// constraints mostly share particles with their predecessors, so one block alone waits on every square root).
-/// Blocks share no particle, so interleaving them gives the bits of one block after the other. (With the stretch
-/// kernel a task takes up to kInterleavedChains blocks, stretch_kernel.hpp.)
-inline constexpr Index kInterleave = 4;
-
-/// Block interiors [first, last) of `st` (at most kInterleave), each in stored order (kReverse: backwards),
-/// interleaved, projected in place. A function of its own so that the projection is inlined into its loop.
-template <bool kReverse, class C, class Real>
-[[gnu::noinline]] void project_interiors_interleaved(const Store<C>& st, Index first, Index last, Real* lam, Real* p,
-                                                     const Real* w, const SolveCoefficients<Real>* coeff) {
-  const C* items = st.items.data();
-  const Index m = last - first;
-  Index begin[kInterleave], len[kInterleave];
-  Index common = ~Index(0);
-  for (Index j = 0; j < m; ++j) {
-    begin[j] = st.offsets[first + j];
-    len[j] = st.offsets[first + j + 1] - begin[j];
-    common = std::min(common, len[j]);
-  }
-  auto one = [&](Index i) { project_into(items[i], p, w, coeff[items[i].set], lam[i], p, Real(1)); };
-  if constexpr (kReverse) {  // each block backwards: its tail beyond the common length first, then interleaved
-    for (Index j = 0; j < m; ++j)
-      for (Index k = len[j]; k-- > common;) one(begin[j] + k);
-    for (Index k = common; k-- > 0;)
-      for (Index j = 0; j < m; ++j) one(begin[j] + k);
-  } else {
-    for (Index k = 0; k < common; ++k)
-      for (Index j = 0; j < m; ++j) one(begin[j] + k);
-    for (Index j = 0; j < m; ++j)
-      for (Index k = common; k < len[j]; ++k) one(begin[j] + k);
-  }
-}
 
 /// One sub-step's sweeps over a model: begin(), sweep() × iterations, end().
 template <class Real> class Sweeper {
@@ -128,21 +63,15 @@ public:
   void begin(double time) {
     k_.volume.set_targets(m_.volume.table, time);
     const std::size_t collisions = k_.collisions.size();
-    bool sized = s_.volume_lambda.size() == m_.volume.table.size() &&
-                 s_.user_lambda.size() == m_.user.types().size();
-    for_each_store(m_.stores, [&](const auto& st, auto i) { sized = sized && s_.lambda[i].size() == st.size(); });
-    for (std::size_t t = 0; sized && t < m_.user.types().size(); ++t)
-      sized = s_.user_lambda[t].size() == m_.user.types()[t]->size();
+    bool sized = s_.volume_lambda.size() == m_.volume.table.size() && s_.lambda.size() == m_.num_types();
+    for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) { sized = sized && s_.lambda[t].size() == type.size(); });
 #ifndef NDEBUG
     if (!s_.lambda_dirty && sized)  // debug builds: λ is zero wherever no sweep had α̃ ≠ 0 since the last reset
-      for_each_store(m_.stores, [&](const auto&, auto i) {
-        assert(std::ranges::all_of(s_.lambda[i], [](Real l) { return l == Real(0); }));
-      });
+      for (const auto& l : s_.lambda) assert(std::ranges::all_of(l, [](Real x) { return x == Real(0); }));
 #endif
     if (s_.lambda_dirty || !sized) {
-      for_each_store(m_.stores, [&](const auto& st, auto i) { s_.lambda[i].assign(st.size(), Real(0)); });
-      s_.user_lambda.resize(m_.user.types().size());
-      for (std::size_t t = 0; t < m_.user.types().size(); ++t) s_.user_lambda[t].assign(m_.user.types()[t]->size(), Real(0));
+      s_.lambda.resize(m_.num_types());
+      for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) { s_.lambda[t].assign(type.size(), Real(0)); });
       s_.volume_lambda.assign(m_.volume.table.size(), Real(0));
     }
     // Contacts' λ count the projections that moved them (collision.hpp, particle_contact.hpp): reset every sub-step.
@@ -247,8 +176,9 @@ public:
   // Constraints in the blocks' interiors (block schedule; 0 otherwise).
   std::size_t count_interior_items() const {
     std::size_t n = 0;
-    for_each_store(m_.stores, [&](const auto& st, auto) { n += st.sequential ? st.offsets[st.sequential] : 0; });
-    for (const auto& t : m_.user.types()) n += t->num_blocks() ? t->color_begin(t->num_blocks()) : 0;
+    for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t) {
+      n += type.num_blocks() ? type.color_begin(type.num_blocks()) : 0;
+    });
     return n;
   }
   // The interiors are shared only with at least two blocks per thread (fewer, and the threads mostly trade cache
@@ -318,9 +248,10 @@ private:
     if (n && padded_) unpad(p);
     for (std::size_t t = 0; t < n; ++t) {
       const auto& type = *m_.user.types()[t];
-      Real* lam = s_.user_lambda[t].data();
+      Real* lam = s_.lambda[kNumBuiltinTypes + t].data();
+      const Update update = out == p ? Update::in_place : Update::jacobi;
       if (schedule_ == Schedule::insertion) {
-        type.project_insertion(p, w, coeff, lam, out, relax, kReverse);
+        type.project_insertion(p, w, coeff, lam, out, relax, update, kReverse);
       } else {
         const std::size_t base = part_;
         const Index first = type.num_blocks(), colors = type.num_colors() - first;  // blocks: projected before
@@ -328,7 +259,7 @@ private:
         for (Index j = 0; j < colors; ++j) {  // one virtual call per color range, never per constraint
           const Index c = kReverse ? colors - 1 - j : j;
           range(type.color_begin(first + c), type.color_begin(first + c + 1), config_, base + c,
-                    [&](Index b, Index e) { type.project_range(b, e, p, w, coeff, lam, out, relax, false); });
+                    [&](Index b, Index e) { type.project_range(b, e, p, w, coeff, lam, out, relax, update); });
         }
       }
     }
@@ -347,7 +278,7 @@ private:
     };
     assert(schedule_ == Schedule::insertion || st.empty() || (st.up_to_date() && st.offsets.back() == st.size()));
     if (schedule_ == Schedule::insertion) {
-      project_in_insertion_order<kInPlace, kReverse>(st, lam, p, w, coeff_of, relax, out);
+      project_in_insertion_order<kInPlace, kReverse>(st, lam, p, w, coeff, relax, out);
       return;
     }
     if constexpr (kInPlace && std::is_same_v<C, StretchConstraint<Real>>) {
@@ -388,10 +319,7 @@ private:
       });
       for (std::size_t u = 0; u < m_.user.types().size(); ++u) {
         const auto& type = *m_.user.types()[u];
-        if (type.num_blocks())
-          for (Index b = first; b < last; ++b)
-            type.project_range(type.color_begin(b), type.color_begin(b + 1), p, w, coeff, s_.user_lambda[u].data(), p,
-                               Real(1), kReverse);
+        if (type.num_blocks()) type.project_interiors(first, last, p, w, coeff, s_.lambda[kNumBuiltinTypes + u].data(), kReverse);
       }
     };
     run_interior_tasks(tasks, slot, task);
