@@ -1,6 +1,7 @@
 #include "schedule.hpp"
 
 #include "pbd/detail/block_layout.hpp"
+#include "kernel_table.hpp"
 
 #include <pbd/graph_coloring/partition.hpp>
 
@@ -17,16 +18,16 @@ template <class Real> void count_touches(Model<Real>& m) {
   for_each_type(m, [&](const TypeStore<Real>& type, std::size_t) { type.count_particles(m.touch_count, 0); });
 }
 
-// Model::stretch_sets for stretch colors [first, num_colors): the set a color's constraints share, or kMixedSets.
-// Only the stretch kernels read them (float, and double with AVX2).
-template <class Real> void note_stretch_sets(Model<Real>& m, Index first) {
-  const auto& s = m.template store<StretchConstraint<Real>>();
-  m.stretch_sets.resize(s.num_colors(), kMixedSets);
-  for (Index c = first; c < s.num_colors(); ++c) {
-    const auto b = s.items.begin() + s.offsets[c], e = s.items.begin() + s.offsets[c + 1];
-    const bool one = b != e && std::all_of(b, e, [&](const auto& x) { return x.set == b->set; });
-    m.stretch_sets[c] = one ? b->set : kMixedSets;
-  }
+// Model::color_sets of the types whose kernel reads them, colors from each one's `first(type)` on.
+template <class Real, class First> void note_color_sets(Model<Real>& m, const First& first) {
+  m.color_sets.resize(m.num_types());
+  for_each_type(m, [&](const TypeStore<Real>& type, std::size_t t) {
+    if (padded_kernel<Real>(t).color_sets) type.note_color_sets(m.color_sets[t], first(type), kMixedSets);
+    else m.color_sets[t].clear();
+  });
+}
+template <class Real> void note_color_sets(Model<Real>& m) {
+  note_color_sets(m, [](const TypeStore<Real>&) { return Index(0); });
 }
 
 // Model::particle_cuts of every type (colors layout; cleared under the block layout, whose members cut by block).
@@ -113,7 +114,7 @@ template <class Real> void color_everything(Model<Real>& m) {
   }
   color_volumes(m);
   count_touches(m);
-  note_stretch_sets(m, 0);
+  note_color_sets(m);
   note_particle_cuts(m);
   m.colors_current = true;
 }
@@ -162,17 +163,16 @@ template <class Real> void update_colors(Model<Real>& m, Layout layout) {
   }
   if (volumes_changed) {
     count_touches(m);
-    note_stretch_sets(m, 0);
-  } else {  // appended stretch constraints changed only the tail colors (they may have joined a color of another set)
-    const auto& s = m.template store<StretchConstraint<Real>>();
-    note_stretch_sets(m, std::min(s.tail_color, s.num_colors()));
+    note_color_sets(m);
+  } else {  // appended constraints changed only the tail colors (they may have joined a color of another set)
+    note_color_sets(m, [](const TypeStore<Real>& type) { return std::min(type.tail_color(), type.num_colors()); });
   }
   if (stores_changed) note_particle_cuts(m);
 }
 
 template <class Real> void note_layout(Model<Real>& m) {
   count_touches(m);
-  note_stretch_sets(m, 0);
+  note_color_sets(m);
   note_particle_cuts(m);
 }
 

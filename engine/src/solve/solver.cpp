@@ -26,10 +26,10 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
       color_particle_contacts(scratch.particle_contacts, model.fixed, scratch.contact_coloring);
     }
   }
-  Sweeper<Real> sweeper(model, state, scratch, schedule, update, reverse, parallel, config);
-  sweeper.omega = params.jacobi_omega;
   const bool accelerate = params.chebyshev.enabled && schedule != Schedule::insertion && params.iterations > 1;
-  sweeper.keep_padded = !accelerate;
+  using Keep = typename PaddedPositions<Real>::Keep;
+  Sweeper<Real> sweeper(model, state, scratch, schedule, update, reverse, parallel, config, params.jacobi_omega,
+                        accelerate ? Keep::per_sweep : Keep::substep);
   sweeper.begin(time);
   Real* p = scratch.p.data();
   SolveReport report;

@@ -69,7 +69,9 @@ template <class Real> struct Model {
   Index num_blocks = 0;                ///< block layout: number of blocks (groups [0, num_blocks) of every store)
   std::vector<std::uint8_t> fixed;     ///< pinned flags the colors were made with, one per particle then
   std::vector<Index> touch_count;      ///< Jacobi: built-in and user constraints touching each particle
-  std::vector<Index> stretch_sets;     ///< per stretch color: the set all its constraints share, or kMixedSets
+  /// Per type whose SIMD kernel reads it (engine/src/solve/kernels.hpp), per color: the set all its constraints
+  /// share, or kMixedSets.
+  std::vector<std::vector<Index>> color_sets;
   /// Colors layout, per type (for_each_type's position): for color c, entries [c·(kCutParts + 1), (c + 1)·(kCutParts
   /// + 1)); entry j counts the color's constraints whose smallest particle index is below ⌊j·n / kCutParts⌋ (n
   /// particles). A team cuts each color there (sweep.hpp), so each thread keeps one range of particles from color
@@ -109,7 +111,7 @@ template <class Real, class F> void for_each_type(const Model<Real>& m, F&& f) {
   for (const auto& u : m.user.types()) f(std::as_const(*u), t++);
 }
 
-/// "The constraints of a stretch color belong to more than one set" (Model::stretch_sets).
+/// "The constraints of a color belong to more than one set" (Model::color_sets).
 inline constexpr Index kMixedSets = ~Index(0);
 
 /// What a step advances.
