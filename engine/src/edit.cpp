@@ -304,6 +304,7 @@ template <class Real> void World<Real>::set_params(const StepParams<Real>& p) {
     if (!(c.diverge > Real(1)) || !std::isfinite(c.diverge))
       throw Error(detail::message("set_params: chebyshev.diverge must be finite and > 1, got ", c.diverge));
   }
+  if (!(p.chebyshev == params_.chebyshev)) state_.chebyshev_rho = Real(0);  // a measured ρ holds for its settings
   params_ = p;
 }
 

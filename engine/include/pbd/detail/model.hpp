@@ -125,6 +125,9 @@ template <class Real> struct State {
   std::vector<Real> volume_lambda;                          ///< λ per volume constraint
   /// Some λ may be non-zero: a sweep since the last reset had α̃ ≠ 0 (λ changes only there, projection.hpp).
   bool lambda_dirty = true;
+  /// ρ of Chebyshev acceleration measured by a sub-step (StepParams::chebyshev.rho = 0 uses it; 0: none yet). An
+  /// output, kept here rather than in the parameters; World::set_params clears it when the Chebyshev settings change.
+  Real chebyshev_rho = 0;
 };
 
 }  // namespace pbd::detail
