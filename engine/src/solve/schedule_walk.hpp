@@ -32,24 +32,28 @@ public:
   /// its start (block > 1: a SIMD kernel's width; under the block schedule, the boundary's own cutting instead).
   template <class Body>
   void colors(SweepLoops<Real>& loops, const TypeStore<Real>& type, std::size_t t, Index block, const Body& body) const {
-    const Index first = type.num_blocks(), colors = type.num_colors() - first;
+    const std::span<const Index> groups = type.groups();
+    const Index all = groups.empty() ? 0 : Index(groups.size() - 1), first = type.num_blocks(), colors = all - first;
     const std::size_t base = loops.slots(std::size_t(colors));
+    const Index* cuts = loops.team() ? cuts_of(t, all) : nullptr;  // only a team cuts at them
     for (Index j = 0; j < colors; ++j) {
       const Index c = first + (reverse_ ? colors - 1 - j : j);
       const std::size_t slot = base + std::size_t(c - first);
+      const Index* color_cuts = cuts ? cuts + std::size_t(c) * (kCutParts + 1) : nullptr;
       auto range = [&](Index b, Index e) { body(c, b, e); };
       if (schedule_ == Schedule::colors && block > 1)
-        loops.blocks_range(type.color_begin(c), type.color_begin(c + 1), block, loops.config(), slot, range, cuts(type, t, c));
-      else loops.color(type, c, cuts(type, t, c), slot, range);
+        loops.blocks_range(groups[c], groups[c + 1], block, loops.config(), slot, range, color_cuts);
+      else loops.color(type, groups[c], groups[c + 1], color_cuts, slot, range);
     }
   }
 
-  /// Color c's particle cuts (Model::particle_cuts) of the type at position t, when laid out in colors; else nullptr.
-  const Index* cuts(const TypeStore<Real>& type, std::size_t t, Index c) const {
+  /// The particle cuts (Model::particle_cuts) of the type at position t with `colors` groups, when laid out in
+  /// colors; else nullptr.
+  const Index* cuts_of(std::size_t t, Index colors) const {
     if (t >= m_.particle_cuts.size()) return nullptr;
     const auto& cuts = m_.particle_cuts[t];
-    if (cuts.size() != std::size_t(type.num_colors()) * (kCutParts + 1)) return nullptr;
-    return cuts.data() + std::size_t(c) * (kCutParts + 1);
+    if (cuts.size() != std::size_t(colors) * (kCutParts + 1)) return nullptr;
+    return cuts.data();
   }
 
   /// The blocks' interiors (block schedule), task(first, last) per task of blocks [first, last).

@@ -181,6 +181,7 @@ private:
   // One type after the interiors: in insertion order, or its colors by its kernel or the generic projection.
   void project_type(const TypeStore<Real>& type, std::size_t t, Real* p, const Real* w,
                     const SolveCoefficients<Real>* coeff, Real* out) {
+    if (type.empty()) return;
     Real* lam = s_.lambda[t].data();
     const Real relax = update_.relax();
     const Update update = update_.kind();
@@ -192,7 +193,6 @@ private:
     }
     const PaddedKernel<Real>& kernel = plan_.kernel[t];
     if (kernel.range) {
-      if (type.num_colors() == 0) return;
       Real* q = padded_.to_padded(loops_, p, m_.inverse_mass.data());
       const bool any_xpbd = s_.lambda_dirty;
       const std::vector<Index>* sets = t < m_.color_sets.size() ? &m_.color_sets[t] : nullptr;
@@ -203,7 +203,7 @@ private:
       });
       return;
     }
-    if (!type.empty()) padded_.to_p(loops_, p);  // the generic projection reads p
+    padded_.to_p(loops_, p);  // the generic projection reads p
     walk_.colors(loops_, type, t, 1, [&](Index, Index b, Index e) {
       type.project_range(b, e, p, w, coeff, lam, out, relax, update);
     });

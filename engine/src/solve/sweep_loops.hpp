@@ -76,12 +76,11 @@ public:
     run_range(begin, end, parallel_, cfg, k_.partitioners[slot], body);
   }
 
-  /// Group c of `type` (stored positions [begin, end)), a color: under the block schedule on a team, each member
-  /// takes the constraints filed under its own blocks (those of its interior tasks); under the colors schedule on a
-  /// team, range() cut at the color's particle cuts (`cuts`); otherwise range().
+  /// Stored positions [begin, end) of `type`, a color: under the block schedule on a team, each member takes the
+  /// constraints filed under its own blocks (those of its interior tasks); under the colors schedule on a team,
+  /// range() cut at the color's particle cuts (`cuts`); otherwise range().
   template <class Body>
-  void color(const TypeStore<Real>& type, Index c, const Index* cuts, std::size_t slot, const Body& body) {
-    const Index begin = type.color_begin(c), end = type.color_begin(c + 1);
+  void color(const TypeStore<Real>& type, Index begin, Index end, const Index* cuts, std::size_t slot, const Body& body) {
     if (team_ && !blocks_) return blocks_range(begin, end, 1, config_, slot, body, cuts);
     if (!team_ || !blocks_ || !share_interiors_ || type.num_blocks() == 0) return range(begin, end, config_, slot, body);
     const Index members = Index(team_->size()), blocks = m_.num_blocks;

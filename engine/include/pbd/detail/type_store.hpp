@@ -127,6 +127,8 @@ public:
   virtual Index num_colors() const = 0;                 ///< groups laid out (blocks and colors)
   virtual Index num_blocks() const = 0;                 ///< leading groups that are block interiors
   virtual Index color_begin(Index c) const = 0;         ///< first stored position of group c
+  /// Every group's first stored position, and the end: group c is [groups()[c], groups()[c + 1]) (empty: none).
+  virtual std::span<const Index> groups() const = 0;
   virtual Index tail_color() const = 0;                 ///< first tail color (Store::kNoTail: none)
   /// Adds 1 per constraint at each of its particles, for the constraints with user index ≥ first.
   virtual void count_particles(std::vector<Index>& count, Index first) const = 0;
@@ -190,6 +192,7 @@ public:
   Index num_colors() const override { return store.num_colors(); }
   Index num_blocks() const override { return store.sequential; }
   Index color_begin(Index c) const override { return store.offsets[c]; }
+  std::span<const Index> groups() const override { return store.offsets; }
   Index tail_color() const override { return store.tail_color; }
   void count_particles(std::vector<Index>& count, Index first) const override {
     for (Index u = first; u < Index(store.size()); ++u)
