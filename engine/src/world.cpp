@@ -6,6 +6,7 @@
 #include "pbd/metrics.hpp"
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
+#include "substep.hpp"
 
 #include <chrono>
 #include <type_traits>

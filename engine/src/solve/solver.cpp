@@ -74,6 +74,19 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
   return report;
 }
 
+template <class Real> void retune_team(Scratch<Real>& k, std::chrono::steady_clock::duration took, int members) {
+  // The next team waits for its workers at most a tenth of this one's time (20 µs to 1 ms): on a large model a
+  // worker that wakes late is worth waiting for, on a small one the wait would cost more than it brings. When no
+  // worker joined (the arena's workers were asleep or busy), the next 2^m − 1 solves (m such misses in a row,
+  // m ≤ 6) fork per loop instead, so a worker that never comes costs a wait only now and then.
+  const auto us = std::chrono::duration_cast<std::chrono::microseconds>(took);
+  k.team_wait = std::clamp(us / 10, std::chrono::microseconds(20), std::chrono::microseconds(1000));
+  k.team_misses = members == 1 ? std::min(k.team_misses + 1, 6) : 0;
+  k.team_skip = (1 << k.team_misses) - 1;
+}
+
+template void retune_team(Scratch<float>&, std::chrono::steady_clock::duration, int);
+template void retune_team(Scratch<double>&, std::chrono::steady_clock::duration, int);
 template SolveReport solve(Model<float>&, State<float>&, Scratch<float>&, const StepParams<float>&, const ParallelConfig&,
                     double, bool);
 template SolveReport solve(Model<double>&, State<double>&, Scratch<double>&, const StepParams<double>&,

@@ -43,7 +43,7 @@
 // too gives the same bits on any thread count. Colors smaller than ParallelConfig::inline_below run inline: a
 // fork/join costs about as much as projecting a thousand constraints. The Gauss-Seidel sweeps of the colored and
 // block solvers hold one team of threads for the whole solve instead (team.hpp: a barrier per loop, a fork/join per
-// sub-step). Steps 1–5 are one function (substep.cpp) run on one of two runners, chosen in one place
+// sub-step). Steps 1–5 are one function (engine/src/substep.cpp) run on one of two runners, chosen in one place
 // (run_substeps): a step that is only steps 1, 2, 4 and 5 (no collider, force callback or free body) holds one team
 // for all its sub-steps, steps 1–2 and 5 being the team's loops over the particles; any other step forks per loop.
 // The team's wait for its workers is retuned after each team in one place (retune_team). Everything runs in the
@@ -72,43 +72,6 @@ struct SolveReport {
 template <class Real>
 SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, const StepParams<Real>& params,
            const ParallelConfig& config, double time, bool reverse);
-
-/// What one step's sub-steps work on: the world's parts and the step's inputs (run_substeps).
-template <class Real> struct StepContext {
-  Model<Real>& model;
-  State<Real>& state;
-  Scratch<Real>& scratch;
-  const StepParams<Real>& params;
-  const ParallelConfig& config;
-  const Real* forces;  ///< external forces (N, 3 per particle) for the whole step, or nullptr
-  /// The world's force callback (may be empty), called at every sub-step.
-  const std::function<void(double, Eigen::Ref<const Matrix3X<Real>>, Eigen::Ref<Matrix3X<Real>>)>* callback;
-  Real h;                      ///< sub-step length, s
-  long long first_substep;     ///< number of the step's first sub-step, round(time / dt) · substeps
-};
-
-/// What run_substeps reports (seconds summed over the sub-steps).
-struct SubstepsReport {
-  bool on_team = false;            ///< one team ran the whole step
-  int threads = 0;                 ///< most threads that ran one sub-step's sweeps together
-  int chebyshev_fallbacks = 0;     ///< sub-steps whose Chebyshev guard stopped the acceleration
-  double seconds_integrate = 0.0;  ///< steps 1, 2 and 5
-  double seconds_collisions = 0.0; ///< step 3
-  double seconds_solve = 0.0;      ///< step 4 (with each sub-step's λ reset)
-  double seconds_waiting = 0.0;    ///< of seconds_solve, the sweeps' threads' time waiting for one another
-};
-
-/// Every sub-step of a step (steps 1–5 each; x and p trade places after each, so an odd count leaves the positions
-/// in the scratch's buffer: the caller puts them back). One sub-step function runs them on one of two runners,
-/// chosen here and nowhere else: one team of threads (team.hpp) for the whole step when the step is only predict,
-/// sweeps and update (step_on_team: a parallel Gauss-Seidel solver, no Chebyshev acceleration, no user type, volume,
-/// collider, force callback or free body, and a model whose sweeps would form a team anyway); otherwise sub-step by
-/// sub-step with loops that fork (run_range), where solve() may still hold a team for its sweeps. The bits are the
-/// same on both. A force callback's error propagates with the state half-stepped: the caller rolls back.
-template <class Real> SubstepsReport run_substeps(StepContext<Real>& context);
-
-/// Whether a step may run on one team (run_substeps), from what the step and the model hold.
-template <class Real> bool step_on_team(const StepContext<Real>& context);
 
 /// After a team ran (took: how long; members: how many threads joined): how long the next team waits for its
 /// workers, and how many solves fork instead after teams that no worker joined.

@@ -7,11 +7,12 @@
 //               and its particles stay in their thread's cache. When the sweeps keep the positions padded,
 //               prediction writes the padded copy and the update reads it.
 // Both give the same bits: every pass gives the same bits however its loop is cut (tested).
-#include "integrate.hpp"
-#include "restitution.hpp"
-#include "solver.hpp"
-#include "sweep.hpp"
+#include "substep.hpp"
+
 #include "contact/particle_contacts.hpp"
+#include "solve/integrate.hpp"
+#include "solve/restitution.hpp"
+#include "solve/sweep.hpp"
 #include "pbd/detail/message.hpp"
 #include "pbd/error.hpp"
 
@@ -228,17 +229,6 @@ template <class Real> void substeps_on_team(StepContext<Real>& c, std::optional<
 
 }  // namespace
 
-template <class Real> void retune_team(Scratch<Real>& k, std::chrono::steady_clock::duration took, int members) {
-  // The next team waits for its workers at most a tenth of this one's time (20 µs to 1 ms): on a large model a
-  // worker that wakes late is worth waiting for, on a small one the wait would cost more than it brings. When no
-  // worker joined (the arena's workers were asleep or busy), the next 2^m − 1 solves (m such misses in a row,
-  // m ≤ 6) fork per loop instead, so a worker that never comes costs a wait only now and then.
-  const auto us = std::chrono::duration_cast<std::chrono::microseconds>(took);
-  k.team_wait = std::clamp(us / 10, std::chrono::microseconds(20), std::chrono::microseconds(1000));
-  k.team_misses = members == 1 ? std::min(k.team_misses + 1, 6) : 0;
-  k.team_skip = (1 << k.team_misses) - 1;
-}
-
 template <class Real> SubstepsReport run_substeps(StepContext<Real>& c) {
   SubstepsReport out;
   Scratch<Real>& k = c.scratch;
@@ -275,8 +265,8 @@ template <class Real> bool step_on_team(const StepContext<Real>& c) {
 
 #define PBD_SUBSTEP_INSTANTIATE(Real)                                                              \
   template SubstepsReport run_substeps(StepContext<Real>&);                                        \
-  template bool step_on_team(const StepContext<Real>&);                                            \
-  template void retune_team(Scratch<Real>&, std::chrono::steady_clock::duration, int);
+  template bool step_on_team(const StepContext<Real>&);
+
 PBD_SUBSTEP_INSTANTIATE(float)
 PBD_SUBSTEP_INSTANTIATE(double)
 #undef PBD_SUBSTEP_INSTANTIATE
