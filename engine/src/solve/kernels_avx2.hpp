@@ -28,8 +28,8 @@ void project_area_range_avx2(const AreaConstraint<float>* c, Index b, Index e, f
 void project_area_range_avx2(const AreaConstraint<double>* c, Index b, Index e, double* q,
                              const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
 /// Stretch on padded positions q in double, four at a time (set: the set every constraint of the range belongs to,
-/// or kMixedSets). Float keeps stretch_kernel.hpp's four lanes: eight, with their 128-bit gathers and scatters, took
-/// 1.8× its instructions (callgrind, 100² cloth).
+/// or kMixedSets). Float keeps stretch_kernel.hpp's four lanes: eight, with their 128-bit gathers and scatters, take
+/// more instructions than they save (docs/performance.md).
 void project_stretch_range_avx2(const StretchConstraint<double>* c, Index b, Index e, double* q,
                                 const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd, Index set);
 

@@ -17,9 +17,8 @@ using InterleavedFn = void (*)(const StretchConstraint<float>*, const Index*, In
 
 #if defined(__SSE2__)
 // Software prefetch of the constraint and λ streams kPrefetchAhead constraints ahead of the block being projected.
-// Once these streams no longer fit in cache (1000² cloth: 3M constraints) a projection took about twice as long as
-// at 300² without it, on this project's 2-core VM, and about as long with it (docs/performance.md): the hardware
-// prefetcher alone did not keep ahead of the kernel. A prefetch never faults, so reaching past the range's end is
+// Once these streams no longer fit in cache (a 1000² cloth: 3M constraints), the hardware prefetcher alone does not
+// keep ahead of the kernel, and a projection waits on memory (docs/performance.md). A prefetch never faults, so reaching past the range's end is
 // harmless; the address is formed as an integer so no out-of-bounds pointer is ever made.
 constexpr std::size_t kPrefetchAhead = 128;  // 2 KB of constraints, 512 B of λ
 [[gnu::always_inline]] inline void prefetch_ahead(const void* p, std::size_t bytes) {
