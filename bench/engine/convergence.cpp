@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
   const W& w = cases.front().world;
   const int limit = quick ? 1024 : 4096;
   for (Solver solver : solvers) {
-    const double rho = stepped(w, solver, 64, 0.0).params().chebyshev.rho;  // a plain step that estimates ρ
+    const double rho = stepped(w, solver, 64, 0.0).last_step_stats().chebyshev_rho;  // a plain step that estimates ρ
     auto stretch_after = [&](int k, double r) { return stretch_violation(stepped(w, solver, k, r)).rms; };
     const int plain = smallest(limit, [&](int k) { return stretch_after(k, -1) <= 1e-3; });
     const int fast = smallest(limit, [&](int k) { return k >= 2 && stretch_after(k, rho) <= 1e-3; });

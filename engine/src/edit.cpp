@@ -91,18 +91,7 @@ template <class Real> void World<Real>::remove_particle(Index particle) {
     if (p == particle)
       throw Error(detail::message("remove_particle: particle ", particle,
                                   " belongs to a volume constraint; volume meshes cannot lose particles"));
-  detail::for_each_store(model_.stores, [&](auto& s, auto) {
-    using C = typename std::decay_t<decltype(s)>::value_type;
-    std::vector<Index> touching;
-    for (Index u = 0; u < Index(s.size()); ++u)
-      for (Index p : s.at(u).particles)
-        if (p == particle) {
-          touching.push_back(u);
-          break;
-        }
-    remove<C>(touching, "remove_particle");
-  });
-  for (const auto& t : model_.user.types()) t->erase_touching(particle);
+  detail::for_each_type(model_, [&](detail::TypeStore<Real>& type, std::size_t) { type.erase_touching(particle); });
   model_.inverse_mass[particle] = Real(0);  // pinned: never moves, never collides
   state_.v.col(particle).setZero();
   model_.colors_current = false;  // a particle became pinned: conflicts changed
@@ -180,8 +169,7 @@ void World<Real>::remove(std::span<const Index> indices, const char* what) {
 
 template <class Real> std::size_t World<Real>::num_constraints() const {
   std::size_t n = model_.volume.table.size();
-  detail::for_each_store(model_.stores, [&](const auto& s, auto) { n += s.size(); });
-  for (const auto& t : model_.user.types()) n += t->size();
+  detail::for_each_type(model_, [&](const detail::TypeStore<Real>& type, std::size_t) { n += type.size(); });
   return n;
 }
 
@@ -212,6 +200,7 @@ template <class Real> Index World<Real>::add_contact_body(const ContactBody<Real
 
 template <class Real> void World<Real>::set_params(const StepParams<Real>& p) {
   check_params(p);
+  if (!(p.chebyshev == params_.chebyshev)) state_.chebyshev_rho = Real(0);  // a measured ρ holds for its settings
   params_ = p;
 }
 
@@ -235,15 +224,9 @@ template <class Real>
 std::vector<coloring::NamedStats> World<Real>::color_statistics(const coloring::Options& options) const {
   const std::vector<std::uint8_t> fixed = detail::pinned_flags(model_.inverse_mass);
   std::vector<coloring::NamedStats> rows;
-  detail::for_each_store(model_.stores, [&](const auto& s, auto) {
-    using C = typename std::decay_t<decltype(s)>::value_type;
-    if (s.empty()) return;  // a type the world does not use is not colored at all
-    const std::vector<C> items = s.in_insertion_order();
-    const detail::ConstraintGraph g = detail::constraint_graph(std::span<const C>(items), fixed);
-    const coloring::Coloring c = coloring::color(g.view(), options);
-    if (auto error = coloring::find_coloring_error(g.view(), c))
-      throw Error(std::string("color_statistics: improper coloring of ") + C::kName + " constraints: " + *error);
-    rows.push_back({C::kName, coloring::compute_stats(g.view(), c)});
+  detail::for_each_type(model_, [&](const detail::TypeStore<Real>& type, std::size_t) {
+    if (type.empty()) return;  // a type the world does not use is not colored at all
+    rows.push_back({type.name(), type.color_statistics(fixed, options)});
   });
   return rows;
 }
@@ -256,41 +239,32 @@ template <class Real> void World<Real>::validate() const {
     throw Error("validate: positions, velocities and inverse masses disagree on the particle count");
   const std::vector<std::uint8_t> fixed =
       model_.colors_current ? model_.fixed : detail::pinned_flags(model_.inverse_mass);
-  auto check_particles = [&](const auto& items, const char* name) {
-    for (std::size_t i = 0; i < items.size(); ++i)
-      for (Index p : items[i].particles)
-        if (p >= n) throw Error(detail::message("validate: ", name, " constraint at ", i, ": particle ", p, " out of range"));
-  };
-  detail::for_each_store(model_.stores, [&](const auto& s, auto i) {
-    using C = typename std::decay_t<decltype(s)>::value_type;
-    check_particles(s.items, C::kName);
-    s.validate(fixed, C::kName);
-    if (model_.colors_current && s.color.size() > s.size())
-      throw Error(detail::message("validate: ", C::kName, " store: more colors than constraints"));
+  // λ is only ever written where α̃ ≠ 0: while no set is compliant, every λ is 0. (Per constraint it cannot be
+  // checked here: λ keeps the last sub-step's layout until the next one resets it.)
+  const bool any_compliant = std::ranges::any_of(model_.sets, [](const Stiffness& st) {
+    return st.mode == StiffnessMode::xpbd && st.compliance != 0.0;
+  });
+  detail::for_each_type(model_, [&](const detail::TypeStore<Real>& type, std::size_t t) {
+    const char* name = type.name();
+    type.validate(fixed, n);
     // The particle cuts (a team's parts of each color): per color, kCutParts + 1 non-decreasing counts from 0 to its size.
-    const auto& cuts = model_.particle_cuts[i];
-    if (model_.colors_current && !cuts.empty()) {
+    if (model_.colors_current && t < model_.particle_cuts.size() && !model_.particle_cuts[t].empty()) {
+      const auto& cuts = model_.particle_cuts[t];
       const std::size_t per = detail::kCutParts + 1;
-      if (cuts.size() != std::size_t(s.num_colors()) * per)
-        throw Error(detail::message("validate: ", C::kName, " store: ", cuts.size(), " particle cuts for ", s.num_colors(), " colors"));
-      for (Index c = 0; c < s.num_colors(); ++c) {
+      if (cuts.size() != std::size_t(type.num_colors()) * per)
+        throw Error(detail::message("validate: ", name, " store: ", cuts.size(), " particle cuts for ", type.num_colors(), " colors"));
+      for (Index c = 0; c < type.num_colors(); ++c) {
         const Index* row = cuts.data() + c * per;
-        if (row[0] != 0 || row[per - 1] != s.offsets[c + 1] - s.offsets[c] || !std::is_sorted(row, row + per))
-          throw Error(detail::message("validate: ", C::kName, " color ", c, ": particle cuts do not rise from 0 to its size"));
+        if (row[0] != 0 || row[per - 1] != type.color_begin(c + 1) - type.color_begin(c) || !std::is_sorted(row, row + per))
+          throw Error(detail::message("validate: ", name, " color ", c, ": particle cuts do not rise from 0 to its size"));
       }
     }
-    // λ is only ever written where α̃ ≠ 0: while no set is compliant, every λ is 0. (Per constraint it cannot be
-    // checked here: λ keeps the last sub-step's layout until the next one resets it.)
-    const bool any_compliant = std::ranges::any_of(model_.sets, [](const Stiffness& st) {
-      return st.mode == StiffnessMode::xpbd && st.compliance != 0.0;
-    });
-    if (!any_compliant)
-      for (std::size_t k = 0; k < state_.lambda[i].size(); ++k)
-        if (state_.lambda[i][k] != Real(0))
-          throw Error(detail::message("validate: ", C::kName, " λ ", k, " is ", state_.lambda[i][k],
+    if (!any_compliant && t < state_.lambda.size())
+      for (std::size_t k = 0; k < state_.lambda[t].size(); ++k)
+        if (state_.lambda[t][k] != Real(0))
+          throw Error(detail::message("validate: ", name, " λ ", k, " is ", state_.lambda[t][k],
                                       " though no set is compliant"));
   });
-  for (const auto& t : model_.user.types()) t->validate(fixed);
   const auto& v = model_.volume;
   if (!v.order.empty()) {
     std::vector<std::uint8_t> seen(v.table.size(), 0);

@@ -4,14 +4,9 @@
 
 #include "pbd/detail/message.hpp"
 #include "pbd/metrics.hpp"
-#include "contact/scratch.hpp"
-#include "solve/integrate.hpp"
-#include "solve/restitution.hpp"
-#include "solve/parallel_range.hpp"
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
-
-#include <oneapi/tbb/parallel_invoke.h>
+#include "substep.hpp"
 
 #include <chrono>
 #include <type_traits>
@@ -77,8 +72,7 @@ template <class Real> void World<Real>::ensure_colored() {
 template <class Real> Index World<Real>::num_colors() {
   ensure_colored();
   Index n = model_.volume.num_colors();
-  detail::for_each_store(model_.stores, [&](const auto& s, auto) { n += s.num_colors(); });
-  for (const auto& t : model_.user.types()) n += t->num_colors();
+  detail::for_each_type(model_, [&](const detail::TypeStore<Real>& type, std::size_t) { n += type.num_colors(); });
   return n;
 }
 
@@ -132,104 +126,13 @@ template <class Real> void World<Real>::advance(const Real* forces) {
     state_.x.swap(k.p);
     state_.x = k.p;  // same size: copied into x_storage, no allocation
   };
-  const bool parallel = is_parallel(params_.solver);
-  const Index n = num_particles();
   detail::update_free_bodies(model_, k.free_bodies);
-  // The whole step on one team of threads when it is only predict, sweeps and update (solver.hpp).
-  const detail::TeamSubstepsReport team =
-      detail::run_substeps_on_team(model_, state_, k, params_, parallel_, forces, bool(force_callback_));
-  if (team.ran) {
-    stats_.seconds_integrate = team.seconds_integrate;
-    stats_.seconds_solve = team.seconds_solve;
-    stats_.seconds_waiting = team.wait_fraction * team.seconds_solve;
-    stats_.solve_threads = team.threads;
-  }
+  // The sub-steps (solver.hpp: run_substeps), on the runner it chooses.
+  const long long first_substep = std::llround(state_.time / double(params_.dt)) * params_.substeps;
+  detail::StepContext<Real> context{model_, state_, k, params_, parallel_, forces, &force_callback_, h, first_substep};
+  detail::SubstepsReport run;
   try {
-    for (int s = 0; s < (team.ran ? 0 : params_.substeps); ++s) {
-      const double t = state_.time + double(h) * double(s + 1);
-      const Real* f = forces;
-      if (force_callback_) {
-        k.callback_forces.setZero(3, n);
-        force_callback_(t, state_.x, k.callback_forces);
-        for (Eigen::Index i = 0; i < k.callback_forces.cols(); ++i)
-          if (!k.callback_forces.col(i).allFinite())
-            throw Error(detail::message("step: the force callback returned a non-finite force on particle ", i,
-                                        " at sub-step ", s, " (t = ", t, " s); the step was not taken"));
-        if (forces) k.callback_forces += Eigen::Map<const Positions>(forces, 3, n);
-        f = k.callback_forces.data();
-      }
-      // 1.–2. forces, damping, predict
-      const auto t1 = clock::now();
-      k.p.resize(3, n);
-      detail::run_range(0, n, parallel, parallel_, k.particle_partitioners[0],
-                        detail::Predict<Real>(params_, h, model_.inverse_mass.data(), state_.x.data(),
-                                              state_.v.data(), f, k.p.data()));
-      const auto t2 = clock::now();
-      // 3. collisions and particle contacts (the velocities after forces are n·v before the solve: restitution)
-      k.collisions.clear();
-      k.particle_contacts.clear();
-      if (!model_.contact.empty()) detail::cook_contact_bodies(model_);
-      if (!k.contact) k.contact = std::make_shared<detail::ContactScratch<Real>>();
-      const ParticleSurfaces<Real> surfaces =
-          model_.contact.empty() ? ParticleSurfaces<Real>{}
-                                 : ParticleSurfaces<Real>{model_.contact.radius.data(), model_.contact.material.data()};
-      auto colliders = [&] {
-        detail::generate_collisions_chunked(model_.colliders, state_.x, k.p, state_.v, model_.inverse_mass,
-                                            params_.collision_margin, surfaces, parallel, k.contact->collision_chunks,
-                                            k.collisions.items);
-      };
-      auto contacts = [&] {
-        detail::generate_particle_contacts(model_, state_.x, k.p, state_.v, params_.collision_margin, parallel,
-                                           k.contact->grid, k.particle_contacts.items);
-      };
-      // Both at once when both run in parallel: their outputs are apart, and the colliders' chunks fill the other
-      // threads while the broad phase runs its serial passes. Not below the particles from which the broad phase
-      // forks: there the two take tens of microseconds, and waking a second thread costs more than it saves.
-      const bool with_colliders = !model_.colliders.empty(), with_contacts = model_.contact.particle_contacts();
-      if (with_colliders && with_contacts && parallel && n >= detail::kParallelContactsFrom) tbb::parallel_invoke(colliders, contacts);
-      else {
-        if (with_colliders) colliders();
-        if (with_contacts) contacts();
-      }
-      const auto t3 = clock::now();
-      // 4. solve (symmetric order: odd sub-steps, numbered from the world's time, sweep backwards)
-      const long long substep = std::llround(state_.time / double(params_.dt)) * params_.substeps + s;
-      const bool reverse = params_.sweep_order == SweepOrder::symmetric && (substep & 1) != 0;
-      const detail::SolveReport solved = detail::solve(model_, state_, k, params_, parallel_, t, reverse);
-      stats_.chebyshev_fallbacks += solved.chebyshev_fell_back ? 1 : 0;
-      if (solved.chebyshev_estimate > 0.0) params_.chebyshev.rho = Real(solved.chebyshev_estimate);  // chebyshev.hpp
-      const auto t4 = clock::now();
-      // 5. update (integrate.hpp); free bodies get back the momentum and angular momentum the solve changed
-      // (free_bodies.hpp).
-      Real* v = state_.v.data();
-      const Real* x = state_.x.data();
-      const Real* p = k.p.data();
-      detail::FreeBodies<Real>& fb = k.free_bodies;
-      const bool despin =
-          detail::measure_solver_spin<Real>(model_, fb, k.collisions.items, k.particle_contacts.items, x, p, v, h);
-      detail::run_range(0, n, parallel, parallel_, k.particle_partitioners[1], [&](Index b, Index e) {
-        detail::update_velocities(h, x, p, v, b, e);
-        if (!despin) return;
-        for (Index i = b; i < e; ++i) {
-          const Index body = fb.body[i];
-          if (body == detail::FreeBodies<Real>::kNone || std::isnan(fb.omega[9 * std::size_t(body)])) continue;
-          const double* w = fb.omega.data() + 9 * std::size_t(body);
-          const Eigen::Vector3d r = Eigen::Vector3d(double(p[3 * i]) - w[3], double(p[3 * i + 1]) - w[4], double(p[3 * i + 2]) - w[5]);
-          const Eigen::Vector3d spin = Eigen::Vector3d(w[0], w[1], w[2]).cross(r);
-          for (int d = 0; d < 3; ++d) v[3 * std::size_t(i) + d] -= Real(spin[d] + w[6 + d]);
-        }
-      });
-      // Restitution (Müller et al. 2006 §3.5): the impacts of this sub-step leave at e × their approach speed.
-      detail::apply_restitution<Real>(k.collisions.items, k.collision_lambda, k.particle_contacts.items,
-                                k.particle_contact_lambda, model_.inverse_mass.data(), v, params_.gravity.norm() * h);
-      state_.x.swap(k.p);
-      using seconds = std::chrono::duration<double>;
-      stats_.seconds_integrate += seconds(t2 - t1).count() + seconds_since(t4);
-      stats_.seconds_collisions += seconds(t3 - t2).count();
-      stats_.seconds_solve += seconds(t4 - t3).count();
-      stats_.seconds_waiting += solved.wait_fraction * seconds(t4 - t3).count();
-      stats_.solve_threads = std::max(stats_.solve_threads, solved.threads);
-    }
+    run = detail::run_substeps(context);
   } catch (...) {
     if (rollback) {
       state_.x = k.rollback_x;  // copied back, not swapped: maps the host holds on positions() stay valid
@@ -238,12 +141,19 @@ template <class Real> void World<Real>::advance(const Real* forces) {
     keep_storage();
     throw;
   }
+  stats_.seconds_integrate = run.seconds_integrate;
+  stats_.seconds_collisions = run.seconds_collisions;
+  stats_.seconds_solve = run.seconds_solve;
+  stats_.seconds_waiting = run.seconds_waiting;
+  stats_.solve_threads = run.threads;
+  stats_.chebyshev_fallbacks = run.chebyshev_fallbacks;
   keep_storage();
   state_.time += double(params_.dt);
   stats_.substeps = params_.substeps;
   stats_.sweeps = params_.substeps * params_.iterations;
   stats_.collisions = k.collisions.size() + k.particle_contacts.size();
-  stats_.chebyshev_rho = params_.chebyshev.enabled ? double(params_.chebyshev.rho) : 0.0;
+  const Real rho = params_.chebyshev.rho != Real(0) ? params_.chebyshev.rho : state_.chebyshev_rho;  // given or measured
+  stats_.chebyshev_rho = params_.chebyshev.enabled ? double(rho) : 0.0;
   if (measure_violation_) stats_.violation = constraint_violations(*this);
   stats_.seconds = seconds_since(t0);
 }

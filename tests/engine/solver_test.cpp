@@ -127,7 +127,7 @@ TYPED_TEST(SolverTest, ColoredIsBitwiseIdenticalForAnyThreadCountAndToSerialColo
 }
 
 // A step that is only predict, sweeps and update (no collider, no free body, no callback) runs all its sub-steps on
-// one team of threads (solver.hpp, run_substeps_on_team): predict and update are the team's loops, and x and p trade
+// one team of threads (solver.hpp, run_substeps): predict and update are the team's loops, and x and p trade
 // places each sub-step. It must give the bits of the sub-step-by-sub-step path (the serial color order, and the
 // colored solver on one thread) for odd and even sub-step counts, both sweep orders, damping, external forces and
 // XPBD sets (λ reset every sub-step), for float and double.
@@ -504,7 +504,7 @@ TEST(BlockLayout, SwitchingBetweenColoredAndBlockLaysOutAgain) {
 }
 
 // Chebyshev acceleration (Wang 2015) on a perturbed cloth without gravity, one sub-step of many sweeps: the RMS
-// stretch it reaches, with ρ as given (0: this step estimates it, sweeping plain, and stores it in the params).
+// stretch it reaches, with ρ as given (0: this step estimates it, sweeping plain, and reports it in StepStats).
 template <class Real> World<Real> perturbed_cloth(Solver s, int iterations, bool accelerate, Real rho) {
   World<Real> w = with_small_blocks(cloth_world<Real>(24));
   std::mt19937 rng(5);
@@ -529,8 +529,8 @@ TEST(Chebyshev, TheEstimatedRhoCutsJacobisErrorAndAGuessTooLargeFallsBack) {
   World<double> estimating = perturbed_cloth<double>(Solver::jacobi, 60, true, 0.0);
   estimating.step();
   EXPECT_EQ(stretch_violation(estimating).rms, stretch_violation(plain).rms);
-  const double rho = estimating.params().chebyshev.rho;
-  EXPECT_EQ(estimating.last_step_stats().chebyshev_rho, rho);
+  const double rho = estimating.last_step_stats().chebyshev_rho;
+  EXPECT_EQ(estimating.params().chebyshev.rho, 0.0);  // the measure is an output: the parameters stay as set
   EXPECT_GT(rho, 0.9);
   EXPECT_LT(rho, 0.999);
   World<double> fast = perturbed_cloth<double>(Solver::jacobi, 60, true, rho);

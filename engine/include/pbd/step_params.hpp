@@ -16,12 +16,15 @@ namespace pbd {
 template <class Real> struct Chebyshev {
   bool enabled = false;  ///< accelerate the sweeps
   Real rho = 0;          ///< spectral radius of one sweep, in [0, 1); 0: the next sub-step sweeps plain and measures
-                         ///< it (the rate its position changes shrink at), and step() stores it here
+                         ///< it (the rate its position changes shrink at), and later sub-steps use that measure (the
+                         ///< world keeps it, StepStats::chebyshev_rho reports it; set_params with other Chebyshev
+                         ///< settings forgets it)
   int delay = 4;         ///< plain sweeps before the first accelerated one, ≥ 1
   Real max_rho = Real(0.999);  ///< cap on an estimated ρ, in (0, 1)
   /// The guard: a sweep whose position change exceeds `diverge` times the smallest one of the sub-step so far ends
   /// the acceleration for the rest of the sub-step (plain sweeps from there on; counted in StepStats), > 1.
   Real diverge = Real(2);
+  friend bool operator==(const Chebyshev&, const Chebyshev&) = default;  ///< same settings
 };
 
 /// Parameters of step(); validated by World::set_params.

@@ -260,7 +260,7 @@ template <class Real> template <class C> Index World<Real>::add_custom(const C& 
   model_.user.template of<C>().append(c);
   ++model_.edits;
   if (first_of_type) {
-    state_.user_lambda.emplace_back();
+    state_.lambda.emplace_back();  // λ arrays follow the types' order (for_each_type)
     model_.colors_current = false;  // a new type: colored with everything at the next colored step
   }
   return Index(index);

@@ -1,7 +1,7 @@
 #pragma once
 // The contact generators' scratch (private): the collider contacts' per-chunk lists and the particle contacts' broad
 // phase, kept between sub-steps so that nothing is reallocated. The world's per-step scratch (solve/scratch.hpp)
-// holds it through a pointer to this type, which it only declares: the step (world.cpp) alone calls the generators
+// holds it through a pointer to this type, which it only declares: a sub-step (substep.cpp) alone calls the generators
 // and makes it, so solve/ need not see contact/.
 #include "colliders.hpp"
 #include "particle_contacts.hpp"

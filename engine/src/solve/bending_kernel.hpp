@@ -8,6 +8,7 @@
 #include "pbd/constraints/bending.hpp"
 #include "pbd/constraints/stretch.hpp"
 #include "pbd/stiffness.hpp"
+#include "kernels.hpp"
 
 namespace pbd::detail {
 
@@ -21,6 +22,19 @@ inline constexpr Index kBendingBlock = 8;
 /// On AVX2 machines eight at a time (kernels_avx2.hpp), else four (SSE2; PBD_SIMD=sse2 keeps these).
 void project_bending_range(const BendingConstraint<float>* c, Index b, Index e, float* q,
                            const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd);
+
+/// Float bending: four lanes with SSE2, eight with AVX2, on padded positions, colors cut at multiples of kBendingBlock
+/// (kernels.hpp). Built where the float stretch kernel is (SSE2 targets).
+template <> struct Kernels<BendingConstraint<float>> {
+#if defined(__SSE2__)
+  static constexpr bool kBuilt = true;
+#else
+  static constexpr bool kBuilt = false;
+#endif
+  static constexpr bool kNeedsAvx2 = false;
+  static constexpr Index kBlock = kBendingBlock;
+  static constexpr auto range = &project_bending_range;
+};
 
 /// Particles [b, e) between positions p (3 per particle) with inverse masses w and padded positions q, in double
 /// (float: stretch_kernel.hpp); double runs on padded positions only with the AVX2 kernels (kernels_avx2.hpp).

@@ -10,8 +10,8 @@
 // ρ is the spectral radius of one sweep, given by the user or estimated by the first sub-step that needs it: that
 // sub-step sweeps plain and measures the rate at which its changes shrink over its second half, ρ² = (d_{K−1} /
 // d_{K/2})^{1/(K−1−K/2)} (a power iteration on the sweep's error: the slowest mode takes over, and its rate is ρ),
-// capped at max_rho; World::step then writes it into its parameters, so later sub-steps, copies of the world and
-// its description use the same ρ and the same bits. The guard: a sweep whose change exceeds diverge² times the smallest
+// capped at max_rho; solve() keeps it in the world's State (an output, not a parameter), so later sub-steps and
+// copies of the world use the same ρ and the same bits. The guard: a sweep whose change exceeds diverge² times the smallest
 // change of the sub-step so far (the iteration is diverging, e.g. ρ given too large) ends the acceleration for the
 // rest of the sub-step; the sweeps go on plain from where they are.
 #include "parallel_range.hpp"
@@ -90,8 +90,7 @@ private:
   void gather_lambda() {
     lambda_.clear();
     if (!s_.lambda_dirty) return;
-    for (auto& l : s_.lambda) lambda_.emplace_back(l);
-    for (auto& l : s_.user_lambda) lambda_.emplace_back(l);
+    for (auto& l : s_.lambda) lambda_.emplace_back(l);  // every type's, in for_each_type's order
     lambda_.emplace_back(s_.volume_lambda);
     lambda_.emplace_back(k_.collision_lambda);
     lambda_.emplace_back(k_.particle_contact_lambda);

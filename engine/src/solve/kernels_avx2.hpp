@@ -9,6 +9,8 @@
 #include "pbd/constraints/stretch.hpp"
 #include "pbd/detail/model.hpp"  // kMixedSets
 #include "pbd/stiffness.hpp"
+#include "bending_kernel.hpp"  // kBendingBlock
+#include "kernels.hpp"
 #include "simd/cpu.hpp"  // avx2_enabled
 
 namespace pbd::detail {
@@ -24,8 +26,8 @@ void project_area_range_avx2(const AreaConstraint<float>* c, Index b, Index e, f
 void project_area_range_avx2(const AreaConstraint<double>* c, Index b, Index e, double* q,
                              const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
 /// Stretch on padded positions q in double, four at a time (set: the set every constraint of the range belongs to,
-/// or kMixedSets). Float keeps stretch_kernel.hpp's four lanes: eight, with their 128-bit gathers and scatters, took
-/// 1.8× its instructions (callgrind, 100² cloth).
+/// or kMixedSets). Float keeps stretch_kernel.hpp's four lanes: eight, with their 128-bit gathers and scatters, take
+/// more instructions than they save (docs/performance.md).
 void project_stretch_range_avx2(const StretchConstraint<double>* c, Index b, Index e, double* q,
                                 const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd, Index set);
 
@@ -37,5 +39,28 @@ void project_padded_one(const StretchConstraint<double>& c, double* q, SolveCoef
                         double& lambda);
 void project_padded_one(const AreaConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda);
 void project_padded_one(const AreaConstraint<double>& c, double* q, SolveCoefficients<double> coeff, double& lambda);
+
+/// The AVX2 kernels (kernels.hpp): double bending and stretch, area in both precisions, on padded positions, colors
+/// cut at multiples of kBendingBlock; only when avx2_enabled().
+template <class Real> struct Avx2Kernel {
+  static constexpr bool kBuilt = true;
+  static constexpr bool kNeedsAvx2 = true;
+  static constexpr Index kBlock = kBendingBlock;
+};
+template <> struct Kernels<BendingConstraint<double>> : Avx2Kernel<double> {
+  static constexpr void (*range)(const BendingConstraint<double>*, Index, Index, double*,
+                                 const SolveCoefficients<double>*, double*, bool) = &project_bending_range_avx2;
+};
+template <> struct Kernels<StretchConstraint<double>> : Avx2Kernel<double> {
+  static constexpr auto range = &project_stretch_range_avx2;
+};
+template <> struct Kernels<AreaConstraint<float>> : Avx2Kernel<float> {
+  static constexpr void (*range)(const AreaConstraint<float>*, Index, Index, float*, const SolveCoefficients<float>*,
+                                 float*, bool) = &project_area_range_avx2;
+};
+template <> struct Kernels<AreaConstraint<double>> : Avx2Kernel<double> {
+  static constexpr void (*range)(const AreaConstraint<double>*, Index, Index, double*,
+                                 const SolveCoefficients<double>*, double*, bool) = &project_area_range_avx2;
+};
 
 }  // namespace pbd::detail

@@ -1,6 +1,7 @@
 #include "schedule.hpp"
 
 #include "pbd/detail/block_layout.hpp"
+#include "kernel_table.hpp"
 
 #include <pbd/graph_coloring/partition.hpp>
 
@@ -14,47 +15,28 @@ namespace {
 // Jacobi projects in place, sweep.hpp).
 template <class Real> void count_touches(Model<Real>& m) {
   m.touch_count.assign(m.num_particles(), 0);
-  for_each_store(m.stores, [&](const auto& s, auto) {
-    for (const auto& c : s.items)
-      for (Index k : c.particles) ++m.touch_count[k];
+  for_each_type(m, [&](const TypeStore<Real>& type, std::size_t) { type.count_particles(m.touch_count, 0); });
+}
+
+// Model::color_sets of the types whose kernel reads them, colors from each one's `first(type)` on.
+template <class Real, class First> void note_color_sets(Model<Real>& m, const First& first) {
+  m.color_sets.resize(m.num_types());
+  for_each_type(m, [&](const TypeStore<Real>& type, std::size_t t) {
+    if (padded_kernel<Real>(t).color_sets) type.note_color_sets(m.color_sets[t], first(type), kMixedSets);
+    else m.color_sets[t].clear();
   });
-  for (const auto& t : m.user.types()) t->count_particles(m.touch_count, 0);
+}
+template <class Real> void note_color_sets(Model<Real>& m) {
+  note_color_sets(m, [](const TypeStore<Real>&) { return Index(0); });
 }
 
-// Model::stretch_sets for stretch colors [first, num_colors): the set a color's constraints share, or kMixedSets.
-// Only the stretch kernels read them (float, and double with AVX2).
-template <class Real> void note_stretch_sets(Model<Real>& m, Index first) {
-  const auto& s = m.template store<StretchConstraint<Real>>();
-  m.stretch_sets.resize(s.num_colors(), kMixedSets);
-  for (Index c = first; c < s.num_colors(); ++c) {
-    const auto b = s.items.begin() + s.offsets[c], e = s.items.begin() + s.offsets[c + 1];
-    const bool one = b != e && std::all_of(b, e, [&](const auto& x) { return x.set == b->set; });
-    m.stretch_sets[c] = one ? b->set : kMixedSets;
-  }
-}
-
-// Model::particle_cuts of every built-in store (colors layout; cleared under the block layout, whose members cut
-// by block). O(constraints), after every change of layout.
+// Model::particle_cuts of every type (colors layout; cleared under the block layout, whose members cut by block).
+// O(constraints), after every change of layout.
 template <class Real> void note_particle_cuts(Model<Real>& m) {
-  const std::uint64_t n = m.num_particles();
-  for_each_store(m.stores, [&](const auto& s, auto i) {
-    auto& cuts = m.particle_cuts[i];
-    cuts.clear();
-    if (m.layout != Layout::colors || s.empty() || !s.up_to_date()) return;
-    const Index per = kCutParts + 1;
-    cuts.assign(std::size_t(s.num_colors()) * per, 0);
-    for (Index c = 0; c < s.num_colors(); ++c) {
-      Index* row = cuts.data() + std::size_t(c) * per;
-      for (Index k = s.offsets[c]; k < s.offsets[c + 1]; ++k) {
-        Index lo = ~Index(0);
-        for (Index q : s.items[k].particles) lo = std::min(lo, q);
-        // counted from the smallest j with lo < ⌊j·n / kCutParts⌋ on (j ≤ kCutParts: ⌊kCutParts·n / kCutParts⌋ = n)
-        Index j = Index(std::uint64_t(lo) * kCutParts / n);
-        while (std::uint64_t(j) * n / kCutParts <= lo) ++j;
-        ++row[j];
-      }
-      for (Index j = 1; j <= kCutParts; ++j) row[j] += row[j - 1];
-    }
+  m.particle_cuts.resize(m.num_types());
+  for_each_type(m, [&](const TypeStore<Real>& type, std::size_t t) {
+    if (m.layout == Layout::colors) type.note_particle_cuts(m.particle_cuts[t], m.num_particles(), kCutParts);
+    else m.particle_cuts[t].clear();
   });
 }
 
@@ -92,21 +74,7 @@ template <class Real> void partition_particles(Model<Real>& m) {
   g.fixed = m.fixed;
   g.offsets.push_back(0);
   std::size_t constraints = 0;
-  for_each_store(m.stores, [&](const auto& s, auto) {
-    constraints += s.size();
-    for (const auto& c : s.items) {
-      for (Index p : c.particles) g.nodes.push_back(p);
-      g.offsets.push_back(std::uint32_t(g.nodes.size()));
-    }
-  });
-  for (const auto& t : m.user.types()) {  // a user constraint joins its first particle to each other one
-    constraints += t->size();
-    t->join_particles([&](Index a, Index b) {
-      g.nodes.push_back(a);
-      g.nodes.push_back(b);
-      g.offsets.push_back(std::uint32_t(g.nodes.size()));
-    });
-  }
+  for_each_type(m, [&](const TypeStore<Real>& type, std::size_t) { constraints += type.add_to_partition_graph(g); });
   const std::size_t per = std::max<std::size_t>(1, m.blocking.constraints_per_block);
   coloring::PartitionOptions o;
   o.method = m.blocking.use_metis ? coloring::PartitionMethod::metis : coloring::PartitionMethod::index_ranges;
@@ -123,8 +91,7 @@ template <class Real> void partition_particles(Model<Real>& m) {
 
 // Every store laid out for the block schedule on the current partition (only the boundary constraints are colored).
 template <class Real> void lay_out_all_blocks(Model<Real>& m) {
-  for_each_store(m.stores, [&](auto& s, auto) { lay_out_blocks(s, m.fixed, m.block, m.num_blocks, m.coloring); });
-  for (const auto& t : m.user.types()) t->lay_out_blocks(m.fixed, m.block, m.num_blocks, m.coloring);
+  for_each_type(m, [&](TypeStore<Real>& type, std::size_t) { type.lay_out_blocks(m.fixed, m.block, m.num_blocks, m.coloring); });
 }
 
 }  // namespace
@@ -143,12 +110,11 @@ template <class Real> void color_everything(Model<Real>& m) {
   } else {
     m.block.clear();
     m.num_blocks = 0;
-    for_each_store(m.stores, [&](auto& s, auto) { color_all(s, m.fixed, m.coloring); });
-    for (const auto& t : m.user.types()) t->color_all(m.fixed, m.coloring);
+    for_each_type(m, [&](TypeStore<Real>& type, std::size_t) { type.color_all(m.fixed, m.coloring); });
   }
   color_volumes(m);
   count_touches(m);
-  note_stretch_sets(m, 0);
+  note_color_sets(m);
   note_particle_cuts(m);
   m.colors_current = true;
 }
@@ -168,16 +134,11 @@ template <class Real> void update_colors(Model<Real>& m, Layout layout) {
     // which colors only its boundary constraints.
     if (std::size_t(n) - m.block.size() > m.block.size() / 10) return color_everything(m);
     bool changed = false;
-    for_each_store(m.stores, [&](auto& s, auto) {
-      if (s.up_to_date()) return;
-      lay_out_blocks(s, m.fixed, m.block, m.num_blocks, m.coloring);
+    for_each_type(m, [&](TypeStore<Real>& type, std::size_t) {
+      if (type.up_to_date()) return;
+      type.lay_out_blocks(m.fixed, m.block, m.num_blocks, m.coloring);
       changed = true;
     });
-    for (const auto& t : m.user.types())
-      if (!t->up_to_date()) {
-        t->lay_out_blocks(m.fixed, m.block, m.num_blocks, m.coloring);
-        changed = true;
-      }
     if (m.volume.offsets.empty() != m.volume.table.empty() || m.volume.order.size() != m.volume.table.size()) {
       color_volumes(m);
       changed = true;
@@ -185,39 +146,33 @@ template <class Real> void update_colors(Model<Real>& m, Layout layout) {
     if (changed) note_layout(m);
     return;
   }
+  // Only the appended constraints are colored (tail colors), and only they are added to the Jacobi counts.
   bool ok = true, stores_changed = false;
-  for_each_store(m.stores, [&](auto& s, auto) {
-    const Index first = Index(s.color.size());
-    if (!ok || s.up_to_date()) return;
+  for_each_type(m, [&](TypeStore<Real>& type, std::size_t) {
+    if (!ok || type.up_to_date()) return;
+    const Index first = type.first_uncolored();
     stores_changed = true;
-    ok = color_tail(s, m.fixed);
-    for (Index u = first; ok && u < Index(s.size()); ++u)
-      for (Index k : s.at(u).particles) ++m.touch_count[k];
+    ok = type.color_tail(m.fixed);
+    if (ok) type.count_particles(m.touch_count, first);
   });
-  bool others_changed = false;
-  for (const auto& t : m.user.types())
-    if (ok && !t->up_to_date()) {
-      ok = t->color_tail(m.fixed);
-      others_changed = true;
-    }
   if (!ok) return color_everything(m);
+  bool volumes_changed = false;
   if (m.volume.offsets.empty() != m.volume.table.empty() || m.volume.order.size() != m.volume.table.size()) {
     color_volumes(m);
-    others_changed = true;
+    volumes_changed = true;
   }
-  if (others_changed) {
+  if (volumes_changed) {
     count_touches(m);
-    note_stretch_sets(m, 0);
-  } else {  // appended stretch constraints changed only the tail colors (they may have joined a color of another set)
-    const auto& s = m.template store<StretchConstraint<Real>>();
-    note_stretch_sets(m, std::min(s.tail_color, s.num_colors()));
+    note_color_sets(m);
+  } else {  // appended constraints changed only the tail colors (they may have joined a color of another set)
+    note_color_sets(m, [](const TypeStore<Real>& type) { return std::min(type.tail_color(), type.num_colors()); });
   }
   if (stores_changed) note_particle_cuts(m);
 }
 
 template <class Real> void note_layout(Model<Real>& m) {
   count_touches(m);
-  note_stretch_sets(m, 0);
+  note_color_sets(m);
   note_particle_cuts(m);
 }
 

@@ -18,7 +18,7 @@
 
 namespace pbd::detail {
 
-/// The contact generators' buffers (contact/scratch.hpp), complete only where the step makes them (world.cpp). Held
+/// The contact generators' buffers (contact/scratch.hpp), complete only where a sub-step makes them (substep.cpp). Held
 /// by a shared_ptr, which frees it with the deleter made there, so a Scratch is destroyed wherever, as the solver
 /// benchmarks' fixture does, without the type.
 template <class Real> struct ContactScratch;

@@ -26,17 +26,16 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
       color_particle_contacts(scratch.particle_contacts, model.fixed, scratch.contact_coloring);
     }
   }
-  Sweeper<Real> sweeper(model, state, scratch, schedule, update, reverse, parallel, config);
-  sweeper.omega = params.jacobi_omega;
   const bool accelerate = params.chebyshev.enabled && schedule != Schedule::insertion && params.iterations > 1;
-  sweeper.keep_padded = !accelerate;
+  using Keep = typename PaddedPositions<Real>::Keep;
+  Sweeper<Real> sweeper(model, state, scratch, schedule, update, reverse, parallel, config, params.jacobi_omega,
+                        accelerate ? Keep::per_sweep : Keep::substep);
   sweeper.begin(time);
   Real* p = scratch.p.data();
   SolveReport report;
   if (!accelerate) {
-    // One team for all the sweeps (team.hpp), each member with its own copy of the sweeper. When no worker joined
-    // (the arena's workers were asleep or busy), the next 2^m − 1 solves (m such misses in a row, m ≤ 6) fork per
-    // loop instead, so a worker that never comes costs a wait only now and then.
+    // One team for all the sweeps (team.hpp), each member with its own copy of the sweeper, unless the last teams
+    // lacked their workers (retune_team).
     const bool team = sweeper.team_ready() && scratch.team_skip == 0;
     if (sweeper.team_ready() && !team) --scratch.team_skip;
     if (team) {
@@ -50,22 +49,20 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
         for (int it = 0; it < params.iterations; ++it) s.sweep(p);
         s.join(nullptr);
       });
-      // The next solve waits for its workers at most a tenth of this one's time (20 µs to 1 ms): on a large model a
-      // worker that wakes late is worth waiting for, on a small one the wait would cost more than it brings.
-      const auto took = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - start);
-      scratch.team_wait = std::clamp(took / 10, std::chrono::microseconds(20), std::chrono::microseconds(1000));
+      retune_team(scratch, std::chrono::steady_clock::now() - start, outcome.members);
       report.threads = outcome.members;
       report.wait_fraction = outcome.wait_fraction;
-      scratch.team_misses = outcome.members == 1 ? std::min(scratch.team_misses + 1, 6) : 0;
-      scratch.team_skip = (1 << scratch.team_misses) - 1;
     } else {
       for (int it = 0; it < params.iterations; ++it) sweeper.sweep(p);
     }
     sweeper.end(p);
     return report;
   }
-  ChebyshevAccelerator<Real> chebyshev(params.chebyshev, params.iterations, model.num_particles(), state, scratch,
-                                       parallel, config);
+  // ρ = 0: the ρ measured before (kept in the state, never in the user's parameters), or measure it now.
+  Chebyshev<Real> settings = params.chebyshev;
+  if (settings.rho == Real(0)) settings.rho = state.chebyshev_rho;
+  ChebyshevAccelerator<Real> chebyshev(settings, params.iterations, model.num_particles(), state, scratch, parallel,
+                                       config);
   for (int it = 0; it < params.iterations; ++it) {
     chebyshev.before(it, p);
     sweeper.sweep(p);
@@ -73,10 +70,23 @@ SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch
   }
   sweeper.end(p);
   report.chebyshev_fell_back = chebyshev.fell_back();
-  report.chebyshev_estimate = double(chebyshev.estimate());
+  if (chebyshev.estimate() > Real(0)) state.chebyshev_rho = chebyshev.estimate();
   return report;
 }
 
+template <class Real> void retune_team(Scratch<Real>& k, std::chrono::steady_clock::duration took, int members) {
+  // The next team waits for its workers at most a tenth of this one's time (20 µs to 1 ms): on a large model a
+  // worker that wakes late is worth waiting for, on a small one the wait would cost more than it brings. When no
+  // worker joined (the arena's workers were asleep or busy), the next 2^m − 1 solves (m such misses in a row,
+  // m ≤ 6) fork per loop instead, so a worker that never comes costs a wait only now and then.
+  const auto us = std::chrono::duration_cast<std::chrono::microseconds>(took);
+  k.team_wait = std::clamp(us / 10, std::chrono::microseconds(20), std::chrono::microseconds(1000));
+  k.team_misses = members == 1 ? std::min(k.team_misses + 1, 6) : 0;
+  k.team_skip = (1 << k.team_misses) - 1;
+}
+
+template void retune_team(Scratch<float>&, std::chrono::steady_clock::duration, int);
+template void retune_team(Scratch<double>&, std::chrono::steady_clock::duration, int);
 template SolveReport solve(Model<float>&, State<float>&, Scratch<float>&, const StepParams<float>&, const ParallelConfig&,
                     double, bool);
 template SolveReport solve(Model<double>&, State<double>&, Scratch<double>&, const StepParams<double>&,

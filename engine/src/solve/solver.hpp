@@ -16,11 +16,14 @@
 //                           boxes); each records its material and approach speed; colored for the colored solvers.
 //                           A parallel solver generates the two kinds at once (apart outputs): the colliders' chunks
 //                           fill the other threads while the broad phase runs its serial passes
-//   4. solve                `iterations` sweeps (sweep.hpp): each visits the built-in types in solver order
-//                           (constraint_types.hpp), the user-defined types, the volume constraints, the contacts
-//                           (the block solver: every type's block interiors first, then the rest as colored); a
-//                           contact's projection ends with its friction (Macklin et al. 2014 §6.1);
-//                           with Chebyshev acceleration, each sweep's result is extrapolated (chebyshev.hpp);
+//   4. solve                `iterations` sweeps (sweep.hpp): each visits every constraint type through one loop
+//                           (for_each_type: the built-in types in list order, constraint_types.hpp, then the
+//                           user-defined ones in the order first added), then the volume constraints, then the
+//                           contacts (the block solver: every type's block interiors first, then the rest as
+//                           colored); a type with a SIMD kernel (kernels.hpp) runs it where it serves the schedule;
+//                           a contact's projection ends with its friction (Macklin et al. 2014 §6.1);
+//                           with Chebyshev acceleration, each sweep's result is extrapolated (chebyshev.hpp; a
+//                           measured ρ is kept in the State, an output, never in the user's parameters);
 //                           with SweepOrder::symmetric, odd sub-steps visit each type backwards (the sub-step's
 //                           number is round(time / dt) · substeps + s: a function of the world's time, so a copy
 //                           made at any step, or a world whose time was set, sweeps the same way)
@@ -40,48 +43,38 @@
 // too gives the same bits on any thread count. Colors smaller than ParallelConfig::inline_below run inline: a
 // fork/join costs about as much as projecting a thousand constraints. The Gauss-Seidel sweeps of the colored and
 // block solvers hold one team of threads for the whole solve instead (team.hpp: a barrier per loop, a fork/join per
-// sub-step). A step that is only steps 2, 4 and 5 (no collider, force callback or free body; run_substeps_on_team)
-// holds one team for all its sub-steps, steps 1–2 and 5 being the team's loops over the particles. Everything runs
-// in the caller's tbb::task_arena, so a host decides the thread count.
+// sub-step). Steps 1–5 are one function (engine/src/substep.cpp) run on one of two runners, chosen in one place
+// (run_substeps): a step that is only steps 1, 2, 4 and 5 (no collider, force callback or free body) holds one team
+// for all its sub-steps, steps 1–2 and 5 being the team's loops over the particles; any other step forks per loop.
+// The team's wait for its workers is retuned after each team in one place (retune_team). Everything runs in the
+// caller's tbb::task_arena, so a host decides the thread count.
 #include "pbd/step_params.hpp"
 #include "pbd/detail/model.hpp"
 #include "scratch.hpp"
+
+#include <chrono>
+#include <functional>
 
 namespace pbd::detail {
 
 /// What a sub-step's solve reports.
 struct SolveReport {
   bool chebyshev_fell_back = false;  ///< the Chebyshev guard stopped the acceleration
-  double chebyshev_estimate = 0.0;   ///< ρ this sub-step measured (0: none)
   int threads = 1;                   ///< threads that ran the sweeps together (a team, team.hpp; 1: none)
   double wait_fraction = 0.0;        ///< share of those threads' time spent waiting for one another (barriers)
 };
 
 /// Step 4 of a sub-step: λ reset where needed, `params.iterations` sweeps of `params.solver` on scratch.p, at time
-/// `time` (s, for volume targets); `reverse`: each type backwards (SweepOrder::symmetric, odd sub-step). The collisions in scratch.collisions are those of this sub-step, in generation
-/// order; colored solvers lay them out by color first. The colors must be up to date (update_colors).
+/// `time` (s, for volume targets); `reverse`: each type backwards (SweepOrder::symmetric, odd sub-step). The
+/// collisions in scratch.collisions are those of this sub-step, in generation order; colored solvers lay them out by
+/// color first. The colors must be up to date (update_colors). Chebyshev acceleration with ρ = 0 uses the ρ a
+/// sub-step measured before (State::chebyshev_rho), or measures it and keeps it there.
 template <class Real>
 SolveReport solve(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, const StepParams<Real>& params,
            const ParallelConfig& config, double time, bool reverse);
 
-/// What run_substeps_on_team reports (ran = false: it ran nothing, the caller steps sub-step by sub-step).
-struct TeamSubstepsReport {
-  bool ran = false;
-  int threads = 1;                 ///< members of the team
-  double seconds_integrate = 0.0;  ///< steps 1, 2 and 5, as member 0 saw them
-  double seconds_solve = 0.0;      ///< step 4 (with each sub-step's λ reset)
-  double wait_fraction = 0.0;      ///< of the members' time in step 4, the share spent waiting for one another
-};
-
-/// Every sub-step of a step on one team of threads (team.hpp), when the step is only predict, sweeps and update:
-/// a parallel Gauss-Seidel solver (colors or blocks) over the built-in types, no Chebyshev acceleration, no user
-/// type, volume or collider, no force callback (external forces are fine), no free body, and a model whose sweeps
-/// would form a team anyway (Sweeper::team_ready). Predict and update are then the team's loops over the same
-/// particle parts the sweeps use, so a sub-step costs no fork/join and its particles stay in their thread's cache;
-/// the bits are those of the sub-step-by-sub-step path. Otherwise returns ran = false, having changed nothing.
-template <class Real>
-TeamSubstepsReport run_substeps_on_team(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch,
-                                        const StepParams<Real>& params, const ParallelConfig& config,
-                                        const Real* forces, bool has_callback);
+/// After a team ran (took: how long; members: how many threads joined): how long the next team waits for its
+/// workers, and how many solves fork instead after teams that no worker joined.
+template <class Real> void retune_team(Scratch<Real>& scratch, std::chrono::steady_clock::duration took, int members);
 
 }  // namespace pbd::detail

@@ -2,6 +2,7 @@
 
 #include "kernels_avx2.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cstdint>
 
@@ -16,9 +17,8 @@ using InterleavedFn = void (*)(const StretchConstraint<float>*, const Index*, In
 
 #if defined(__SSE2__)
 // Software prefetch of the constraint and λ streams kPrefetchAhead constraints ahead of the block being projected.
-// Once these streams no longer fit in cache (1000² cloth: 3M constraints) a projection took about twice as long as
-// at 300² without it, on this project's 2-core VM, and about as long with it (docs/performance.md): the hardware
-// prefetcher alone did not keep ahead of the kernel. A prefetch never faults, so reaching past the range's end is
+// Once these streams no longer fit in cache (a 1000² cloth: 3M constraints), the hardware prefetcher alone does not
+// keep ahead of the kernel, and a projection waits on memory (docs/performance.md). A prefetch never faults, so reaching past the range's end is
 // harmless; the address is formed as an integer so no out-of-bounds pointer is ever made.
 constexpr std::size_t kPrefetchAhead = 128;  // 2 KB of constraints, 512 B of λ
 [[gnu::always_inline]] inline void prefetch_ahead(const void* p, std::size_t bytes) {
@@ -159,6 +159,35 @@ void project_stretch_interleaved(const StretchConstraint<float>* items, const In
   assert(chains == 4 || chains == 8);
   static const InterleavedFn fn = pick_interleaved();
   fn(items, begin, chains, common, q, coeff, lambda, any_xpbd, reverse);
+}
+
+void project_stretch_interiors(const StretchConstraint<float>* items, const Index* offsets, Index first, Index last,
+                               float* q, const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd,
+                               bool reverse) {
+  Index begin[kInterleavedChains], len[kInterleavedChains];
+  auto one = [&](Index i) { project_stretch_padded(items[i], q, coeff[items[i].set], lambda[i]); };
+  for (Index g = first; g < last;) {  // a group of 8 or 4 blocks (SIMD), or fewer (one by one)
+    const Index left = last - g, m = left >= 8 ? 8 : left >= 4 ? 4 : left;
+    Index common = ~Index(0), longest = 0;
+    for (Index j = 0; j < m; ++j) {
+      begin[j] = offsets[g + j];
+      len[j] = offsets[g + j + 1] - begin[j];
+      common = std::min(common, len[j]);
+      longest = std::max(longest, len[j]);
+    }
+    if (m < 4) common = 0;
+    if (reverse) {
+      for (Index j = 0; j < m; ++j)
+        for (Index k = len[j]; k-- > common;) one(begin[j] + k);
+      if (common) project_stretch_interleaved(items, begin, m, common, q, coeff, lambda, any_xpbd, true);
+    } else {
+      if (common) project_stretch_interleaved(items, begin, m, common, q, coeff, lambda, any_xpbd, false);
+      for (Index k = common; k < longest; ++k)
+        for (Index j = 0; j < m; ++j)
+          if (k < len[j]) one(begin[j] + k);
+    }
+    g += m;
+  }
 }
 
 void pad_positions(const float* p, const float* w, Index b, Index e, float* q) {

@@ -9,6 +9,7 @@
 #include "pbd/constraints/stretch.hpp"
 #include "pbd/detail/model.hpp"  // kMixedSets
 
+#include "kernels.hpp"
 #include "simd/wide.hpp"
 
 namespace pbd::detail {
@@ -159,6 +160,25 @@ inline constexpr Index kInterleavedChains = 8;
 void project_stretch_interleaved(const StretchConstraint<float>* items, const Index* begin, Index chains, Index common,
                                  float* q, const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd,
                                  bool reverse);
+
+/// The block schedule's stretch interiors [first, last) (block b: items[offsets[b], offsets[b + 1])), stretch being
+/// the only type, on padded positions q: in groups of eight or four blocks, the k-th constraints of four blocks at a
+/// time (project_stretch_interleaved); each block's constraints beyond its group's shortest count, and blocks left
+/// over from the groups, one by one, interleaved (backwards when reverse). The bits of the scalar interiors.
+void project_stretch_interiors(const StretchConstraint<float>* items, const Index* offsets, Index first, Index last,
+                               float* q, const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd,
+                               bool reverse);
+
+/// Float stretch: four lanes on padded positions (SSE2 targets), colors cut at multiples of kStretchBlock, and the
+/// block schedule's interiors when stretch is the only type (kernels.hpp).
+template <> struct Kernels<StretchConstraint<float>> {
+  static constexpr bool kBuilt = kPaddedStretch;
+  static constexpr bool kNeedsAvx2 = false;
+  static constexpr Index kBlock = kStretchBlock;
+  static constexpr auto range = &project_stretch_range;
+  static constexpr auto interiors = &project_stretch_interiors;
+  static constexpr Index kChains = kInterleavedChains;
+};
 
 /// Particles [b, e) from positions p (3 per particle) and inverse masses w into padded positions q (4 per particle).
 void pad_positions(const float* p, const float* w, Index b, Index e, float* q);

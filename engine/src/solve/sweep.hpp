@@ -1,680 +1,296 @@
 #pragma once
-// The one sweep driver (private): every solver is a schedule × an update rule over the same projection functions.
-//   schedule  insertion: every constraint in the order the user added it (the serial reference)
-//             colors:    color after color; within a color no two constraints write the same movable particle, so a
-//                        color's constraints run in parallel (tbb::parallel_for) or one after the other with the
-//                        same bits
-//             blocks:    the blocks' interiors first, in one parallel loop over the blocks: a task projects its
-//                        block's constraints of every type (types in solver order, each in insertion order), and no
-//                        two blocks share a movable particle, so any number of threads gives the same bits; then
-//                        the constraints that cross blocks, color after color as above (block_layout.hpp)
-//   update    in place:  Gauss-Seidel, each projection moves p at once
-//             Jacobi:    the built-in and user-defined constraints all read the same p and add their corrections to
-//                        a delta per particle, computed with split masses (Tonge et al. 2012): particle i, touched
-//                        by n_i of them, enters each with inverse mass n_i·w_i, so that p += ω·delta / n_i after
-//                        the sweep applies exactly w_i ∇C·(ω Δλ) per constraint and λ += ω Δλ tracks it (XPBD's λ
-//                        then converges to Gauss-Seidel's, and every correction conserves momentum)
-//   order     forward:   every sub-step visits each type in insertion or color order
-//             symmetric: odd sub-steps visit each type backwards, colors reversed too (a color's constraints
-//                        share no particle, so their own order never matters); a sub-step's number comes from the
-//                        world's time (solver.hpp), so a copy of the world taken at any step sweeps the same way
-// A sweep visits, in this order: the built-in types (constraint_types.hpp), the user-defined types (in the order
-// first added), the volume constraints, then the sub-step's collisions and particle contacts. The volumes and the
-// contacts are projected in place under every update (Jacobi after applying its deltas; the colored ones color by
-// color): a volume is one constraint, parallel within itself, and contacts are inequalities whose friction reads
-// the positions they leave; so every sweep ends with the volumes and then the contacts holding. The
-// SIMD kernels on padded positions (x y z w per particle) are how the colors schedule projects stretch, bending and
-// area colors in place (float: stretch_kernel.hpp, bending_kernel.hpp; double, and area in both, with AVX2:
-// kernels_avx2.hpp); they give the scalar projection's bits. The positions are padded before the first such color and copied back before
-// anything that reads p (another type, user types, volumes, contacts) and at the sub-step's end.
-// Threads: Gauss-Seidel sweeps of the built-in types (no volume, no user type) run all of a sub-step's sweeps on one
-// team of threads (team.hpp: one fork/join per sub-step, a barrier per shared loop; every loop gives the same bits
-// however it is cut). Under the colors schedule each member takes, in every color, the constraints of its share of
-// the particles (Model::particle_cuts); under the block schedule, the same blocks every sweep and, in each boundary
-// color, the constraints filed under its blocks (block_layout.hpp sorts them so). Either way most cache lines stay
-// with one thread. Otherwise each loop forks and joins (run_range).
-#include "parallel_range.hpp"
-#include "pbd/constraints/projection.hpp"
-#include "scratch.hpp"
-#include "bending_kernel.hpp"
-#include "kernels_avx2.hpp"
-#include "stretch_kernel.hpp"
-#include "team.hpp"
+// The sweep driver (private): every solver is a schedule × an update rule over the same projection functions.
+//   schedule_walk.hpp    the order: insertion | colors | blocks (forward, or each type backwards)
+//   update_rule.hpp      in place (Gauss-Seidel) | Jacobi (split masses, deltas applied after the types)
+//   padded_positions.hpp the padded copy of the positions the SIMD kernels run on, and when it goes back to p
+//   sweep_loops.hpp      the loops: a team of threads for the whole solve, or a fork per loop
+//   kernel_table.hpp     each type's SIMD kernel (kernels.hpp), if it has one
+// A sweep visits, in this order: under the block schedule the blocks' interiors; every constraint type through one
+// loop (for_each_type: the built-in types in list order, then the user-defined ones in the order first added), each
+// by its SIMD kernel when it has one this sub-step runs (colors schedule, in place; or the interiors and boundary of
+// the only type, under the block schedule) or else by the generic projection; Jacobi's deltas; the volume
+// constraints; then the sub-step's collisions and particle contacts. The volumes and the contacts are projected in
+// place under every update rule (a volume is one constraint, parallel within itself, and contacts are inequalities
+// whose friction reads the positions they leave), so every sweep ends with the volumes and then the contacts
+// holding. The kernels give the generic projection's bits.
+// What a sub-step runs is decided once, in begin() (SweepPlan): which types run a kernel, whether the padded copy is
+// kept from sweep to sweep, whether the sweeps may run on a team. Nothing in a sweep changes it.
+// Threads: Gauss-Seidel sweeps of the built-in types (no volume, no user type: those fork inside their loops) run
+// all of a sub-step's sweeps on one team of threads (team.hpp: one fork/join per sub-step, a barrier per shared
+// loop); otherwise each loop forks and joins (run_range).
+#include "padded_positions.hpp"
+#include "schedule_walk.hpp"
+#include "update_rule.hpp"
 #include "volume_projection.hpp"
 
 #include <algorithm>
 #include <cassert>
+#include <vector>
 
 namespace pbd::detail {
 
-enum class Schedule { insertion, colors, blocks };  // which order a sweep visits the constraints in
-enum class Update { in_place, jacobi };     // Gauss-Seidel or Jacobi
-
-/// Every constraint of `st` in insertion order (kReverse: backwards), each projected into `out`. A function of its
-/// own (not inlined into the sweep), like each color's range, so that the projection is inlined into its loop.
-/// kInPlace: out is p (Gauss-Seidel) and relax is 1, and the compiler sees both.
-template <bool kInPlace, bool kReverse, class C, class Real, class CoeffOf>
-[[gnu::noinline]] void project_in_insertion_order(const Store<C>& st, Real* lam, Real* p, const Real* w,
-                                                  const CoeffOf& coeff_of, Real relax, Real* out) {
-  if constexpr (kInPlace) {
-    out = p;
-    relax = Real(1);
-  }
-  const Index n = Index(st.size());
-  if (st.slot.empty()) {  // never colored: stored order is insertion order
-    if constexpr (kReverse) {
-      for (Index i = n; i-- > 0;) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
-    } else {
-      for (Index i = 0; i < n; ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
-    }
-  } else {
-    if constexpr (kReverse) {
-      for (Index u = n; u-- > 0;) {
-        const Index i = st.slot[u];
-        project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
-      }
-    } else {
-      for (Index i : st.slot) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
-    }
-  }
-}
-
-/// Blocks handled by one task of the block schedule's scalar interiors: they are projected interleaved, the k-th
-/// constraint of each in turn, so that the processor overlaps independent dependency chains (a block's own
-/// constraints mostly share particles with their predecessors, so one block alone waits on every square root).
-/// Blocks share no particle, so interleaving them gives the bits of one block after the other. (With the stretch
-/// kernel a task takes up to kInterleavedChains blocks, stretch_kernel.hpp.)
-inline constexpr Index kInterleave = 4;
-
-/// Block interiors [first, last) of `st` (at most kInterleave), each in stored order (kReverse: backwards),
-/// interleaved, projected in place. A function of its own so that the projection is inlined into its loop.
-template <bool kReverse, class C, class Real>
-[[gnu::noinline]] void project_interiors_interleaved(const Store<C>& st, Index first, Index last, Real* lam, Real* p,
-                                                     const Real* w, const SolveCoefficients<Real>* coeff) {
-  const C* items = st.items.data();
-  const Index m = last - first;
-  Index begin[kInterleave], len[kInterleave];
-  Index common = ~Index(0);
-  for (Index j = 0; j < m; ++j) {
-    begin[j] = st.offsets[first + j];
-    len[j] = st.offsets[first + j + 1] - begin[j];
-    common = std::min(common, len[j]);
-  }
-  auto one = [&](Index i) { project_into(items[i], p, w, coeff[items[i].set], lam[i], p, Real(1)); };
-  if constexpr (kReverse) {  // each block backwards: its tail beyond the common length first, then interleaved
-    for (Index j = 0; j < m; ++j)
-      for (Index k = len[j]; k-- > common;) one(begin[j] + k);
-    for (Index k = common; k-- > 0;)
-      for (Index j = 0; j < m; ++j) one(begin[j] + k);
-  } else {
-    for (Index k = 0; k < common; ++k)
-      for (Index j = 0; j < m; ++j) one(begin[j] + k);
-    for (Index j = 0; j < m; ++j)
-      for (Index k = common; k < len[j]; ++k) one(begin[j] + k);
-  }
-}
+/// What a sub-step's sweeps run (Sweeper::begin decides it from the model, the solver and the CPU).
+template <class Real> struct SweepPlan {
+  std::vector<PaddedKernel<Real>> kernel;  ///< per type position: the kernel its constraints run by (empty: none)
+  std::size_t interiors_kernel = ~std::size_t(0);  ///< block schedule: the type whose kernel runs the interiors
+  std::size_t interior_items = 0;          ///< constraints in the blocks' interiors
+  bool team = false;                       ///< the sweeps may run on a team
+};
 
 /// One sub-step's sweeps over a model: begin(), sweep() × iterations, end().
 template <class Real> class Sweeper {
 public:
   /// reverse: this sub-step sweeps each type backwards (SweepOrder::symmetric on an odd sub-step; not for Jacobi).
+  /// keep: the positions may stay in the padded copy between sweeps when every type runs there (per_sweep: p holds
+  /// them after every sweep, as Chebyshev acceleration needs).
   Sweeper(Model<Real>& model, State<Real>& state, Scratch<Real>& scratch, Schedule schedule, Update update,
-          bool reverse, bool parallel, const ParallelConfig& config)
-      : m_(model), s_(state), k_(scratch), schedule_(schedule), update_(update),
-        reverse_(reverse && update == Update::in_place), parallel_(parallel), config_(config) {}
+          bool reverse, bool parallel, const ParallelConfig& config, Real omega = Real(1),
+          typename PaddedPositions<Real>::Keep keep = PaddedPositions<Real>::Keep::substep)
+      : m_(model), s_(state), k_(scratch), walk_(model, schedule, reverse && update == Update::in_place),
+        update_(update, omega), loops_(model, scratch, parallel, schedule == Schedule::blocks, config),
+        padded_(scratch, model.num_particles(), PaddedPositions<Real>::Keep::per_sweep), keep_(keep) {}
 
-  /// Starts a sub-step at `time` (s): volume targets, λ reset (only if some λ may be non-zero), Jacobi's counts and
-  /// split masses.
+  /// Starts a sub-step at `time` (s): volume targets, λ reset (only if some λ may be non-zero), the update rule's
+  /// counts, and the plan.
   void begin(double time) {
     k_.volume.set_targets(m_.volume.table, time);
-    const std::size_t collisions = k_.collisions.size();
-    bool sized = s_.volume_lambda.size() == m_.volume.table.size() &&
-                 s_.user_lambda.size() == m_.user.types().size();
-    for_each_store(m_.stores, [&](const auto& st, auto i) { sized = sized && s_.lambda[i].size() == st.size(); });
-    for (std::size_t t = 0; sized && t < m_.user.types().size(); ++t)
-      sized = s_.user_lambda[t].size() == m_.user.types()[t]->size();
-#ifndef NDEBUG
-    if (!s_.lambda_dirty && sized)  // debug builds: λ is zero wherever no sweep had α̃ ≠ 0 since the last reset
-      for_each_store(m_.stores, [&](const auto&, auto i) {
-        assert(std::ranges::all_of(s_.lambda[i], [](Real l) { return l == Real(0); }));
-      });
-#endif
-    if (s_.lambda_dirty || !sized) {
-      for_each_store(m_.stores, [&](const auto& st, auto i) { s_.lambda[i].assign(st.size(), Real(0)); });
-      s_.user_lambda.resize(m_.user.types().size());
-      for (std::size_t t = 0; t < m_.user.types().size(); ++t) s_.user_lambda[t].assign(m_.user.types()[t]->size(), Real(0));
-      s_.volume_lambda.assign(m_.volume.table.size(), Real(0));
-    }
-    // Contacts' λ count the projections that moved them (collision.hpp, particle_contact.hpp): reset every sub-step.
-    k_.collision_lambda.assign(collisions, Real(0));
-    k_.particle_contact_lambda.assign(k_.particle_contacts.size(), Real(0));
-    s_.lambda_dirty = std::ranges::any_of(k_.coeff, [](const auto& c) { return c.alpha_tilde != Real(0); });
-    if (update_ == Update::jacobi) {
-      const Index n = m_.num_particles();
-      const Real* w = m_.inverse_mass.data();
-      k_.count_inv.resize(n);
-      k_.split_w.resize(n);
-      for (Index i = 0; i < n; ++i) {
-        const Index c = m_.touch_count[i];
-        k_.count_inv[i] = c ? Real(1) / Real(c) : Real(0);
-        k_.split_w[i] = c ? w[i] * Real(c) : w[i];
-      }
-      k_.delta.resize(3 * std::size_t(n));
-    }
-    padded_ = false;
-    // (with fewer blocks than the kernel's four lanes, they are not filled: scalar, without the padding)
-    padded_blocks_ = std::is_same_v<Real, float> && kPaddedStretch && schedule_ == Schedule::blocks &&
-                     update_ == Update::in_place && m_.user.empty() && m_.num_blocks >= 4;
-    for_each_store(m_.stores, [&](const auto& st, auto i) { padded_blocks_ = padded_blocks_ && (i == 0 || st.empty()); });
-    // Only types the SIMD kernels project on padded positions (padded_kernel): the positions may stay padded from
-    // one sweep to the next.
-    double_kernels_ = std::is_same_v<Real, double> && avx2_enabled();
-    stay_padded_ = update_ == Update::in_place && schedule_ != Schedule::insertion;
-    for_each_store(m_.stores, [&](const auto& st, auto) {
-      using C = typename std::remove_cvref_t<decltype(st)>::value_type;
-      stay_padded_ = stay_padded_ && (st.empty() || padded_kernel<C>());
-    });
-    stay_padded_ = stay_padded_ && m_.user.empty() && m_.volume.table.empty() && collisions == 0 &&
-                   k_.particle_contacts.empty() && keep_padded;
-    interior_items_ = count_interior_items();
-    bool any_padded = false;  // sized here, never by a team's members
-    for_each_store(m_.stores, [&](const auto& st, auto) {
-      using C = typename std::remove_cvref_t<decltype(st)>::value_type;
-      any_padded = any_padded || (!st.empty() && padded_kernel<C>());
-    });
-    if (any_padded) k_.padded.resize(m_.num_particles());
-    share_interiors_ = shares_interiors();
-    team_ready_ = team_possible();
+    reset_lambda();
+    update_.begin(m_, k_);
+    plan_sweeps();
   }
 
-  /// Whether the sweeps would run on a team once begin() ran (team_ready()), without changing anything: a team
-  /// (team.hpp) for Gauss-Seidel in place with the built-in types and contacts only (user types may fork inside,
-  /// volumes reduce with loops of their own), only when some loop is large enough to share, and under the block
-  /// schedule only when the interiors are shared (else sharing the boundary alone moves its cache lines between the
-  /// threads every sweep: 0.78× on the 30² cloth's 3 blocks).
+  /// Whether the sweeps would run on a team (team.hpp), without changing anything: Gauss-Seidel in place with the
+  /// built-in types and contacts only (user types may fork inside, volumes reduce with loops of their own), only when
+  /// some loop is large enough to share, and under the block schedule only when the interiors are shared (else
+  /// sharing the boundary alone moves its cache lines between the threads every sweep).
   bool team_possible() const {
-    if (!parallel_ || schedule_ == Schedule::insertion || update_ != Update::in_place || !m_.user.empty() ||
+    if (!loops_.parallel() || walk_.schedule() == Schedule::insertion || !update_.in_place() || !m_.user.empty() ||
         !m_.volume.table.empty() || tbb::this_task_arena::max_concurrency() <= 1)
       return false;
-    const bool share = shares_interiors();
-    if (schedule_ == Schedule::blocks && !share) return false;
+    const bool share = loops_.shares_interiors();
+    if (walk_.schedule() == Schedule::blocks && !share) return false;
     std::size_t largest = share ? count_interior_items() : 0;
-    for_each_store(m_.stores, [&](const auto& st, auto) {
-      for (Index c = st.sequential; c < st.num_colors(); ++c) largest = std::max<std::size_t>(largest, st.offsets[c + 1] - st.offsets[c]);
+    for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t) {
+      for (Index c = type.num_blocks(); c < type.num_colors(); ++c)
+        largest = std::max<std::size_t>(largest, type.color_begin(c + 1) - type.color_begin(c));
     });
-    return largest >= team_share_below(config_);
+    return largest >= SweepLoops<Real>::team_share_below(loops_.config());
   }
-
   /// The sweeps may run on a team (Team::run, then join() on each member's own copy of this sweeper).
-  bool team_ready() const { return team_ready_; }
+  bool team_ready() const { return plan_.team; }
   /// Runs this sweeper's loops as `member` of a team (nullptr: on its own again).
-  void join(Team::Member* member) { team_ = member; }
-  /// A team forms only when some loop has at least this many items (ParallelConfig::inline_below, the loops a fork
-  /// would take): sharing small loops moves their cache lines between the threads (the 30² cloth's colors, about
-  /// 430 constraints, ran 0.65× on 2 threads).
-  static std::size_t team_share_below(const ParallelConfig& cfg) { return std::max<std::size_t>(1, cfg.inline_below); }
-  /// Within a team, a loop is shared when each member gets at least ParallelConfig::min_grain items (and always at
-  /// team_share_below): a barrier costs about 0.3 µs here, while a color of 800 bending constraints run by member 0
-  /// alone keeps the others waiting about 5 µs (the last two bending colors of the 100² cloth, every sweep).
+  void join(Team::Member* member) { loops_.join(member); }
+  /// Within a team, whether a loop over `n` items is shared.
   static std::size_t team_loop_share_below(const ParallelConfig& cfg, int members) {
-    return std::max<std::size_t>(1, std::min(cfg.inline_below, cfg.min_grain * std::size_t(members)));
+    return SweepLoops<Real>::team_loop_share_below(cfg, members);
   }
 
   /// One sweep over every constraint, updating p (3 per particle).
   void sweep(Real* p) {
-    if (update_ == Update::jacobi) sweep_with<false, false>(p);
-    else if (reverse_) sweep_with<true, true>(p);
-    else sweep_with<true, false>(p);
+    loops_.start_sweep();
+    padded_.start_sweep(loops_);
+    const SolveCoefficients<Real>* coeff = k_.coeff.data();
+    const Real* w = update_.masses(m_, k_);
+    Real* out = update_.start_sweep(p, k_);
+    if (walk_.schedule() == Schedule::blocks && update_.in_place()) project_interiors(p, w, coeff);
+    for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) { project_type(type, t, p, w, coeff, out); });
+    update_.finish_sweep(p, m_, k_, loops_);
+    // Volumes and contacts, in place with the true masses whatever the update rule, so they have the last word.
+    project_volumes(p);
+    project_contacts(k_.collisions, k_.collision_lambda.data(), p);
+    project_contacts(k_.particle_contacts, k_.particle_contact_lambda.data(), p);
+    padded_.end_sweep(loops_, p);
   }
 
   /// Whether every sweep keeps the positions in the padded copy (scratch.padded, sized by begin()) from the first
   /// type to the end: a caller may then write that copy itself (adopt_padded) and read the result from it.
-  bool stays_padded() const { return stay_padded_ && k_.padded.size() == m_.num_particles(); }
+  bool stays_padded() const { return padded_.kept(); }
   /// The caller wrote every particle's predicted position and inverse mass into scratch.padded (stays_padded()):
   /// the sweeps start from it, and p is not read.
-  void adopt_padded() {
-    assert(stays_padded());
-    padded_ = true;
-  }
+  void adopt_padded() { padded_.adopt(); }
   /// Whether the solved positions are in scratch.padded rather than p (until end() copies them back).
-  bool padded() const { return padded_; }
-
+  bool padded() const { return padded_.current(); }
   /// Ends the sub-step's sweeps: p holds the solved positions afterwards.
-  void end(Real* p) {
-    if (padded_) unpad(p);
+  void end(Real* p) { padded_.to_p(loops_, p); }
+
+private:
+  // λ reset where some may be non-zero (or the arrays do not match the stores); the contacts' every sub-step.
+  void reset_lambda() {
+    bool sized = s_.volume_lambda.size() == m_.volume.table.size() && s_.lambda.size() == m_.num_types();
+    for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) { sized = sized && s_.lambda[t].size() == type.size(); });
+#ifndef NDEBUG
+    if (!s_.lambda_dirty && sized)  // debug builds: λ is zero wherever no sweep had α̃ ≠ 0 since the last reset
+      for (const auto& l : s_.lambda) assert(std::ranges::all_of(l, [](Real x) { return x == Real(0); }));
+#endif
+    if (s_.lambda_dirty || !sized) {
+      s_.lambda.resize(m_.num_types());
+      for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) { s_.lambda[t].assign(type.size(), Real(0)); });
+      s_.volume_lambda.assign(m_.volume.table.size(), Real(0));
+    }
+    // Contacts' λ count the projections that moved them (collision.hpp, particle_contact.hpp): reset every sub-step.
+    k_.collision_lambda.assign(k_.collisions.size(), Real(0));
+    k_.particle_contact_lambda.assign(k_.particle_contacts.size(), Real(0));
+    s_.lambda_dirty = std::ranges::any_of(k_.coeff, [](const auto& c) { return c.alpha_tilde != Real(0); });
+  }
+
+  // The plan (SweepPlan): the kernels run in place, under the colors schedule; under the block schedule only for
+  // the interiors and boundary of a type that is the only one with constraints, with no user type and at least as
+  // many blocks as the kernel's lanes (with fewer they are not filled). The copy is kept from sweep to sweep when
+  // every type with constraints runs a kernel and nothing else reads p (no user type, volume or contact).
+  void plan_sweeps() {
+    const Schedule schedule = walk_.schedule();
+    plan_.kernel.assign(m_.num_types(), PaddedKernel<Real>{});
+    plan_.interiors_kernel = ~std::size_t(0);
+    std::size_t nonempty = 0, only = 0;
+    for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) {
+      if (!type.empty()) ++nonempty, only = t;
+    });
+    if (update_.in_place() && schedule == Schedule::colors) {
+      for (std::size_t t = 0; t < plan_.kernel.size(); ++t) plan_.kernel[t] = padded_kernel<Real>(t);
+    } else if (update_.in_place() && schedule == Schedule::blocks && m_.user.empty() && m_.num_blocks >= 4 &&
+               nonempty == 1 && padded_kernel<Real>(only).interiors) {
+      plan_.kernel[only] = padded_kernel<Real>(only);
+      plan_.interiors_kernel = only;
+    }
+    bool all_padded = schedule != Schedule::insertion, any_padded = false;
+    for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) {
+      const bool kernel = plan_.kernel[t].range != nullptr;
+      all_padded = all_padded && (type.empty() || kernel);
+      any_padded = any_padded || (!type.empty() && kernel);
+    });
+    const bool keep = all_padded && m_.user.empty() && m_.volume.table.empty() && k_.collisions.empty() &&
+                      k_.particle_contacts.empty() && keep_ == PaddedPositions<Real>::Keep::substep;
+    padded_ = PaddedPositions<Real>(k_, m_.num_particles(),
+                                    keep ? PaddedPositions<Real>::Keep::substep : PaddedPositions<Real>::Keep::per_sweep);
+    if (any_padded) k_.padded.resize(m_.num_particles());  // sized here, never by a team's members
+    plan_.interior_items = count_interior_items();
+    const std::size_t k = plan_.interiors_kernel;
+    loops_.set_interiors(plan_.interior_items, k < plan_.kernel.size() ? plan_.kernel[k].chains : kInterleave);
+    plan_.team = team_possible();
   }
 
   // Constraints in the blocks' interiors (block schedule; 0 otherwise).
   std::size_t count_interior_items() const {
     std::size_t n = 0;
-    for_each_store(m_.stores, [&](const auto& st, auto) { n += st.sequential ? st.offsets[st.sequential] : 0; });
-    for (const auto& t : m_.user.types()) n += t->num_blocks() ? t->color_begin(t->num_blocks()) : 0;
+    for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t) {
+      n += type.num_blocks() ? type.color_begin(type.num_blocks()) : 0;
+    });
     return n;
   }
-  // The interiors are shared only with at least two blocks per thread (fewer, and the threads mostly trade cache
-  // lines: 3 blocks of a 30² cloth ran 0.75× on 2 threads against 1).
-  bool shares_interiors() const {
-    const Index threads = Index(std::max(1, tbb::this_task_arena::max_concurrency()));
-    return parallel_ && m_.num_blocks >= 2 * threads;
-  }
 
-  /// Whether constraints of type C are projected by a SIMD kernel on padded positions in this sub-step's sweeps:
-  /// float stretch under the colors schedule or with padded blocks, float bending under the colors schedule,
-  /// double stretch and bending under the colors schedule when the AVX2 kernels run, and area (float and double)
-  /// under the colors schedule when the AVX2 kernels run (area_math.hpp).
-  template <class C> bool padded_kernel() const {
-    if (update_ != Update::in_place) return false;
-    if constexpr (std::is_same_v<Real, float> && kPaddedStretch) {
-      if constexpr (std::is_same_v<C, StretchConstraint<float>>) return schedule_ == Schedule::colors || padded_blocks_;
-      if constexpr (std::is_same_v<C, BendingConstraint<float>>) return schedule_ == Schedule::colors;
-    }
-    if constexpr (std::is_same_v<C, StretchConstraint<double>> || std::is_same_v<C, BendingConstraint<double>>)
-      return schedule_ == Schedule::colors && double_kernels_;
-    if constexpr (std::is_same_v<C, AreaConstraint<Real>>) return schedule_ == Schedule::colors && avx2_enabled();
-    return false;
-  }
-
-  /// Jacobi's over-relaxation factor ω.
-  Real omega = 1;
-  /// The SIMD kernels may leave the positions padded between sweeps when they project every type there is (false:
-  /// p holds the positions after every sweep, as Chebyshev acceleration needs).
-  bool keep_padded = true;
-
-private:
-  // kInPlace: Gauss-Seidel, every projection writes p itself (known at compile time, so the compiler knows the
-  // writes and reads are of one array); otherwise Jacobi, the projections add to the deltas with split masses.
-  // kReverse: each type's constraints backwards (the types keep their order).
-  template <bool kInPlace, bool kReverse> void sweep_with(Real* p) {
-    const Real* w = kInPlace ? m_.inverse_mass.data() : k_.split_w.data();
-    const SolveCoefficients<Real>* coeff = k_.coeff.data();
-    const Real relax = kInPlace ? Real(1) : omega;
-    Real* out = p;
-    if constexpr (!kInPlace) {
-      std::fill(k_.delta.begin(), k_.delta.end(), Real(0));
-      out = k_.delta.data();
-    }
-    part_ = 0;
-    pad_slot_ = part_++;
-    unpad_slot_ = part_++;
-    if constexpr (kInPlace)
-      if (schedule_ == Schedule::blocks && !padded_blocks_) project_interiors<kReverse>(p, w, coeff);
-    auto store = [&](const auto& st, auto i) { project_store<kInPlace, kReverse>(st, s_.lambda[i].data(), p, w, coeff, relax, out); };
-    for_each_store(m_.stores, store);
-    project_user_types<kReverse>(p, w, coeff, relax, out);
-    if constexpr (!kInPlace) apply_deltas(p);
-    // Volumes and contacts, in place with the true masses whatever the update (each volume is one constraint,
-    // parallel within itself; contacts color by color, their friction reading the positions they leave), so they
-    // have the last word in every sweep.
-    project_volumes<kReverse>(p, m_.inverse_mass.data(), p);
-    project_store<true, false>(k_.collisions, k_.collision_lambda.data(), p, m_.inverse_mass.data(), coeff, Real(1), p);
-    project_store<true, false>(k_.particle_contacts, k_.particle_contact_lambda.data(), p, m_.inverse_mass.data(), coeff,
-                               Real(1), p);
-    if (padded_ && !stay_padded_) unpad(p);
-  }
-
-  template <bool kReverse>
-  void project_user_types(Real* p, const Real* w, const SolveCoefficients<Real>* coeff, Real relax, Real* out) {
-    const std::size_t n = m_.user.types().size();
-    if (n && padded_) unpad(p);
-    for (std::size_t t = 0; t < n; ++t) {
-      const auto& type = *m_.user.types()[t];
-      Real* lam = s_.user_lambda[t].data();
-      if (schedule_ == Schedule::insertion) {
-        type.project_insertion(p, w, coeff, lam, out, relax, kReverse);
-      } else {
-        const std::size_t base = part_;
-        const Index first = type.num_blocks(), colors = type.num_colors() - first;  // blocks: projected before
-        part_ += std::size_t(colors);
-        for (Index j = 0; j < colors; ++j) {  // one virtual call per color range, never per constraint
-          const Index c = kReverse ? colors - 1 - j : j;
-          range(type.color_begin(first + c), type.color_begin(first + c + 1), config_, base + c,
-                    [&](Index b, Index e) { type.project_range(b, e, p, w, coeff, lam, out, relax, false); });
-        }
-      }
-    }
-  }
-
-  template <bool kInPlace, bool kReverse, class C>
-  void project_store(const Store<C>& st, Real* lam, Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
-                     Real relax, Real* out) {
-    if constexpr (kInPlace) {  // the same array, visibly so, and no relaxation
-      out = p;
-      relax = Real(1);
-    }
-    auto coeff_of = [&](const C& c) {
-      if constexpr (requires { c.set; }) return coeff[c.set];
-      else return SolveCoefficients<Real>{Real(1), Real(0)};  // collisions are hard
-    };
-    assert(schedule_ == Schedule::insertion || st.empty() || (st.up_to_date() && st.offsets.back() == st.size()));
-    if (schedule_ == Schedule::insertion) {
-      project_in_insertion_order<kInPlace, kReverse>(st, lam, p, w, coeff_of, relax, out);
+  // One type after the interiors: in insertion order, or its colors by its kernel or the generic projection.
+  void project_type(const TypeStore<Real>& type, std::size_t t, Real* p, const Real* w,
+                    const SolveCoefficients<Real>* coeff, Real* out) {
+    if (type.empty()) return;
+    Real* lam = s_.lambda[t].data();
+    const Real relax = update_.relax();
+    const Update update = update_.kind();
+    assert(walk_.schedule() == Schedule::insertion || type.empty() ||
+           (type.up_to_date() && type.color_begin(type.num_colors()) == Index(type.size())));
+    if (walk_.schedule() == Schedule::insertion) {
+      type.project_insertion(p, w, coeff, lam, out, relax, update, walk_.reverse());
       return;
     }
-    if constexpr (kInPlace && std::is_same_v<C, StretchConstraint<Real>>) {
-      if (padded_kernel<C>()) {  // padded_blocks_: the interiors too, stretch alone
-        if (st.num_colors() > 0) project_stretch_padded_colors<kReverse>(st, lam, p, w, coeff);
-        return;
-      }
-    }
-    if constexpr (kInPlace && (std::is_same_v<C, BendingConstraint<Real>> || std::is_same_v<C, AreaConstraint<Real>>)) {
-      if (padded_kernel<C>()) {
-        if (st.num_colors() > 0) project_lanes_padded_colors<kReverse>(st, lam, p, w, coeff);
-        return;
-      }
-    }
-    if (padded_ && !st.empty()) unpad(p);  // the positions are needed in p
-    // The colors (under the block schedule, the boundary colors after the blocks, whose interiors ran before).
-    const std::size_t base = part_;
-    const Index first = st.sequential, colors = st.num_colors() - first;
-    part_ += std::size_t(colors);
-    for (Index j = 0; j < colors; ++j) {
-      const Index c = first + (kReverse ? colors - 1 - j : j);
-      boundary_range(st, c, config_, base + c - first, [&](Index b, Index e) {
-        for (Index i = b; i < e; ++i) project_into(st.items[i], p, w, coeff_of(st.items[i]), lam[i], out, relax);
+    const PaddedKernel<Real>& kernel = plan_.kernel[t];
+    if (kernel.range) {
+      Real* q = padded_.to_padded(loops_, p, m_.inverse_mass.data());
+      const bool any_xpbd = s_.lambda_dirty;
+      const std::vector<Index>* sets = t < m_.color_sets.size() ? &m_.color_sets[t] : nullptr;
+      const bool sets_known = kernel.color_sets && sets && sets->size() == std::size_t(type.num_colors());
+      walk_.colors(loops_, type, t, kernel.block, [&](Index c, Index b, Index e) {
+        const Index set = sets_known ? (*sets)[c] : kMixedSets;
+        kernel.range(type, b, e, q, coeff, lam, any_xpbd, set);
       });
+      return;
     }
+    padded_.to_p(loops_, p);  // the generic projection reads p
+    walk_.colors(loops_, type, t, 1, [&](Index, Index b, Index e) {
+      type.project_range(b, e, p, w, coeff, lam, out, relax, update);
+    });
   }
 
-  // The blocks' interiors (Schedule::blocks): one parallel loop over the blocks; block b's task projects group b of
-  // every built-in store, then of every user type, each in stored (insertion) order or backwards. Blocks share no
+  // The blocks' interiors (block schedule): one parallel loop over tasks of blocks; a task projects its blocks of
+  // every type in types' order (or, when a kernel runs them, of the only type, on the padded copy). Blocks share no
   // movable particle, so the blocks run in any order and on any thread with the same bits.
-  template <bool kReverse> void project_interiors(Real* p, const Real* w, const SolveCoefficients<Real>* coeff) {
-    const std::size_t slot = part_++;
-    const Index blocks = m_.num_blocks, tasks = interior_tasks(blocks, kInterleave);
-    auto task = [&](Index t) {  // blocks [first, last), interleaved
-      const Index first = task_begin(t, tasks, blocks), last = task_begin(t + 1, tasks, blocks);
-      for_each_store(m_.stores, [&](const auto& st, auto i) {
-        if (st.sequential) project_interiors_interleaved<kReverse>(st, first, last, s_.lambda[i].data(), p, w, coeff);
+  void project_interiors(Real* p, const Real* w, const SolveCoefficients<Real>* coeff) {
+    const std::size_t k = plan_.interiors_kernel;
+    const bool reverse = walk_.reverse();
+    if (k < plan_.kernel.size()) {
+      const TypeStore<Real>& type = type_at(k);
+      if (type.num_blocks() == 0) return;
+      Real* q = padded_.to_padded(loops_, p, m_.inverse_mass.data());
+      Real* lam = s_.lambda[k].data();
+      const bool any_xpbd = s_.lambda_dirty;
+      walk_.interiors(loops_, [&](Index first, Index last) {
+        plan_.kernel[k].interiors(type, first, last, q, coeff, lam, any_xpbd, reverse);
       });
-      for (std::size_t u = 0; u < m_.user.types().size(); ++u) {
-        const auto& type = *m_.user.types()[u];
-        if (type.num_blocks())
-          for (Index b = first; b < last; ++b)
-            type.project_range(type.color_begin(b), type.color_begin(b + 1), p, w, coeff, s_.user_lambda[u].data(), p,
-                               Real(1), kReverse);
-      }
-    };
-    run_interior_tasks(tasks, slot, task);
-  }
-
-  // How many tasks the interiors of `blocks` blocks run as, at most `cap` blocks each: a multiple of the threads
-  // when there are blocks enough, so that every thread gets the same number of blocks (task_begin cuts them evenly).
-  // The bits never depend on it: blocks share no movable particle, so how they are grouped and interleaved and on
-  // which thread they run changes only the time.
-  Index interior_tasks(Index blocks, Index cap) const {
-    const Index threads = team_ ? Index(team_->size())
-                          : share_interiors_ ? Index(std::max(1, tbb::this_task_arena::max_concurrency())) : 1;
-    const Index tasks = threads * ((blocks + threads * cap - 1) / (threads * cap));
-    return std::max<Index>(1, std::min(tasks, blocks));
-  }
-  // First block of task t of `tasks` over `blocks` blocks (contiguous runs whose sizes differ by at most one).
-  static Index task_begin(Index t, Index tasks, Index blocks) {
-    return Index(std::uint64_t(t) * blocks / tasks);
-  }
-
-  // The interiors' tasks [0, tasks): one parallel loop, one task per chunk (each task's blocks share no particle
-  // with another's, so any cut gives the same bits), or inline when the interiors are small or one thread runs.
-  template <class Task> void run_interior_tasks(Index tasks, std::size_t slot, const Task& task) {
-    if (team_) {
-      team_->loop(0, tasks, share_interiors_ && tasks > 1 && interior_items_ >= team_share_below(config_),
-                  [&](std::size_t b, std::size_t e) {
-                    for (std::size_t t = b; t < e; ++t) task(Index(t));
-                  });
       return;
     }
-    const bool fork = share_interiors_ && tasks > 1 && tbb::this_task_arena::max_concurrency() > 1 &&
-                      interior_items_ >= config_.inline_below;
-    if (!fork) {
-      for (Index t = 0; t < tasks; ++t) task(t);
-      return;
-    }
-    tbb::parallel_for(
-        tbb::blocked_range<Index>(0, tasks, 1),
-        [&](const tbb::blocked_range<Index>& r) {
-          for (Index t = r.begin(); t < r.end(); ++t) task(t);
-        },
-        k_.partitioners[slot]);
+    walk_.interiors(loops_, [&](Index first, Index last) {
+      for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) {
+        if (type.num_blocks()) type.project_interiors(first, last, p, w, coeff, s_.lambda[t].data(), reverse);
+      });
+    });
   }
 
-  // The blocks' stretch interiors on padded positions q (block schedule, stretch the only type, float): up to
-  // kInterleavedChains blocks to a task, the kernel's four lanes on the k-th constraints of four blocks at a time
-  // (project_stretch_interleaved, in groups of eight or four blocks; each block's constraints beyond the group's
-  // shortest count, and blocks left over from the groups, go one by one, interleaved). The same bits as the scalar
-  // interiors.
-  template <bool kReverse>
-  void project_stretch_interiors_padded(const Store<StretchConstraint<float>>& st, float* q, float* lam,
-                                        const SolveCoefficients<float>* coeff, bool any_xpbd) {
-    const std::size_t interior_slot = part_++;
-    const StretchConstraint<float>* items = st.items.data();
-    const Index blocks = st.sequential, tasks = interior_tasks(blocks, kInterleavedChains);
-    auto task = [&](Index t) {
-      const Index first = task_begin(t, tasks, blocks), last = task_begin(t + 1, tasks, blocks);
-      Index begin[kInterleavedChains], len[kInterleavedChains];
-      auto one = [&](Index i) { project_stretch_padded(items[i], q, coeff[items[i].set], lam[i]); };
-      for (Index g = first; g < last;) {  // a group of 8 or 4 blocks (SIMD), or fewer (one by one)
-        const Index left = last - g, m = left >= 8 ? 8 : left >= 4 ? 4 : left;
-        Index common = ~Index(0), longest = 0;
-        for (Index j = 0; j < m; ++j) {
-          begin[j] = st.offsets[g + j];
-          len[j] = st.offsets[g + j + 1] - begin[j];
-          common = std::min(common, len[j]);
-          longest = std::max(longest, len[j]);
-        }
-        if (m < 4) common = 0;
-        if constexpr (kReverse) {
-          for (Index j = 0; j < m; ++j)
-            for (Index k = len[j]; k-- > common;) one(begin[j] + k);
-          if (common) project_stretch_interleaved(items, begin, m, common, q, coeff, lam, any_xpbd, true);
-        } else {
-          if (common) project_stretch_interleaved(items, begin, m, common, q, coeff, lam, any_xpbd, false);
-          for (Index k = common; k < longest; ++k)
-            for (Index j = 0; j < m; ++j)
-              if (k < len[j]) one(begin[j] + k);
-        }
-        g += m;
-      }
-    };
-    run_interior_tasks(tasks, interior_slot, task);
+  const TypeStore<Real>& type_at(std::size_t k) const {
+    const TypeStore<Real>* found = nullptr;
+    for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) {
+      if (t == k) found = &type;
+    });
+    return *found;
   }
 
-  // Every stretch color on padded positions (x y z w): one aligned load and store per particle in the kernel
-  // instead of three of each plus w. Copied in unless the last sweep left them there, copied back unless stretch is
-  // all the sweep projects (then end() copies them back). Partitioner slots are the same whichever copies run. In
-  // the block layout (padded_blocks_) the blocks' interiors come first, then the boundary colors.
-  template <bool kReverse, class C>
-  void project_stretch_padded_colors(const Store<C>& st, Real* lam, Real* p, const Real* w,
-                                     const SolveCoefficients<Real>* coeff) {
-    if constexpr (std::is_same_v<Real, float>) {
-      ensure_padded(p, w);
-      float* q = k_.padded.data();
-      const bool any_xpbd = s_.lambda_dirty;
-      if (st.sequential) project_stretch_interiors_padded<kReverse>(st, q, lam, coeff, any_xpbd);
-      const bool sets_known = m_.stretch_sets.size() == std::size_t(st.num_colors());
-      const std::size_t base = part_;
-      const Index first = st.sequential, colors = st.num_colors() - first;
-      part_ += std::size_t(colors);
-      for (Index j = 0; j < colors; ++j) {
-        const Index c = first + (kReverse ? colors - 1 - j : j);
-        const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
-        auto project = [&](Index b, Index e) { project_stretch_range(st.items.data(), b, e, q, coeff, lam, any_xpbd, set); };
-        if (st.sequential) boundary_range(st, c, config_, base + c - first, project);
-        else blocks_range(st.offsets[c], st.offsets[c + 1], kStretchBlock, config_, base + c - first, project, cuts_of(st, c));
-      }
-    } else {  // double (AVX2): the colors, four at a time
-      ensure_padded(p, w);
-      double* q = k_.padded.data();
-      const bool any_xpbd = s_.lambda_dirty;
-      const bool sets_known = m_.stretch_sets.size() == std::size_t(st.num_colors());
-      const std::size_t base = part_;
-      const Index colors = st.num_colors();
-      part_ += std::size_t(colors);
-      for (Index j = 0; j < colors; ++j) {
-        const Index c = kReverse ? colors - 1 - j : j;
-        const Index set = sets_known ? m_.stretch_sets[c] : kMixedSets;
-        blocks_range(st.offsets[c], st.offsets[c + 1], kBendingBlock, config_, base + c, [&](Index b, Index e) {
-          project_stretch_range_avx2(st.items.data(), b, e, q, coeff, lam, any_xpbd, set);
-        }, cuts_of(st, c));
-      }
-    }
-  }
-
-  // Every bending or area color on padded positions (colors schedule), several constraints at a time
-  // (bending_kernel.hpp, kernels_avx2.hpp); ranges cut at multiples of kBendingBlock from each color's start.
-  template <bool kReverse, class C>
-  void project_lanes_padded_colors(const Store<C>& st, Real* lam, Real* p, const Real* w,
-                                   const SolveCoefficients<Real>* coeff) {
-    ensure_padded(p, w);
-    Real* q = k_.padded.data();
-    const bool any_xpbd = s_.lambda_dirty;
-    const std::size_t base = part_;
-    const Index colors = st.num_colors();
-    part_ += std::size_t(colors);
-    for (Index j = 0; j < colors; ++j) {
-      const Index c = kReverse ? colors - 1 - j : j;
-      blocks_range(st.offsets[c], st.offsets[c + 1], kBendingBlock, config_, base + c,
-                   [&](Index b, Index e) {
-                     if constexpr (std::is_same_v<C, AreaConstraint<Real>>) project_area_range_avx2(st.items.data(), b, e, q, coeff, lam, any_xpbd);
-                     else if constexpr (std::is_same_v<Real, float>) project_bending_range(st.items.data(), b, e, q, coeff, lam, any_xpbd);
-                     else project_bending_range_avx2(st.items.data(), b, e, q, coeff, lam, any_xpbd);  // double: AVX2 only
-                   }, cuts_of(st, c));
-    }
-  }
-
-  // The padded copy (x y z w, k_.padded) of the positions p and inverse masses w, unless it is current.
-  void ensure_padded(const Real* p, const Real* w) {
-    if (padded_) return;
-    assert(k_.padded.size() == m_.num_particles());  // sized by begin()
-    Real* q = k_.padded.data();
-    range(0, m_.num_particles(), config_, pad_slot_, [&](Index b, Index e) { pad_positions(p, w, b, e, q); });
-    padded_ = true;
-  }
-
-  void unpad(Real* p) {
-    const Real* q = k_.padded.data();
-    range(0, m_.num_particles(), config_, unpad_slot_, [&](Index b, Index e) { unpad_positions(q, b, e, p); });
-    padded_ = false;
-  }
-
-  // Volume constraints: in insertion order, or color by color (a color's volumes share no particle, so they run
-  // one after the other with the same bits); each is projected with its fixed-shape parallel reduction.
-  template <bool kReverse> void project_volumes(Real* p, const Real* w, Real* out) {
+  // Volume constraints: in insertion order, or color by color (a color's volumes share no particle, so they run one
+  // after the other with the same bits); each is projected with its fixed-shape parallel reduction (never on a team).
+  void project_volumes(Real* p) {
     const auto& v = m_.volume;
-    const ParallelConfig blocks = per_block(config_, kVolumeBlock);
+    const ParallelConfig blocks = per_block(loops_.config(), kVolumeBlock);
     const Index n = Index(v.table.size());
-    if (n && padded_) unpad(p);
-    const std::size_t base = part_;
-    part_ += std::size_t(n);
+    if (n) padded_.to_p(loops_, p);
+    const std::size_t base = loops_.slots(std::size_t(n));
+    const Real* w = m_.inverse_mass.data();
     auto one = [&](Index j) {
-      const Index i = schedule_ == Schedule::insertion ? j : v.order[j];
-      tbb::affinity_partitioner& ap = k_.partitioners[base + j];  // never on a team (begin())
-      auto run = [&](Index b, Index e, const auto& body) { run_range(b, e, parallel_, blocks, ap, body); };
-      project_volume(v.table, i, p, out, w, k_.coeff[v.table.items[i].set], k_.volume.target[i], s_.volume_lambda[i],
+      const Index i = walk_.schedule() == Schedule::insertion ? j : v.order[j];
+      tbb::affinity_partitioner& ap = k_.partitioners[base + j];
+      auto run = [&](Index b, Index e, const auto& body) { run_range(b, e, loops_.parallel(), blocks, ap, body); };
+      project_volume(v.table, i, p, p, w, k_.coeff[v.table.items[i].set], k_.volume.target[i], s_.volume_lambda[i],
                      k_.volume, run);
     };
-    if constexpr (kReverse) {
+    if (walk_.reverse()) {
       for (Index j = n; j-- > 0;) one(j);
     } else {
       for (Index j = 0; j < n; ++j) one(j);
     }
   }
 
-  void apply_deltas(Real* p) {
-    const Real* delta = k_.delta.data();
-    const Real* count_inv = k_.count_inv.data();
-    range(0, m_.num_particles(), config_, part_++, [&](Index b, Index e) {
-      for (Index i = b; i < e; ++i) {
-        const Real s = omega * count_inv[i];
-        for (int d = 0; d < 3; ++d) p[3 * std::size_t(i) + d] += s * delta[3 * std::size_t(i) + d];
-      }
-    });
+  // This sub-step's collisions or particle contacts (not constraint types of the list: generated each sub-step),
+  // in place with the true masses, in generation order or color by color (always forward).
+  template <class C> void project_contacts(const Store<C>& st, Real* lam, Real* p) {
+    const Real* w = m_.inverse_mass.data();
+    const SolveCoefficients<Real>* coeff = k_.coeff.data();
+    if (walk_.schedule() == Schedule::insertion) {
+      project_in_insertion_order<true, false>(st, lam, p, w, coeff, Real(1), p);
+      return;
+    }
+    if (!st.empty()) padded_.to_p(loops_, p);
+    const Index colors = st.num_colors();
+    const std::size_t base = loops_.slots(std::size_t(colors));
+    for (Index c = 0; c < colors; ++c)
+      loops_.range(st.offsets[c], st.offsets[c + 1], loops_.config(), base + std::size_t(c), [&](Index b, Index e) {
+        project_stored_range<true>(st, b, e, lam, p, w, coeff, Real(1), p);
+      });
   }
 
   Model<Real>& m_;
   State<Real>& s_;
   Scratch<Real>& k_;
-  Schedule schedule_;
-  Update update_;
-  bool reverse_;                // this sub-step's sweeps run backwards
-  bool parallel_;
-  const ParallelConfig& config_;
-  std::size_t part_ = 0;        // next partitioner slot of this sweep
-  std::size_t pad_slot_ = 0;    // partitioner slot of the copy into k_.padded (every sweep reserves it)
-  std::size_t unpad_slot_ = 0;  // partitioner slot of the copy back (every sweep reserves it)
-  bool stay_padded_ = false;    // every type a sweep projects runs on padded positions: they stay between sweeps
-  bool double_kernels_ = false; // double, and the AVX2 kernels run: stretch and bending colors on padded positions
-  bool padded_ = false;         // k_.padded holds the positions and p is stale (until end())
-  std::size_t interior_items_ = 0;  // constraints in the blocks' interiors (block schedule): decides the fork
-  bool padded_blocks_ = false;      // block schedule, float, stretch the only type: on padded positions (SIMD)
-  bool team_ready_ = false;         // the sweeps may run on a team
-  bool share_interiors_ = false;    // the blocks' interiors run on more than one thread (at least two blocks each)
-  Team::Member* team_ = nullptr;    // the team this copy of the sweeper runs in (nullptr: forks per loop)
-
-  // Every parallel loop of the sweeps: on the team when there is one (its inline threshold), else run_range with
-  // the affinity partitioner of `slot` (a cache hint for loops that fork; a team's members never touch the pool,
-  // which grows on first use).
-  template <class Body>
-  void range(Index begin, Index end, const ParallelConfig& cfg, std::size_t slot, const Body& body) {
-    if (team_) {
-      team_->loop(begin, end, parallel_ && std::size_t(end - begin) >= team_loop_share_below(cfg, team_->size()),
-                  [&](std::size_t b, std::size_t e) { body(Index(b), Index(e)); });
-      return;
-    }
-    run_range(begin, end, parallel_, cfg, k_.partitioners[slot], body);
-  }
-  // Group c of `st`: under the block schedule on a team, each member takes the constraints filed under its own
-  // blocks (those of its interior tasks; block_layout.hpp sorts each boundary color by block), so a particle's
-  // cache line mostly stays with the thread that projected its block's interior; otherwise range().
-  template <class C, class Body>
-  void boundary_range(const Store<C>& st, Index c, const ParallelConfig& cfg, std::size_t slot, const Body& body) {
-    const Index begin = st.offsets[c], end = st.offsets[c + 1];
-    if (team_ && schedule_ == Schedule::colors) return blocks_range(begin, end, 1, cfg, slot, body, cuts_of(st, c));
-    if (!team_ || schedule_ != Schedule::blocks || !share_interiors_ || st.sequential == 0)
-      return range(begin, end, cfg, slot, body);
-    const Index members = Index(team_->size()), blocks = m_.num_blocks;
-    const Index tasks = interior_tasks(blocks, padded_blocks_ ? kInterleavedChains : kInterleave);
-    const std::span<const std::uint32_t> block(m_.block);
-    auto start = [&](int r) -> std::size_t {  // first constraint filed under member r's first block
-      const std::uint32_t first = std::uint32_t(task_begin(Index(std::uint64_t(tasks) * Index(r) / members), tasks, blocks));
-      const C* it = std::partition_point(st.items.data() + begin, st.items.data() + end, [&](const C& x) {
-        return first_block(x, m_.fixed, block) < first;
-      });
-      return std::size_t(it - st.items.data());
-    };
-    team_->loop_parts(begin, end, interior_items_ >= team_share_below(config_), start,
-                      [&](std::size_t b, std::size_t e) { body(Index(b), Index(e)); });
-  }
-  // range() over [begin, end) cut only at multiples of `block` from begin (the inline threshold and grain still
-  // count items). With a color's particle cuts (cuts_of) on a team, member r starts near cut ⌊r·kCutParts/members⌉:
-  // where the color's constraints reach member r's share of the particles, so that each thread projects the same
-  // particles' constraints in every color and their cache lines stay with it (cut at half the count instead, each
-  // color splits the cloth at another row; on the 100² cloth the cut moved by about 11,000 particles a sweep).
-  template <class Body>
-  void blocks_range(Index begin, Index end, Index block, const ParallelConfig& cfg, std::size_t slot,
-                    const Body& body, const Index* cuts = nullptr) {
-    const Index n = (end - begin + block - 1) / block;
-    const ParallelConfig per = per_block(cfg, block);
-    auto blocks = [&](std::size_t b, std::size_t e) { body(begin + Index(b) * block, std::min(end, begin + Index(e) * block)); };
-    if (cuts && team_ && team_->size() > 1 && std::size_t(n) >= team_loop_share_below(per, team_->size())) {
-      const std::size_t members = std::size_t(team_->size());
-      auto start = [&](int r) -> std::size_t {
-        const std::size_t j = (std::size_t(r) * kCutParts + members / 2) / members;
-        return (std::size_t(cuts[j]) + std::size_t(block) / 2) / std::size_t(block);
-      };
-      team_->loop_parts(0, n, parallel_, start, blocks);
-      return;
-    }
-    range(0, n, per, slot, [&](Index b, Index e) { blocks(b, e); });
-  }
-  // Color c's particle cuts (Model::particle_cuts) when `st` is a built-in store laid out in colors, else nullptr.
-  template <class C> const Index* cuts_of(const Store<C>& st, Index c) const {
-    if constexpr (!is_builtin_v<C, Real>) {
-      return nullptr;
-    } else {
-      const auto& cuts = m_.particle_cuts[TypeIndex<C, BuiltinConstraintTypes<Real>>::value];
-      if (&st != &m_.template store<C>() || cuts.size() != std::size_t(st.num_colors()) * (kCutParts + 1)) return nullptr;
-      return cuts.data() + std::size_t(c) * (kCutParts + 1);
-    }
-  }
+  ScheduleWalk<Real> walk_;
+  UpdateRule<Real> update_;
+  SweepLoops<Real> loops_;
+  PaddedPositions<Real> padded_;
+  typename PaddedPositions<Real>::Keep keep_;  // what the caller allows (Chebyshev needs p after every sweep)
+  SweepPlan<Real> plan_;
 };
 
 }  // namespace pbd::detail

@@ -1,7 +1,7 @@
 #pragma once
 // A team of threads held for all of a sub-step's sweeps (private): one fork/join per sub-step instead of one per
-// parallel loop (a cloth with bending has 20–27 colors a sweep, each a fork/join of about 1.5 µs on this project's
-// VM; the block solver has its interiors and then its boundary colors).
+// parallel loop (a cloth with bending has 20–27 colors a sweep, and a fork/join costs about as much as projecting a
+// thousand constraints; the block solver has its interiors and then its boundary colors).
 //
 // Every member runs the same sweep code (SPMD: the sweeps' control flow depends on the model alone, so every member
 // takes the same path). A loop shared by the team is cut into one contiguous part per member, the same part every
@@ -11,9 +11,9 @@
 // how many, never changes a bit.
 //
 // Joining: the calling thread is member 0; up to threads − 1 tasks are spawned in the caller's arena, and a worker
-// that picks one up within the wait becomes a member (the solver waits at most a tenth of its last solve's time:
-// a worker asleep in the arena takes tens of microseconds to wake on this project's VM). Then the team closes: a
-// task that starts later returns at once. Nothing ever waits on a thread that has not joined, so a busy arena (a
+// that picks one up within the wait becomes a member (the solver waits at most a tenth of its last solve's time: a
+// worker asleep in the arena takes long to wake, and on a small model the wait would cost more than it brings).
+// Then the team closes: a task that starts later returns at once. Nothing ever waits on a thread that has not joined, so a busy arena (a
 // host's, or one whose workers are asleep) costs at most the wait, never a deadlock. Barriers spin (with a pause,
 // then yielding): the team exists only while the sweeps run.
 // Waiting is measured: each member counts the processor's ticks it spends in barriers (and so waiting for member

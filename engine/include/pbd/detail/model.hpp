@@ -10,6 +10,7 @@
 #include "pbd/constraint_types.hpp"
 #include "pbd/constraints/volume.hpp"
 #include "pbd/custom_constraints.hpp"
+#include "pbd/detail/type_store.hpp"
 #include "pbd/solver.hpp"
 #include "pbd/stiffness.hpp"
 
@@ -19,16 +20,19 @@
 
 namespace pbd::detail {
 
-/// std::tuple<Store<C>...> for a tuple of constraint types.
-template <class Types> struct StoresOf;
-template <class... Cs> struct StoresOf<std::tuple<Cs...>> {
-  using type = std::tuple<Store<Cs>...>;
+/// std::tuple<TypedStore<C, Real>...> for a tuple of built-in constraint types.
+template <class Types, class Real> struct StoresOf;
+template <class... Cs, class Real> struct StoresOf<std::tuple<Cs...>, Real> {
+  using type = std::tuple<TypedStore<Cs, Real, false>...>;
 };
 
-/// Calls f(store, index) for each built-in store, in solver order (index: position in BuiltinConstraintTypes).
+/// Calls f(store, index) for each built-in type's Store<C>, in solver order (index: position in
+/// BuiltinConstraintTypes): for what needs the type C itself. Every pass over all the types, built-in and
+/// user-defined, uses for_each_type instead.
 template <class Stores, class F> void for_each_store(Stores& stores, F&& f) {
-  [&]<std::size_t... I>(std::index_sequence<I...>) { (f(std::get<I>(stores), std::integral_constant<std::size_t, I>{}), ...); }(
-      std::make_index_sequence<std::tuple_size_v<std::remove_const_t<Stores>>>{});
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    (f(std::get<I>(stores).store, std::integral_constant<std::size_t, I>{}), ...);
+  }(std::make_index_sequence<std::tuple_size_v<std::remove_const_t<Stores>>>{});
 }
 
 /// Volume constraints (each spans a whole mesh) and the order the colored solvers project them in.
@@ -49,8 +53,8 @@ enum class Layout : std::uint8_t { colors, blocks };
 template <class Real> struct Model {
   VectorX<Real> inverse_mass;                                     ///< per particle, 1/kg (0 = pinned)
   std::vector<Stiffness> sets;                                    ///< stiffness of each constraint set
-  typename StoresOf<BuiltinConstraintTypes<Real>>::type stores;  ///< one store per built-in type
-  UserTypes<Real> user;                                          ///< one store per user-defined type
+  typename StoresOf<BuiltinConstraintTypes<Real>, Real>::type stores;  ///< one store per built-in type
+  UserTypes<Real> user;                                          ///< one store per user-defined type, first added first
   VolumeStore<Real> volume;                                      ///< volume constraints
   Colliders<Real> colliders;                                     ///< static colliders
   ContactBodies<Real> contact;                                   ///< contact bodies (radii, materials)
@@ -65,22 +69,49 @@ template <class Real> struct Model {
   Index num_blocks = 0;                ///< block layout: number of blocks (groups [0, num_blocks) of every store)
   std::vector<std::uint8_t> fixed;     ///< pinned flags the colors were made with, one per particle then
   std::vector<Index> touch_count;      ///< Jacobi: built-in and user constraints touching each particle
-  std::vector<Index> stretch_sets;     ///< per stretch color: the set all its constraints share, or kMixedSets
-  /// Colors layout, per built-in store: for color c, entries [c·(kCutParts + 1), (c + 1)·(kCutParts + 1)); entry j
-  /// counts the color's constraints whose smallest particle index is below ⌊j·n / kCutParts⌋ (n particles). A team
-  /// cuts each color there (sweep.hpp), so each thread keeps one range of particles from color to color.
-  std::array<std::vector<Index>, kNumBuiltinTypes> particle_cuts;
+  /// Per type whose SIMD kernel reads it (engine/src/solve/kernels.hpp), per color: the set all its constraints
+  /// share, or kMixedSets.
+  std::vector<std::vector<Index>> color_sets;
+  /// Colors layout, per type (for_each_type's position): for color c, entries [c·(kCutParts + 1), (c + 1)·(kCutParts
+  /// + 1)); entry j counts the color's constraints whose smallest particle index is below ⌊j·n / kCutParts⌋ (n
+  /// particles). A team cuts each color there (sweep.hpp), so each thread keeps one range of particles from color
+  /// to color.
+  std::vector<std::vector<Index>> particle_cuts;
 
   /// The store of built-in type C.
-  template <class C> Store<C>& store() { return std::get<TypeIndex<C, BuiltinConstraintTypes<Real>>::value>(stores); }
+  template <class C> Store<C>& store() {
+    return std::get<TypeIndex<C, BuiltinConstraintTypes<Real>>::value>(stores).store;
+  }
   template <class C> const Store<C>& store() const {  ///< read-only store()
-    return std::get<TypeIndex<C, BuiltinConstraintTypes<Real>>::value>(stores);
+    return std::get<TypeIndex<C, BuiltinConstraintTypes<Real>>::value>(stores).store;
   }
   /// Number of particles.
   Index num_particles() const { return Index(inverse_mass.size()); }
+  /// Number of constraint types: the built-in ones, then the user-defined ones (for_each_type).
+  std::size_t num_types() const { return kNumBuiltinTypes + user.types().size(); }
 };
 
-/// "The constraints of a stretch color belong to more than one set" (Model::stretch_sets).
+/// Calls f(type, t) for every constraint type of `m` (a TypeStore, type_store.hpp): the built-in ones in list order
+/// (constraint_types.hpp), then the user-defined ones in the order first added, the order every sweep projects them
+/// in. t is the type's position: the index of its λ array (State::lambda) and of its cooked data (particle_cuts).
+/// The one way a pass visits every type.
+template <class Real, class F> void for_each_type(Model<Real>& m, F&& f) {
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    (f(static_cast<TypeStore<Real>&>(std::get<I>(m.stores)), I), ...);
+  }(std::make_index_sequence<kNumBuiltinTypes>{});
+  std::size_t t = kNumBuiltinTypes;
+  for (const auto& u : m.user.types()) f(*u, t++);
+}
+/// for_each_type over a read-only model.
+template <class Real, class F> void for_each_type(const Model<Real>& m, F&& f) {
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    (f(static_cast<const TypeStore<Real>&>(std::get<I>(m.stores)), I), ...);
+  }(std::make_index_sequence<kNumBuiltinTypes>{});
+  std::size_t t = kNumBuiltinTypes;
+  for (const auto& u : m.user.types()) f(std::as_const(*u), t++);
+}
+
+/// "The constraints of a color belong to more than one set" (Model::color_sets).
 inline constexpr Index kMixedSets = ~Index(0);
 
 /// What a step advances.
@@ -88,11 +119,15 @@ template <class Real> struct State {
   Matrix3X<Real> x;   ///< positions, m
   Matrix3X<Real> v;   ///< velocities, m/s
   double time = 0.0;  ///< simulated time, s
-  std::array<std::vector<Real>, kNumBuiltinTypes> lambda;  ///< XPBD λ per built-in type, in stored order
-  std::vector<std::vector<Real>> user_lambda;               ///< λ per user-defined type, in stored order
+  /// XPBD λ per constraint type (for_each_type's position: the built-in types, then the user-defined ones), in
+  /// stored order.
+  std::vector<std::vector<Real>> lambda = std::vector<std::vector<Real>>(kNumBuiltinTypes);
   std::vector<Real> volume_lambda;                          ///< λ per volume constraint
   /// Some λ may be non-zero: a sweep since the last reset had α̃ ≠ 0 (λ changes only there, projection.hpp).
   bool lambda_dirty = true;
+  /// ρ of Chebyshev acceleration measured by a sub-step (StepParams::chebyshev.rho = 0 uses it; 0: none yet). An
+  /// output, kept here rather than in the parameters; World::set_params clears it when the Chebyshev settings change.
+  Real chebyshev_rho = 0;
 };
 
 }  // namespace pbd::detail
