@@ -124,8 +124,8 @@ std::vector<std::uint32_t> metis_blocks(const Hypergraph& g, const MovableNodes&
   // k-way rather than recursive bisection, measured (cut items, cloth stretch + bending on 20², 100² and 300² grids,
   // 2, 3, 4, 8, 16, 32, 64 parts): k-way cuts fewer items in 15 of the 21 cases and as many in 3 (2 parts); recursive
   // cuts fewer only at 8 parts on 100² (by 4 %) and at 32 and 64 parts on 20². On 300² k-way is 3-4 % better at
-  // 32 and 64 parts and takes 145-170 ms against recursive's 190-275 ms. Recursive balances tighter (tolerance
-  // 0.1 % against k-way's 3 %), which the block solver does not need.
+  // 32 and 64 parts, and takes less time. Recursive balances tighter (tolerance 0.1 % against k-way's 3 %), which
+  // the block solver does not need.
   // One METIS call at a time in the process: METIS seeds and draws from one random state shared by the process
   // (GKlib's), so two calls at once (a host stepping several worlds in parallel, each partitioning) drew from each
   // other's sequence and gave blocks that changed from run to run; found by

@@ -80,7 +80,7 @@ void generate_collisions_chunked(const Colliders<Real>& colliders, const Matrix3
                                  ParticleSurfaces<Real> surfaces, bool parallel, CollisionChunks<Real>& chunks,
                                  std::vector<CollisionConstraint<Real>>& out) {
   const Index n = Index(p.cols());
-  constexpr Index kChunk = 1024;  // particles per chunk: a few microseconds of work, well above a task's cost
+  constexpr Index kChunk = 1024;  // particles per chunk: enough work that a task's cost is small against it
   const Index count = (n + kChunk - 1) / kChunk;
   if (!parallel || count < 2 || tbb::this_task_arena::max_concurrency() < 2) {
     collide_range(colliders, x, p, v, w, margin, surfaces, 0, n, out);

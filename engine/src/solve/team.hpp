@@ -13,12 +13,12 @@
 // Joining: the calling thread is member 0; up to threads − 1 tasks are spawned in the caller's arena, and a worker
 // that picks one up within the wait becomes a member (the solver waits at most a tenth of its last solve's time: a
 // worker asleep in the arena takes long to wake, and on a small model the wait would cost more than it brings).
-// Then the team closes: a task that starts later returns at once. Nothing ever waits on a thread that has not joined, so a busy arena (a
-// host's, or one whose workers are asleep) costs at most the wait, never a deadlock. Barriers spin (with a pause,
-// then yielding): the team exists only while the sweeps run.
+// Then the team closes: a task that starts later returns at once. Nothing ever waits on a thread that has not
+// joined, so a busy arena (a host's, or one whose workers are asleep) costs at most the wait, never a deadlock.
+// Barriers spin (with a pause, then yielding): the team exists only while the sweeps run.
 // Waiting is measured: each member counts the processor's ticks it spends in barriers (and so waiting for member
 // 0's loops run alone), and run() reports that share of the members' time: StepStats::seconds_waiting, the scaling
-// diagnostic (two reads of the time-stamp counter per barrier, a few microseconds a step).
+// diagnostic (two reads of the time-stamp counter per barrier: cheap against the barrier itself).
 #include <oneapi/tbb/task_group.h>
 
 #include <algorithm>
