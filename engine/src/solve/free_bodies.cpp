@@ -14,13 +14,6 @@ Index root(std::vector<Index>& parent, Index i) {
   return i;
 }
 
-// Whether constraint type C holds its particles to fixed points: its header's kTiesToWorld (constraints/traits.hpp);
-// a type that does not say (a user-defined one) does not.
-template <class C> constexpr bool ties_to_world() {
-  if constexpr (requires { C::kTiesToWorld; }) return C::kTiesToWorld;
-  else return false;
-}
-
 }  // namespace
 
 template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<Real>& f) {
@@ -34,15 +27,12 @@ template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<R
     const Index ra = root(parent, a), rb = root(parent, b);
     if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
   };
-  for_each_store(m.stores, [&](const auto& s, auto) {
-    for (const auto& c : s.items) {
-      using C = std::decay_t<decltype(c)>;
-      if constexpr (ties_to_world<C>())  // tied to the world: its particles are held
-        for (Index p : c.particles) held[p] = 1;
-      for (int i = 1; i < C::kArity; ++i) join(c.particles[0], c.particles[i]);
-    }
+  // Every type, built-in or user-defined: its constraints join their particles into bodies; a type tied to the
+  // world (anchors) holds them.
+  for_each_type(m, [&](const TypeStore<Real>& t, std::size_t) {
+    t.join_particles(join);
+    t.mark_held(held);
   });
-  for (const auto& t : m.user.types()) t->join_particles(join);
   const auto& v = m.volume.table;
   for (const auto& c : v.items)
     for (Index r = c.row_begin + 1; r < c.row_end; ++r) join(v.particles[c.row_begin], v.particles[r]);

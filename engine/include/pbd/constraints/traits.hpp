@@ -50,6 +50,13 @@ template <class C, class T> struct Field {
 template <class C, class T> Field(const char*, const char*, T C::*, bool) -> Field<C, T>;
 template <class C, class T> Field(const char*, const char*, T C::*) -> Field<C, T>;
 
+/// Whether constraint type C holds its particles to fixed points: its kTiesToWorld; a type that does not say (a
+/// user-defined one may not) does not.
+template <class C> constexpr bool ties_to_world() {
+  if constexpr (requires { C::kTiesToWorld; }) return C::kTiesToWorld;
+  else return false;
+}
+
 /// Number of rest values of C.
 template <class C> inline constexpr std::size_t kNumFields = std::tuple_size_v<decltype(C::fields())>;
 

@@ -8,6 +8,7 @@
 /// instantiated per type, with the projection inlined into them, so a user type runs the same loop as a built-in
 /// one. The SIMD kernels of the built-in types are chosen beside this interface (engine/src/solve/kernels.hpp).
 #include "pbd/constraints/projection.hpp"
+#include "pbd/constraints/traits.hpp"
 #include "pbd/detail/block_layout.hpp"
 #include "pbd/detail/constraint_store.hpp"
 
@@ -134,6 +135,8 @@ public:
   virtual void count_particles(std::vector<Index>& count, Index first) const = 0;
   /// Calls join(a, b) for each constraint and each of its particles b after its first a.
   virtual void join_particles(const std::function<void(Index, Index)>& join) const = 0;
+  /// Sets held[p] for each particle a constraint of a type that ties particles to the world holds (ties_to_world).
+  virtual void mark_held(std::vector<std::uint8_t>& held) const = 0;
   /// Appends this type's items to the graph the block partition cuts (schedule.cpp): a built-in constraint as one
   /// item on all its particles, a user-defined one as one item per pair (its first particle and each other one),
   /// as each has always been given (the blocks, so the block solver's bits, depend on it). Returns the constraints.
@@ -202,6 +205,12 @@ public:
     for (const C& c : store.items)
       for (int i = 1; i < C::kArity; ++i) join(c.particles[0], c.particles[i]);
   }
+  void mark_held(std::vector<std::uint8_t>& held) const override {
+    if constexpr (ties_to_world<C>())
+      for (const C& c : store.items)
+        for (Index p : c.particles) held[p] = 1;
+  }
+
   std::size_t add_to_partition_graph(ConstraintGraph& g) const override {
     for (const C& c : store.items) {
       if constexpr (kUser) {
