@@ -5,8 +5,8 @@ Usage: check_install.py CMAKE BUILD_DIR SOURCE_DIR WORK_DIR [--sanitized]
 
 1. `cmake --install BUILD_DIR` into a temporary prefix, then the prefix is moved: nothing may depend on where it was
    installed.
-2. No installed file (the program, the libraries, the Python module, the CMake package, the data) holds the source
-   tree's path or the build tree's.
+2. No installed file (the program, the libraries, the Python module, the CMake package, the data; debug sections left
+   out) holds the source tree's path or the build tree's.
 3. From an empty folder, with no PBD_* variable set and python3 on PATH: `pbd list`, `pbd run cloth --steps 5` and
    `pbd study --quick --plots DIR` work; every plot exists as PNG; the report's commit is "unknown" (none given).
    Under the sanitizers the study runs one scene only (the whole quick study is already test study_quick's).
@@ -43,12 +43,27 @@ def install(cmake, build, work):
     return prefix
 
 
-def check_no_tree_paths(prefix, trees):
+def contents_without_debug_info(file, work):
+    """The file's bytes; for an object file, program or archive, without its debug sections: a build with debug
+    information (the sanitizer presets are RelWithDebInfo) names its source files there for the debugger, which is
+    no path the program uses."""
+    with open(file, "rb") as f:
+        data = f.read()
+    if not (data.startswith(b"\x7fELF") or data.startswith(b"!<arch>")):
+        return data
+    stripped = os.path.join(work, "stripped")
+    run(["objcopy", "--strip-debug", file, stripped], work, os.environ)
+    with open(stripped, "rb") as f:
+        data = f.read()
+    os.remove(stripped)
+    return data
+
+
+def check_no_tree_paths(prefix, trees, work):
     paths = {p.encode() for tree in trees for p in (tree, os.path.realpath(tree))}
     for folder, _, files in os.walk(prefix):
         for name in files:
-            with open(os.path.join(folder, name), "rb") as f:
-                data = f.read()
+            data = contents_without_debug_info(os.path.join(folder, name), work)
             for path in paths:
                 if path in data:
                     fail(f"{os.path.join(folder, name)} holds the path {path.decode()}")
@@ -73,7 +88,8 @@ def check_commands(pbd, empty, env, study_args):
     if "state hash" not in ran:
         fail(f"pbd run cloth --steps 5 printed no state hash:\n{ran}")
     run([pbd, "study", "--quick", "--plots", "plots"] + study_args, empty, env)
-    for plot in PLOTS:
+    # ns_per_projection plots the cloth<N> family: a study of one scene (sanitizers) has none to plot.
+    for plot in PLOTS if not study_args else [p for p in PLOTS if p != "ns_per_projection"]:
         if not os.path.isfile(os.path.join(empty, "plots", plot + ".png")):
             fail(f"pbd study --quick --plots wrote no {plot}.png")
     with open(os.path.join(empty, "plots", "study.json")) as f:
@@ -100,7 +116,7 @@ def main():
     os.makedirs(work)
     prefix = install(cmake, build, work)
     pbd = os.path.join(prefix, "bin", "pbd")
-    check_no_tree_paths(prefix, [source, build, os.path.join(work, "staging")])
+    check_no_tree_paths(prefix, [source, build, os.path.join(work, "staging")], work)
     empty = os.path.join(work, "empty")
     os.makedirs(empty)
     env = clean_env()
