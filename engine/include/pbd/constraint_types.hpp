@@ -52,9 +52,10 @@ template <class Types, class F> constexpr void for_each_type(F&& f) {
   }(std::make_index_sequence<std::tuple_size_v<Types>>{});
 }
 
-/// std::tuple<std::vector<C>...> and the like: Wrap<C> for each type of a tuple.
-template <template <class> class Wrap, class Types> struct EachOf;
-template <template <class> class Wrap, class... Cs> struct EachOf<Wrap, std::tuple<Cs...>> {
+/// std::tuple<std::vector<C>...> and the like: Wrap<C> for each type of a tuple. Wrap takes a pack, so a template
+/// with defaulted parameters (std::vector) matches without C++17's relaxed matching, which clang leaves off.
+template <template <class...> class Wrap, class Types> struct EachOf;
+template <template <class...> class Wrap, class... Cs> struct EachOf<Wrap, std::tuple<Cs...>> {
   using type = std::tuple<Wrap<Cs>...>;  ///< one Wrap<C> per type
 };
 
