@@ -43,14 +43,18 @@ def install(cmake, build, work):
     return prefix
 
 
-def contents_without_debug_info(file, work):
+def contents_to_scan(file, work, sanitized):
     """The file's bytes; for an object file, program or archive, without its debug sections: a build with debug
     information (the sanitizer presets are RelWithDebInfo) names its source files there for the debugger, which is
-    no path the program uses."""
+    no path the program uses. Under the sanitizers, binaries are not scanned at all (None): ASan names each object's
+    source file as its module and UBSan names it in every check's report location, in data sections that GCC's
+    -ffile-prefix-map does not rewrite. The Release run of this test scans them."""
     with open(file, "rb") as f:
         data = f.read()
     if not (data.startswith(b"\x7fELF") or data.startswith(b"!<arch>")):
         return data
+    if sanitized:
+        return None
     stripped = os.path.join(work, "stripped")
     run(["objcopy", "--strip-debug", file, stripped], work, os.environ)
     with open(stripped, "rb") as f:
@@ -59,11 +63,13 @@ def contents_without_debug_info(file, work):
     return data
 
 
-def check_no_tree_paths(prefix, trees, work):
+def check_no_tree_paths(prefix, trees, work, sanitized):
     paths = {p.encode() for tree in trees for p in (tree, os.path.realpath(tree))}
     for folder, _, files in os.walk(prefix):
         for name in files:
-            data = contents_without_debug_info(os.path.join(folder, name), work)
+            data = contents_to_scan(os.path.join(folder, name), work, sanitized)
+            if data is None:
+                continue
             for path in paths:
                 if path in data:
                     fail(f"{os.path.join(folder, name)} holds the path {path.decode()}")
@@ -110,13 +116,14 @@ def check_lonely_program(pbd, work, env):
 
 def main():
     cmake, build, source, work = sys.argv[1:5]
-    study_args = ["--scene", "rope"] if "--sanitized" in sys.argv[5:] else []
+    sanitized = "--sanitized" in sys.argv[5:]
+    study_args = ["--scene", "rope"] if sanitized else []
     work = os.path.realpath(work)
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     prefix = install(cmake, build, work)
     pbd = os.path.join(prefix, "bin", "pbd")
-    check_no_tree_paths(prefix, [source, build, os.path.join(work, "staging")], work)
+    check_no_tree_paths(prefix, [source, build, os.path.join(work, "staging")], work, sanitized)
     empty = os.path.join(work, "empty")
     os.makedirs(empty)
     env = clean_env()
