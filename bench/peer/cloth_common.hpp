@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <time.h>
+
 namespace peer_bench {
 
 /// The cloth as make_cloth.py writes it (the peer's ClothDemo mesh, in the peer's order).
@@ -90,12 +92,13 @@ struct Options {
   double dt = 1.0 / 60.0;       ///< step, s
   double k_distance = 1.0;      ///< PBD stiffness of the distance constraints
   double k_bending = 0.01;      ///< PBD stiffness of the dihedral constraints
+  bool average = false;         ///< also measure the stretch after every step (untimed) and report its mean
 };
 
 inline void usage(const char* prog, const char* extra) {
   std::fprintf(stderr,
                "usage: %s --mesh FILE [--steps S=200] [--substeps 1] [--iterations 10] [--threads T] [--double]\n"
-               "          [--solver NAME] [--dt 1/60] [--k-distance 1] [--k-bending 0.01]\n%s",
+               "          [--solver NAME] [--dt 1/60] [--k-distance 1] [--k-bending 0.01] [--average-error]\n%s",
                prog, extra);
 }
 
@@ -141,6 +144,7 @@ inline Options parse(int argc, char** argv, const char* extra_help) {
     else if (a == "--dt") o.dt = real();
     else if (a == "--k-distance") o.k_distance = real();
     else if (a == "--k-bending") o.k_bending = real();
+    else if (a == "--average-error") o.average = true;
     else if (a == "-h" || a == "--help") {
       usage(argv[0], extra_help);
       std::exit(0);
@@ -199,10 +203,12 @@ struct Result {
   std::size_t particles = 0, distance = 0, bending = 0;
   long long colors = -1;  ///< -1: unknown
   double setup_ms = 0, ms_per_step = 0;
+  double cpu_ms_per_step = 0;  ///< the process's CPU time per step, all threads (robust to other processes on 1 thread)
   double integrate_ms = -1, solve_ms = -1;  ///< per step, from the engine's own phase timers (-1: not measured)
   double wait_ms = -1;     ///< per step: of solve_ms, the sweeps' threads waiting for one another (-1: not measured)
   int shared_steps = -1;   ///< steps whose sweeps ran on more than one thread (-1: not measured)
-  Stretch error;
+  Stretch error;           ///< after the last step
+  double rms_mean = -1;    ///< --average-error: the RMS stretch after each step, averaged over the steps (-1: not)
 };
 
 inline void print(const Options& o, const Cloth& c, const Result& r) {
@@ -210,21 +216,47 @@ inline void print(const Options& o, const Cloth& c, const Result& r) {
       "{\"engine\": \"%s\", \"precision\": \"%s\", \"solver\": \"%s\", \"n\": %d, \"particles\": %zu, "
       "\"distance\": %zu, \"bending\": %zu, \"colors\": %s, \"threads\": %d, \"steps\": %d, \"substeps\": %d, "
       "\"iterations\": %d, \"dt\": %s, \"k_distance\": %s, \"k_bending\": %s, \"setup_ms\": %s, "
-      "\"ms_per_step\": %s, \"integrate_ms\": %s, \"solve_ms\": %s, \"wait_ms\": %s, \"shared_steps\": %s, "
-      "\"stretch_rms\": %s, \"stretch_max\": %s}\n",
+      "\"ms_per_step\": %s, \"cpu_ms_per_step\": %s, \"integrate_ms\": %s, \"solve_ms\": %s, \"wait_ms\": %s, \"shared_steps\": %s, "
+      "\"stretch_rms\": %s, \"stretch_max\": %s, \"stretch_rms_mean\": %s}\n",
       r.engine.c_str(), r.precision.c_str(), r.solver.c_str(), c.n, r.particles, r.distance, r.bending,
       r.colors < 0 ? "null" : std::to_string(r.colors).c_str(), r.threads, o.steps, o.substeps, o.iterations,
       number(o.dt).c_str(), number(o.k_distance).c_str(), number(o.k_bending).c_str(), number(r.setup_ms).c_str(),
-      number(r.ms_per_step).c_str(), r.integrate_ms < 0 ? "null" : number(r.integrate_ms).c_str(),
+      number(r.ms_per_step).c_str(), number(r.cpu_ms_per_step).c_str(), r.integrate_ms < 0 ? "null" : number(r.integrate_ms).c_str(),
       r.solve_ms < 0 ? "null" : number(r.solve_ms).c_str(), r.wait_ms < 0 ? "null" : number(r.wait_ms).c_str(),
       r.shared_steps < 0 ? "null" : std::to_string(r.shared_steps).c_str(), number(r.error.rms).c_str(),
-      number(r.error.max).c_str());
+      number(r.error.max).c_str(), r.rms_mean < 0 ? "null" : number(r.rms_mean).c_str());
   std::fflush(stdout);
 }
 
 using Clock = std::chrono::steady_clock;
 inline double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/// The process's CPU time (all its threads), ms.
+inline double cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+}
+
+/// Runs o.steps steps (step(s)) and returns the ms per step; r.cpu_ms_per_step gets the CPU time per step. With
+/// --average-error, `measure` (the RMS stretch of the current positions) runs after every step, outside the timed
+/// part, and r.rms_mean gets its mean: each step is timed alone, so the figures are the steps' time either way.
+inline double timed_steps(const Options& o, Result& r, const std::function<void(int)>& step,
+                          const std::function<double()>& measure) {
+  double ms = 0, cpu = 0, sum = 0;
+  for (int s = 0; s < o.steps; ++s) {
+    const Clock::time_point t = Clock::now();
+    const double c = cpu_ms();
+    step(s);
+    cpu += cpu_ms() - c;
+    ms += ms_since(t);
+    if (o.average) sum += measure();
+  }
+  if (o.average) r.rms_mean = sum / o.steps;
+  r.cpu_ms_per_step = cpu / o.steps;
+  return ms / o.steps;
 }
 
 }  // namespace peer_bench

@@ -66,29 +66,33 @@ template <class Real> peer_bench::Result run(const peer_bench::Options& o, const
   r.threads = tbb::this_task_arena::max_concurrency();
   r.setup_ms = peer_bench::ms_since(t0);
 
-  const Clock::time_point t1 = Clock::now();
   // The step's phase timers (StepStats): prediction and velocity update, sweeps, and of the sweeps the threads'
   // waiting for one another; the steps whose sweeps more than one thread ran.
   double integrate = 0, solve = 0, wait = 0;
   int shared = 0;
-  for (int s = 0; s < o.steps; ++s) {
-    world.step();
-    const StepStats& st = world.last_step_stats();
-    integrate += st.seconds_integrate;
-    solve += st.seconds_solve;
-    wait += st.seconds_waiting;
-    shared += st.solve_threads > 1 ? 1 : 0;
-  }
-  r.ms_per_step = peer_bench::ms_since(t1) / o.steps;
+  auto error = [&] {
+    const auto p = world.positions();
+    return peer_bench::stretch(c, [&](unsigned i) {
+      return std::array<double, 3>{double(p(0, i)), double(p(1, i)), double(p(2, i))};
+    });
+  };
+  r.ms_per_step = peer_bench::timed_steps(
+      o, r,
+      [&](int) {
+        world.step();
+        const StepStats& st = world.last_step_stats();
+        integrate += st.seconds_integrate;
+        solve += st.seconds_solve;
+        wait += st.seconds_waiting;
+        shared += st.solve_threads > 1 ? 1 : 0;
+      },
+      [&] { return error().rms; });
   r.integrate_ms = 1e3 * integrate / o.steps;
   r.solve_ms = 1e3 * solve / o.steps;
   r.wait_ms = 1e3 * wait / o.steps;
   r.shared_steps = shared;
 
-  const auto p = world.positions();
-  r.error = peer_bench::stretch(c, [&](unsigned i) {
-    return std::array<double, 3>{double(p(0, i)), double(p(1, i)), double(p(2, i))};
-  });
+  r.error = error();
   return r;
 }
 

@@ -131,14 +131,14 @@ int main(int argc, char** argv) {
     r.setup_ms = peer_bench::ms_since(t0);
 
     TimeStep* step = Simulation::getCurrent()->getTimeStep();
-    const Clock::time_point t1 = Clock::now();
-    for (int s = 0; s < o.steps; ++s) step->step(*model);
-    r.ms_per_step = peer_bench::ms_since(t1) / o.steps;
-
-    r.error = peer_bench::stretch(c, [&](unsigned i) {
-      const Vector3r& p = pd.getPosition(i);
-      return std::array<double, 3>{double(p[0]), double(p[1]), double(p[2])};
-    });
+    auto error = [&] {
+      return peer_bench::stretch(c, [&](unsigned i) {
+        const Vector3r& p = pd.getPosition(i);
+        return std::array<double, 3>{double(p[0]), double(p[1]), double(p[2])};
+      });
+    };
+    r.ms_per_step = peer_bench::timed_steps(o, r, [&](int) { step->step(*model); }, [&] { return error().rms; });
+    r.error = error();
     peer_bench::print(o, c, r);
     delete Simulation::getCurrent();
     delete model;

@@ -1,5 +1,6 @@
 # CTest smoke test of pbd_cloth (bench/peer/CMakeLists.txt): writes a 10×10 cloth with make_cloth.py, runs a few
-# steps in float and in double, and checks the exit codes and that the JSON line holds finite numbers.
+# steps in float and in double, and checks the exit codes and that the JSON line holds finite numbers; with
+# --average-error also the mean RMS stretch, and that measuring it after every step leaves the run's result alone.
 # Variables: PYTHON, MAKE_CLOTH, DRIVER, WORK.
 file(MAKE_DIRECTORY "${WORK}")
 set(mesh "${WORK}/cloth10.txt")
@@ -7,13 +8,18 @@ execute_process(COMMAND "${PYTHON}" "${MAKE_CLOTH}" 10 "${mesh}" RESULT_VARIABLE
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "make_cloth.py failed (${rc}): ${err}")
 endif()
-foreach(args "--steps;5" "--steps;5;--double;--substeps;2;--iterations;3;--threads;1")
+set(plain "--steps;5;--double;--substeps;2;--iterations;3;--threads;1")
+foreach(args "--steps;5" "${plain}" "${plain};--average-error")
   execute_process(COMMAND "${DRIVER}" --mesh "${mesh}" ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out
                   ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "pbd_cloth ${args} failed (${rc}): ${err}")
   endif()
-  foreach(key particles distance bending ms_per_step stretch_rms stretch_max)
+  set(keys particles distance bending ms_per_step cpu_ms_per_step stretch_rms stretch_max)
+  if(args MATCHES "--average-error")
+    list(APPEND keys stretch_rms_mean)
+  endif()
+  foreach(key ${keys})
     string(JSON v ERROR_VARIABLE jerr GET "${out}" ${key})
     if(jerr OR NOT v MATCHES "^[-+0-9.eE]+$")
       message(FATAL_ERROR "pbd_cloth ${args}: '${key}' is not a finite number in: ${out}")
@@ -24,6 +30,12 @@ foreach(args "--steps;5" "--steps;5;--double;--substeps;2;--iterations;3;--threa
   string(JSON nb GET "${out}" bending)
   if(NOT np EQUAL 100 OR NOT nd EQUAL 261 OR NOT nb EQUAL 225)
     message(FATAL_ERROR "pbd_cloth ${args}: expected 100 particles, 261 distance, 225 bending constraints: ${out}")
+  endif()
+  string(JSON rms GET "${out}" stretch_rms)
+  if(args STREQUAL plain)
+    set(plain_rms "${rms}")
+  elseif(args MATCHES "--average-error" AND NOT rms STREQUAL plain_rms)
+    message(FATAL_ERROR "pbd_cloth --average-error changed the final stretch: ${rms} against ${plain_rms}")
   endif()
   message(STATUS "${out}")
 endforeach()
