@@ -93,12 +93,15 @@ struct Options {
   double k_distance = 1.0;      ///< PBD stiffness of the distance constraints
   double k_bending = 0.01;      ///< PBD stiffness of the dihedral constraints
   bool average = false;         ///< also measure the stretch after every step (untimed) and report its mean
+  bool tethers = false;         ///< pbd only: long-range attachments to the pins (World::add_tethers, defaults)
+  bool hierarchy = false;       ///< pbd only: hierarchical PBD (StepParams::hierarchy, defaults)
 };
 
 inline void usage(const char* prog, const char* extra) {
   std::fprintf(stderr,
                "usage: %s --mesh FILE [--steps S=200] [--substeps 1] [--iterations 10] [--threads T] [--double]\n"
-               "          [--solver NAME] [--dt 1/60] [--k-distance 1] [--k-bending 0.01] [--average-error]\n%s",
+               "          [--solver NAME] [--dt 1/60] [--k-distance 1] [--k-bending 0.01] [--average-error]\n"
+               "          [--tethers] [--hierarchy]\n%s",
                prog, extra);
 }
 
@@ -145,6 +148,8 @@ inline Options parse(int argc, char** argv, const char* extra_help) {
     else if (a == "--k-distance") o.k_distance = real();
     else if (a == "--k-bending") o.k_bending = real();
     else if (a == "--average-error") o.average = true;
+    else if (a == "--tethers") o.tethers = true;
+    else if (a == "--hierarchy") o.hierarchy = true;
     else if (a == "-h" || a == "--help") {
       usage(argv[0], extra_help);
       std::exit(0);

@@ -9,6 +9,8 @@
 
 #include <cstdio>
 #include <exception>
+#include <span>
+#include <vector>
 
 namespace {
 
@@ -40,7 +42,22 @@ template <class Real> peer_bench::Result run(const peer_bench::Options& o, const
   // shared edge first. Rest angle: the current one (flat: π in pbd's convention, 0 in the peer's; same constraint).
   for (const auto& q : c.quads) world.add_bending(q[2], q[3], q[0], q[1], bending);
 
+  if (o.tethers) {
+    // World::add_tethers (issue 44), where this build has it: every particle tethered to the nearest pin.
+    if constexpr (requires(World<Real>& w, std::span<const Index> body) { w.add_tethers(body); }) {
+      std::vector<Index> body(std::size_t(world.num_particles()));
+      for (std::size_t i = 0; i < body.size(); ++i) body[i] = Index(i);
+      world.add_tethers(std::span<const Index>(body));
+    } else {
+      throw Error("--tethers: this build has no World::add_tethers");
+    }
+  }
   StepParams<Real> params = world.params();
+  if (o.hierarchy) {
+    // StepParams::hierarchy (issue 44), where this build has it, with its default levels.
+    if constexpr (requires(StepParams<Real>& p) { p.hierarchy.enabled = true; }) params.hierarchy.enabled = true;
+    else throw Error("--hierarchy: this build has no StepParams::hierarchy");
+  }
   params.dt = Real(o.dt);
   params.substeps = o.substeps;
   params.iterations = o.iterations;
@@ -100,7 +117,9 @@ template <class Real> peer_bench::Result run(const peer_bench::Options& o, const
 
 int main(int argc, char** argv) {
   const peer_bench::Options o = peer_bench::parse(
-      argc, argv, "  --solver: serial, serial-colored, colored (default), jacobi, block; --threads: a tbb::task_arena\n");
+      argc, argv,
+      "  --solver: serial, serial-colored, colored (default), jacobi, block; --threads: a tbb::task_arena;\n"
+      "  --tethers, --hierarchy: issue 44's long-range attachments and hierarchy, where this build has them\n");
   try {
     const peer_bench::Cloth c = peer_bench::read_cloth(o.mesh);
     tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic);

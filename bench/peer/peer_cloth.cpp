@@ -53,8 +53,8 @@ void check_against_peer_grid(const peer_bench::Cloth& c) {
 
 int main(int argc, char** argv) {
   const peer_bench::Options o =
-      peer_bench::parse(argc, argv, "  --threads: omp_set_num_threads; --solver and --double are ignored (the peer "
-                                    "has one solver; its Real is double)\n");
+      peer_bench::parse(argc, argv, "  --threads: omp_set_num_threads; --solver, --double, --tethers and --hierarchy "
+                                    "are ignored (the peer has one solver; its Real is double)\n");
   try {
     const peer_bench::Cloth c = peer_bench::read_cloth(o.mesh);
     if (o.threads > 0) omp_set_num_threads(o.threads);
