@@ -103,7 +103,8 @@ def plateau(n=100):
 def families(n=30):
     for label, kw in [("generator's order", {}), ("rows shuffled", {"shuffle": "h"}),
                       ("columns shuffled", {"shuffle": "v"}), ("diagonals shuffled", {"shuffle": "d"}),
-                      ("rows reversed", {"reverse": "h"})]:
+                      ("rows reversed", {"reverse": "h"}), ("columns reversed", {"reverse": "v"}),
+                      ("diagonals reversed", {"reverse": "d"})]:
         line("serial, " + label, cloth(n, **kw), 128, 1)
 
 
