@@ -323,6 +323,7 @@ template <class Real, class... C> auto members_of_each_type(std::tuple<C...>*) {
   template Index World<Real>::add_anchor(Index, Index, std::optional<Vec3<Real>>);                 \
   template Index World<Real>::add_bending(Index, Index, Index, Index, Index, std::optional<Real>);  \
   template Index World<Real>::add_area(Index, Index, Index, Index, std::optional<Real>);            \
+  template Index World<Real>::add_tethers(std::span<const Index>, const TetherOptions&);          \
   template Index World<Real>::add_volume(std::span<const std::array<Index, 3>>, Index, const PressureSchedule&, \
                                          std::optional<Real>);                                      \
   template std::size_t World<Real>::num_constraints() const;                                       \
