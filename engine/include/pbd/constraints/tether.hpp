@@ -6,8 +6,9 @@
 /// |p − p0| > L, and never pushes: a particle within L of p0 is not touched, bit for bit.
 ///
 /// A tether moves its one particle alone, so tethers of distinct particles never conflict: one tether per particle
-/// (pbd::add_tethers' "nearest") is one color, projected in parallel over the particles. It reads only its own
-/// particle and its own target, so nothing it reads is written by another tether of its color.
+/// (World::add_tethers with TetherTo::nearest) is one color, projected in parallel over the particles. It reads only
+/// its own particle and its own target, so nothing it reads is written by another tether of its color. Last in the
+/// list, so a Gauss-Seidel sweep ends with no particle beyond its tether.
 ///
 /// `pin` is not a rest value: add_tethers (pbd/tethers.hpp) records the particle a tether hangs from, and at the
 /// start of each step the world sets the target of every tether whose pin is pinned (inverse mass 0) to that pin's
