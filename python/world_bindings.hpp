@@ -194,6 +194,28 @@ template <class Real> void bind_world(py::module_& m, const char* name, const ch
       },
       py::arg("triangles"), py::arg("set"), py::arg("pressure") = PressureSchedule{}, py::arg("rest") = py::none(),
       "Adds a volume constraint on a closed mesh, triangles (M, 3) counter-clockwise from outside; rest in 6V m^3.");
+  cls.def(
+      "add_tethers",
+      [](W& w, py::object particles, const std::string& to, const std::string& length, double compliance) {
+        py::array a = numeric_array(particles, "add_tethers: particles", "iu");
+        if (a.ndim() != 1) throw py::value_error("add_tethers: particles must have shape (N,), got " + shape_text(a));
+        const auto idx = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
+        std::vector<Index> body(std::size_t(idx.shape(0)));
+        for (std::size_t i = 0; i < body.size(); ++i)
+          body[i] = index_arg(idx.data()[i], "add_tethers: particles[" + std::to_string(i) + "]");
+        TetherOptions o;
+        if (const auto t = parse_tether_to(to)) o.to = *t;
+        else throw py::value_error("add_tethers: to must be \"nearest\" or \"all\", got \"" + to + "\"");
+        if (const auto l = parse_tether_length(length)) o.length = *l;
+        else throw py::value_error("add_tethers: length must be \"euclidean\" or \"geodesic\", got \"" + length + "\"");
+        o.compliance = compliance;
+        return w.get("add_tethers").add_tethers(body, o);
+      },
+      py::arg("particles"), py::arg("to") = "nearest", py::arg("length") = "euclidean", py::arg("compliance") = 0.0,
+      "Adds long-range attachments: each of `particles` with mass and no anchor gets a one-sided tether to the nearest "
+      "(to=\"nearest\") or every (\"all\") pinned or anchored particle among them, its length the straight "
+      "(\"euclidean\") or along-the-stretch-constraints (\"geodesic\") rest distance, in a new set of XPBD "
+      "compliance `compliance` (m/N). Returns how many were added (0 when none of the particles is pinned or anchored).");
   cls.def("num_constraints", [](W& w) { return w.get("num_constraints").num_constraints(); },
           "Number of constraints of every type.");
 

@@ -123,6 +123,20 @@ template <class Real> Index World<Real>::add_area(Index a, Index b, Index c, Ind
   return add(AreaConstraint<Real>{{a, b, c}, set, rest.value_or(Real(0))}, rest ? kAllFields : 0);
 }
 
+template <class Real> Index World<Real>::add_tethers(std::span<const Index> body, const TetherOptions& options) {
+  check_tether_request(body, std::size_t(num_particles()), options, "add_tethers");
+  const auto anchors = model_.template store<AnchorConstraint<Real>>().in_insertion_order();
+  const auto stretch = model_.template store<StretchConstraint<Real>>().in_insertion_order();
+  const TetherInputs<Real> in{body, &state_.x, &model_.inverse_mass, anchors, stretch};
+  const Index set = Index(model_.sets.size());  // the set made below, if any tether is made
+  const std::vector<TetherConstraint<Real>> tethers = plan_tethers(in, options, set);
+  if (tethers.empty()) return 0;
+  add_constraint_set(Stiffness::xpbd_compliance(options.compliance));
+  model_.template store<TetherConstraint<Real>>().items.reserve(tethers.size());
+  for (const auto& t : tethers) add(t);
+  return Index(tethers.size());
+}
+
 template <class Real> template <class C> Index World<Real>::add(const C& constraint, FieldMask given) {
   ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   auto& store = model_.template store<C>();
@@ -309,6 +323,7 @@ template <class Real, class... C> auto members_of_each_type(std::tuple<C...>*) {
   template Index World<Real>::add_anchor(Index, Index, std::optional<Vec3<Real>>);                 \
   template Index World<Real>::add_bending(Index, Index, Index, Index, Index, std::optional<Real>);  \
   template Index World<Real>::add_area(Index, Index, Index, Index, std::optional<Real>);            \
+  template Index World<Real>::add_tethers(std::span<const Index>, const TetherOptions&);          \
   template Index World<Real>::add_volume(std::span<const std::array<Index, 3>>, Index, const PressureSchedule&, \
                                          std::optional<Real>);                                      \
   template std::size_t World<Real>::num_constraints() const;                                       \

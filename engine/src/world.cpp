@@ -81,6 +81,14 @@ namespace {
 using clock = std::chrono::steady_clock;
 double seconds_since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
 
+// Tethers follow their pins (tether.hpp): each target whose pin is pinned becomes that pin's position, read between
+// steps, when nothing else runs; an unmoved pin writes the target's own value back, so the bits stay as they were.
+template <class Real>
+void follow_pins(std::vector<TetherConstraint<Real>>& tethers, const Matrix3X<Real>& x, const VectorX<Real>& w) {
+  for (TetherConstraint<Real>& t : tethers)
+    if (t.pin < Index(w.size()) && w[t.pin] == Real(0)) t.target = x.col(t.pin);  // kNoPin is out of range
+}
+
 }  // namespace
 
 template <class Real> void World<Real>::check_state_finite() const {
@@ -100,6 +108,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
     host_wrote_ = false;
   }
   const auto t0 = clock::now();
+  follow_pins(model_.template store<TetherConstraint<Real>>().items, state_.x, model_.inverse_mass);
   stats_ = StepStats{};
   detail::Scratch<Real>& k = scratch();
   const Real h = params_.dt / Real(params_.substeps);

@@ -38,6 +38,19 @@ Index DescriptionBuilder::add_anchor(Index particle, Index set, std::optional<Ve
   return add(AnchorConstraint<double>{{particle}, set, target.value_or(Vec::Zero())}, target ? kAllFields : 0);
 }
 
+Index DescriptionBuilder::add_tethers(std::span<const Index> body, const TetherOptions& options) {
+  check_tether_request(body, std::size_t(num_particles()), options, "add_tethers");
+  const TetherInputs<double> in{body, &d_.positions, &d_.inverse_masses, d_.constraints<AnchorConstraint<double>>(),
+                                d_.constraints<StretchConstraint<double>>()};
+  const Index set = Index(d_.sets.size());  // the set made below, if any tether is made
+  const std::vector<TetherConstraint<double>> tethers = plan_tethers(in, options, set);
+  if (tethers.empty()) return 0;
+  add_constraint_set(Stiffness::xpbd_compliance(options.compliance));
+  reserve_more<TetherConstraint<double>>(tethers.size());
+  for (const auto& t : tethers) add(t);
+  return Index(tethers.size());
+}
+
 Index DescriptionBuilder::add_bending(Index p1, Index p2, Index p3, Index p4, Index set, std::optional<double> rest) {
   return add(BendingConstraint<double>{{p1, p2, p3, p4}, set, rest.value_or(0.0)}, rest ? kAllFields : 0);
 }

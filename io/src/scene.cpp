@@ -364,6 +364,35 @@ template <class C> void read_listed(const JsonObject& body, DescriptionBuilder& 
   o.reject_unknown_keys();
 }
 
+// A body's "tethers" (pbd/tethers.hpp): true, false, or {"to": "nearest"|"all", "length": "euclidean"|"geodesic",
+// "compliance": α}; made after the body's anchors (a source), for cloth, rope and mesh bodies. A body without a
+// pinned or anchored particle gets none (tethers.hpp says why).
+void read_tethers(const JsonObject& body, const std::string& type, DescriptionBuilder& world, const Body& b) {
+  if (!body.has("tethers")) return;
+  const nlohmann::json& v = body.value("tethers");
+  TetherOptions t;
+  if (v.is_boolean()) {
+    if (!v.get<bool>()) return;
+  } else if (v.is_object()) {
+    const JsonObject o = body.object("tethers");
+    const std::string to = o.string("to", "nearest");
+    if (const auto parsed = parse_tether_to(to)) t.to = *parsed;
+    else o.fail("to", message("expected \"nearest\" or \"all\", got ", detail::quoted(to)));
+    const std::string length = o.string("length", "euclidean");
+    if (const auto parsed = parse_tether_length(length)) t.length = *parsed;
+    else o.fail("length", message("expected \"euclidean\" or \"geodesic\", got ", detail::quoted(length)));
+    t.compliance = o.number("compliance", 0.0, kInf, 0.0);
+    o.reject_unknown_keys();
+  } else {
+    body.fail("tethers", "expected true, false or an object {\"to\", \"length\", \"compliance\"}");
+  }
+  if (type != "cloth" && type != "rope" && type != "mesh")
+    body.fail("tethers", message("tethers are made for cloth, rope and mesh bodies, not ", detail::quoted(type)));
+  std::vector<Index> particles(b.num_particles);
+  for (Index i = 0; i < b.num_particles; ++i) particles[i] = b.first_particle + i;
+  at_path(body.file(), body.path("tethers"), [&] { world.add_tethers(particles, t); });
+}
+
 // Every listed constraint type's key of a body, in the list's order.
 void read_listed_types(const JsonObject& body, DescriptionBuilder& world, const Body& b) {
   for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) {
@@ -437,6 +466,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
       else b.fail("type", message("unknown body type ", detail::quoted(type),
                                   " (expected \"cloth\", \"rope\", \"particles\", \"mesh\" or \"grains\")"));
       read_listed_types(b, world, body);
+      read_tethers(b, type, world, body);
       detail::read_contact_body(b, body, world);
       b.reject_unknown_keys();
       scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());

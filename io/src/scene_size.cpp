@@ -63,6 +63,23 @@ Size surface(const nlohmann::json& o, double v, double e, double t, std::string 
   return {v, constraints, std::move(key)};
 }
 
+// Tethers a body's "tethers" key asks for, at most: one per particle, or with "to": "all" one per particle and
+// source (its pins: a cloth's edge or corners, a rope's first particle, a mesh's "pinned"; and its anchors).
+double tether_constraints(const nlohmann::json& b, double particles) {
+  const auto it = b.find("tethers");
+  if (it == b.end() || (it->is_boolean() && !it->get<bool>())) return 0;
+  const auto to = it->is_object() ? it->find("to") : it->end();
+  if (!it->is_object() || to == it->end() || *to != "all") return particles;
+  double sources = elements(b, "pinned") + 1;  // a rope's pin
+  const auto anchors = b.find(AnchorConstraint<double>::kSceneKey);
+  if (anchors != b.end() && anchors->is_object()) sources += elements(*anchors, "particles");
+  const auto pin = b.find("pin");
+  const auto type = b.find("type");
+  if (type != b.end() && *type == "cloth" && (pin == b.end() || *pin != "none"))
+    sources += pin != b.end() && *pin == "edge" ? count(b, "resolution", 4096) : 2;
+  return particles * sources;
+}
+
 Size body_size(const nlohmann::json& b) {
   const auto type = b.find("type");
   if (type == b.end() || !type->is_string()) return {};
@@ -123,7 +140,7 @@ void check_scene_size(const nlohmann::json& root, const std::string& file) {
     const nlohmann::json& b = (*bodies)[i];
     if (!b.is_object()) continue;
     Size s = body_size(b);
-    s.constraints += listed_constraints(b);
+    s.constraints += listed_constraints(b) + tether_constraints(b, s.particles);
     const std::string path = message("/bodies/", i, "/", s.key.empty() ? "type" : s.key);
     if (particles + s.particles > double(kMaxSceneParticles))
       json_fail(file, path, message("this body has ", shown(s.particles), " particles; with the ", shown(particles),

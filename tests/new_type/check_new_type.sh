@@ -5,16 +5,16 @@
 # Usage: check_new_type.sh SOURCE_DIR WORK_DIR [COMPILER_LAUNCHER]
 #
 # 1. Copies SOURCE_DIR's files (git ls-files: the tracked ones as they are in the work tree, plus untracked ones not
-#    ignored) to WORK_DIR/src, commits them there, adds tests/new_type/tether.hpp as
-#    engine/include/pbd/constraints/tether.hpp and one entry in BuiltinConstraintTypes (sed), and checks with
+#    ignored) to WORK_DIR/src, commits them there, adds tests/new_type/leash.hpp as
+#    engine/include/pbd/constraints/leash.hpp and one entry in BuiltinConstraintTypes (sed), and checks with
 #    `git diff --stat` that at most 3 files changed outside tests/ and docs/.
 # 2. Builds the copy in Release (-j 2): the engine, io, the pbd program, the Python module and new_type_tests.
-# 3. Runs new_type_tests (the list-walking tests of tests/io with the tether in the list: checks, every solver,
-#    validate(), its metric and unit, the describe round trip, removal; and the tether's physics against closed
-#    forms), `pbd run` on scenes with a "tethers" key (the summary names it; the same hash on 1 and 2 threads, and
-#    for independent tethers serial = serial-colored), a bad tether in a scene and in a Python call (the same
-#    message, the scene's naming its key), `pbd study` (the tether's error in mm, its label and unit in the report)
-#    and the Python bindings (add_tether, tether_violation, constraint_violations).
+# 3. Runs new_type_tests (the list-walking tests of tests/io with the leash in the list: checks, every solver,
+#    validate(), its metric and unit, the describe round trip, removal; and the leash's physics against closed
+#    forms), `pbd run` on scenes with a "leashes" key (the summary names it; the same hash on 1 and 2 threads, and
+#    for independent leashes serial = serial-colored), a bad leash in a scene and in a Python call (the same
+#    message, the scene's naming its key), `pbd study` (the leash's error in mm, its label and unit in the report)
+#    and the Python bindings (add_leash, leash_violation, constraint_violations).
 set -euo pipefail
 src=$1
 work=$2
@@ -32,12 +32,12 @@ git init -q .
 git add -A
 git -c user.name=check -c user.email=check@localhost commit -q -m "the tree as given"
 
-step "add the tether: its header and one entry in the list"
-cp tests/new_type/tether.hpp engine/include/pbd/constraints/tether.hpp
+step "add the leash: its header and one entry in the list"
+cp tests/new_type/leash.hpp engine/include/pbd/constraints/leash.hpp
 list=engine/include/pbd/constraint_types.hpp
-sed -i 's|#include "pbd/constraints/stretch.hpp"|&\n#include "pbd/constraints/tether.hpp"|' "$list"
-sed -i 's|AreaConstraint<Real>>;|AreaConstraint<Real>,\n               TetherConstraint<Real>>;|' "$list"
-grep -q "TetherConstraint<Real>>;" "$list" || fail "the sed did not find the end of BuiltinConstraintTypes in $list"
+sed -i 's|#include "pbd/constraints/stretch.hpp"|&\n#include "pbd/constraints/leash.hpp"|' "$list"
+sed -i 's|TetherConstraint<Real>>;|TetherConstraint<Real>,\n               LeashConstraint<Real>>;|' "$list"
+grep -q "LeashConstraint<Real>>;" "$list" || fail "the sed did not find the end of BuiltinConstraintTypes in $list"
 git add -A
 git diff --cached --stat
 changed=$(git diff --cached --name-only | grep -v -e '^tests/' -e '^docs/' || true)
@@ -52,46 +52,46 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DPBD_BUILD_BENCHMARKS=O
 cmake --build build -j 2 --target new_type_tests pbd pbd_python >> build.log 2>&1 || { tail -50 build.log; fail "build"; }
 pbd=$work/src/build/cli/pbd
 
-step "new_type_tests: the list-walking tests with the tether, and the tether's physics"
+step "new_type_tests: the list-walking tests with the leash, and the leash's physics"
 build/tests/new_type/new_type_tests --gtest_brief=1 || fail "new_type_tests"
 
-step "pbd run: the summary names the tether; the hashes"
+step "pbd run: the summary names the leash; the hashes"
 mkdir -p scenes_t
-cat > scenes_t/tethered.json <<'JSON'
-{"name": "tethered", "dt": 0.01, "iterations": 4, "steps": 100, "primary_error": "tether",
+cat > scenes_t/leashed.json <<'JSON'
+{"name": "leashed", "dt": 0.01, "iterations": 4, "steps": 100, "primary_error": "leash",
  "bodies": [{"type": "particles", "positions": [[0,0,1],[1,0,1],[2,0,1],[3,0,1]], "mass": 1.0,
-             "tethers": {"particles": [0, 1, 2, 3], "length": 0.5}}]}
+             "leashes": {"particles": [0, 1, 2, 3], "length": 0.5}}]}
 JSON
-cat > scenes_t/rope_tether.json <<'JSON'
-{"name": "rope_tether", "dt": 0.01, "iterations": 8, "steps": 60,
+cat > scenes_t/rope_leash.json <<'JSON'
+{"name": "rope_leash", "dt": 0.01, "iterations": 8, "steps": 60,
  "bodies": [{"type": "rope", "particles": 30, "length": 1.5, "stretch": {"stiffness": 1.0},
-             "tethers": {"particles": [29], "length": 0.4}}]}
+             "leashes": {"particles": [29], "length": 0.4}}]}
 JSON
-out=$("$pbd" run scenes_t/tethered.json --solver serial --threads 1)
+out=$("$pbd" run scenes_t/leashed.json --solver serial --threads 1)
 echo "$out" | head -1
-echo "$out" | head -1 | grep -q "constraints: 0 stretch, 0 bending, 0 area, 0 volume, 0 anchor, 4 tether$" \
-  || fail "pbd run's summary does not name the tethers: $(echo "$out" | head -1)"
+echo "$out" | head -1 | grep -q "constraints: 0 stretch, 0 bending, 0 area, 0 volume, 0 anchor, 0 tether, 4 leash$" \
+  || fail "pbd run's summary does not name the leashes: $(echo "$out" | head -1)"
 hash_of() { "$pbd" run "$@" | sed -n 's/^state hash: //p'; }
-serial=$(hash_of scenes_t/tethered.json --solver serial --threads 1)
+serial=$(hash_of scenes_t/leashed.json --solver serial --threads 1)
 for solver in serial-colored colored; do
   for threads in 1 2; do
-    h=$(hash_of scenes_t/tethered.json --solver $solver --threads $threads)
-    [ "$h" = "$serial" ] || fail "independent tethers: $solver on $threads threads $h, serial $serial"
+    h=$(hash_of scenes_t/leashed.json --solver $solver --threads $threads)
+    [ "$h" = "$serial" ] || fail "independent leashes: $solver on $threads threads $h, serial $serial"
   done
 done
-echo "independent tethers: serial = serial-colored = colored on 1 and 2 threads ($serial)"
+echo "independent leashes: serial = serial-colored = colored on 1 and 2 threads ($serial)"
 for solver in colored jacobi block; do
-  one=$(hash_of scenes_t/rope_tether.json --solver $solver --threads 1)
-  two=$(hash_of scenes_t/rope_tether.json --solver $solver --threads 2)
-  [ "$one" = "$two" ] || fail "rope with a tether: $solver $one on 1 thread, $two on 2"
-  echo "rope with a tether, $solver: $one on 1 and 2 threads"
+  one=$(hash_of scenes_t/rope_leash.json --solver $solver --threads 1)
+  two=$(hash_of scenes_t/rope_leash.json --solver $solver --threads 2)
+  [ "$one" = "$two" ] || fail "rope with a leash: $solver $one on 1 thread, $two on 2"
+  echo "rope with a leash, $solver: $one on 1 and 2 threads"
 done
 
-step "a bad tether in a scene and in a Python call: the same message"
-sed 's/"length": 0.5/"length": -1/' scenes_t/tethered.json > scenes_t/bad.json
-if scene_error=$("$pbd" run scenes_t/bad.json 2>&1); then fail "a tether of length -1 was accepted"; fi
+step "a bad leash in a scene and in a Python call: the same message"
+sed 's/"length": 0.5/"length": -1/' scenes_t/leashed.json > scenes_t/bad.json
+if scene_error=$("$pbd" run scenes_t/bad.json 2>&1); then fail "a leash of length -1 was accepted"; fi
 echo "$scene_error"
-echo "$scene_error" | grep -q "/bodies/0/tethers/particles/0: add_tether: tether 0: length must be finite and >= 0, got -1" \
+echo "$scene_error" | grep -q "/bodies/0/leashes/particles/0: add_leash: leash 0: length must be finite and >= 0, got -1" \
   || fail "the scene's error does not name the key and the engine's check"
 export PYTHONPATH=$work/src/build/python
 api_error=$(/usr/bin/python3 -c '
@@ -100,51 +100,51 @@ w = pbd.World()
 w.add_particle((0, 0, 1), 1.0)
 s = w.add_constraint_set(pbd.Stiffness.pbd_k(1.0))
 try:
-    w.add_tether(0, s, length=-1.0)
+    w.add_leash(0, s, length=-1.0)
 except pbd.Error as e:
     print(e)
 ')
 echo "$api_error"
-[ "$api_error" = "add_tether: tether 0: length must be finite and >= 0, got -1" ] || fail "the API's message: $api_error"
+[ "$api_error" = "add_leash: leash 0: length must be finite and >= 0, got -1" ] || fail "the API's message: $api_error"
 echo "$scene_error" | grep -qF "$api_error" || fail "the scene's message differs from the API's"
 
-step "pbd study: the tether's error with its unit"
-"$pbd" study --quick --scene scenes_t/tethered.json --solvers serial,colored --threads 1 --budgets 2 \
+step "pbd study: the leash's error with its unit"
+"$pbd" study --quick --scene scenes_t/leashed.json --solvers serial,colored --threads 1 --budgets 2 \
   --json study.json --format csv > study.csv
 /usr/bin/python3 - <<'PY' || fail "pbd study's report"
 import json
 doc = json.load(open("study.json"))
 scene = doc["scenes"][0]
-assert scene["primary_error"] == "tether_mm", scene
-assert "tether_mm" in scene["measures"], scene
-assert doc["measures"]["tether_mm"] == {"type": "tether", "label": "tether overstretch", "unit": "mm"}, doc["measures"]
+assert scene["primary_error"] == "leash_mm", scene
+assert "leash_mm" in scene["measures"], scene
+assert doc["measures"]["leash_mm"] == {"type": "leash", "label": "leash overstretch", "unit": "mm"}, doc["measures"]
 for r in doc["records"]:
-    assert "tether_mm" in r["errors"], r["errors"]
-    assert r["errors"]["tether_mm"]["rms"] == r["primary_error"]
-print("pbd study: tether_mm in", len(doc["records"]), "records; measures:", doc["measures"]["tether_mm"])
+    assert "leash_mm" in r["errors"], r["errors"]
+    assert r["errors"]["leash_mm"]["rms"] == r["primary_error"]
+print("pbd study: leash_mm in", len(doc["records"]), "records; measures:", doc["measures"]["leash_mm"])
 PY
-grep -q "tether_mm_rms" study.csv || fail "the CSV has no tether_mm column"
+grep -q "leash_mm_rms" study.csv || fail "the CSV has no leash_mm column"
 
-step "Python: add_tether, tether_violation, constraint_violations, build_world of the scene"
+step "Python: add_leash, leash_violation, constraint_violations, build_world of the scene"
 /usr/bin/python3 - <<'PY' || fail "the Python bindings"
 import pbd
 w = pbd.WorldDouble()
 w.add_particle((0, 0, 1), 1.0)
 s = w.add_constraint_set(pbd.Stiffness.pbd_k(1.0))
-assert w.add_tether(0, s, length=0.5) == 0
+assert w.add_leash(0, s, length=0.5) == 0
 for _ in range(240):
     w.step()
 z = w.positions()[0, 2]
 assert abs(z - 0.5) < 1e-9, z                        # hangs L = 0.5 m below its fixed point (0, 0, 1)
-v = pbd.tether_violation(w)
+v = pbd.leash_violation(w)
 assert v.count == 1 and v.max < 1e-9, v
 (named,) = pbd.constraint_violations(w)
-assert (named.type, named.measure, named.unit, named.scale) == ("tether", "tether_mm", "mm", 1000.0), named.measure
-assert "length" in pbd.World.add_tether.__doc__ and "target" in pbd.World.add_tether.__doc__
-scene = pbd.load_scene("scenes_t/tethered.json")
+assert (named.type, named.measure, named.unit, named.scale) == ("leash", "leash_mm", "mm", 1000.0), named.measure
+assert "length" in pbd.World.add_leash.__doc__ and "target" in pbd.World.add_leash.__doc__
+scene = pbd.load_scene("scenes_t/leashed.json")
 f = pbd.build_world(scene)
 assert f.num_constraints() == 4
 f.validate()
 print("python: z =", z, "violation", v, "measure", named.measure, named.unit)
 PY
-step "done: the tether went through every pass"
+step "done: the leash went through every pass"

@@ -10,7 +10,8 @@ import pbd
 TYPES = {"stretch": (["a", "b"], ["rest"], "stretch_pct", "%"),
          "anchor": (["particle"], ["target"], "anchor_mm", "mm"),
          "bending": (["p1", "p2", "p3", "p4"], ["rest"], "bending_rad", "rad"),
-         "area": (["a", "b", "c"], ["rest"], "area_pct", "%")}
+         "area": (["a", "b", "c"], ["rest"], "area_pct", "%"),
+         "tether": (["particle"], ["target", "length"], "tether_mm", "mm")}
 
 
 def four_particles(world_type):

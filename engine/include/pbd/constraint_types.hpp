@@ -13,6 +13,7 @@
 #include "pbd/constraints/area.hpp"
 #include "pbd/constraints/bending.hpp"
 #include "pbd/constraints/stretch.hpp"
+#include "pbd/constraints/tether.hpp"
 
 #include <cstddef>
 #include <tuple>
@@ -24,7 +25,8 @@ namespace pbd {
 /// The built-in fixed-arity constraint types of precision Real, in the order a sweep projects them.
 template <class Real>
 using BuiltinConstraintTypes =
-    std::tuple<StretchConstraint<Real>, AnchorConstraint<Real>, BendingConstraint<Real>, AreaConstraint<Real>>;
+    std::tuple<StretchConstraint<Real>, AnchorConstraint<Real>, BendingConstraint<Real>, AreaConstraint<Real>,
+               TetherConstraint<Real>>;
 
 /// Number of built-in fixed-arity types.
 inline constexpr std::size_t kNumBuiltinTypes = std::tuple_size_v<BuiltinConstraintTypes<float>>;

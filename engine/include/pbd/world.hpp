@@ -16,6 +16,7 @@
 #include "pbd/error.hpp"
 #include "pbd/solver.hpp"
 #include "pbd/step_params.hpp"
+#include "pbd/tethers.hpp"
 #include "pbd/types.hpp"
 
 #include <pbd/graph_coloring/stats.hpp>
@@ -85,6 +86,11 @@ public:
   /// flat or inside-out mesh.
   Index add_volume(std::span<const std::array<Index, 3>> triangles, Index set, const PressureSchedule& pressure = {},
                    std::optional<Real> rest = std::nullopt);
+  /// Adds long-range attachments (pbd/tethers.hpp) to the particles `body` (each once): every one with mass that is
+  /// not anchored gets tethers to the body's pinned or anchored particles as `options` says, measured at the current
+  /// positions, in a new constraint set of XPBD compliance options.compliance. Returns how many were added, the last
+  /// ones of constraints<TetherConstraint<Real>>(); 0 and no set when the body has no pinned or anchored particle.
+  Index add_tethers(std::span<const Index> body, const TetherOptions& options = {});
   /// Adds a constraint of a user-defined type C (custom_constraints.hpp says what C provides); it is stored,
   /// colored and projected like the built-in types, after them. Returns its index among the constraints of type C.
   template <class C> Index add_custom(const C& constraint);

@@ -5,7 +5,8 @@
 // falls with h², so n sub-steps of one sweep beat one step of n sweeps). Before the first sub-step, the colored
 // and Jacobi solvers bring the colors up to date (schedule.hpp: only constraints added since the last step are
 // colored, into tail colors; everything is recolored after pins change, a particle is removed or the coloring
-// options change). Each sub-step then runs, in order:
+// options change), and every tether whose pin is pinned takes the pin's position as its target (tether.hpp: a host
+// may move pins between steps). Each sub-step then runs, in order:
 //   1. damping and forces   v ← v·max(0, 1 − damping·h), then v += h·(g + w·f); pinned particles keep v = 0
 //                           (damping first: a body at rest under gravity then sags by the whole of g)
 //   2. predict              p = x + h·v

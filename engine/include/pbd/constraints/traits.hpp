@@ -98,6 +98,7 @@ template <class To, class C> rebind_t<C, To> convert_constraint(const C& c) {
   D out{};
   out.particles = c.particles;
   out.set = c.set;
+  if constexpr (requires { c.pin; }) out.pin = c.pin;  // not a rest value: the particle a tether follows (tether.hpp)
   constexpr auto to = D::fields();
   for_each_field<C>([&](const auto& from, auto i) {
     const auto& field = std::get<decltype(i)::value>(to);

@@ -4,6 +4,7 @@
 /// add_rope, add_grains, add_mesh) fill one without building a World<double>.
 #include "pbd/checks.hpp"
 #include "pbd/io/world_description.hpp"
+#include "pbd/tethers.hpp"
 
 #include <limits>
 #include <optional>
@@ -44,6 +45,9 @@ public:
   /// As World::add_volume: a closed, consistently oriented mesh; rest in the 6V unit, by default the current one.
   Index add_volume(std::span<const std::array<Index, 3>> triangles, Index set, const PressureSchedule& pressure = {},
                    std::optional<double> rest = std::nullopt);
+  /// As World::add_tethers: tethers from `body`'s movable particles to its pinned or anchored ones, in a new set of
+  /// XPBD compliance options.compliance; returns how many (0 and no set when the body has no such particle).
+  Index add_tethers(std::span<const Index> body, const TetherOptions& options = {});
   /// As World::add_plane: n·x ≥ offset (m), stored with the unit normal; its surface's friction (μs, μk ≥ 0) and
   /// restitution (in [0, 1]).
   void add_plane(const Vec& normal, double offset, const ContactMaterial<double>& material = {});

@@ -1,8 +1,8 @@
-// The tether (tests/new_type/tether.hpp) once it is in the list, built only inside check_new_type.sh's copy of the
-// tree: its physics against closed forms, the determinism of every solver with it, and free bodies (a tethered body
+// The leash (tests/new_type/leash.hpp) once it is in the list, built only inside check_new_type.sh's copy of the
+// tree: its physics against closed forms, the determinism of every solver with it, and free bodies (a leashed body
 // is held, not free). The list-walking tests (tests/io/constraint_types_test.cpp) run beside these.
 #include "error_checks.hpp"
-#include "pbd/constraints/tether.hpp"
+#include "pbd/constraints/leash.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
 
@@ -14,17 +14,17 @@
 namespace pbd {
 namespace {
 
-using Tether = TetherConstraint<double>;
+using Leash = LeashConstraint<double>;
 
-static_assert(is_builtin_v<Tether, double>, "check_new_type.sh adds the tether to BuiltinConstraintTypes");
+static_assert(is_builtin_v<Leash, double>, "check_new_type.sh adds the leash to BuiltinConstraintTypes");
 
-// A pendulum bob of 1 kg released at its tether's fixed point (0, 0, 1): it falls freely while the tether is slack,
+// A pendulum bob of 1 kg released at its leash's fixed point (0, 0, 1): it falls freely while the leash is slack,
 // is caught at |p − p0| = L and hangs there.
 World<double> pendulum(double length, Solver solver) {
   World<double> w;
   w.add_particle({0, 0, 1}, 1.0);
   const Index set = w.add_constraint_set(Stiffness::pbd_k(1.0));
-  Tether t = blank_constraint<Tether>();
+  Leash t = blank_constraint<Leash>();
   t.particles = {0};
   t.set = set;
   t.length = length;
@@ -35,7 +35,7 @@ World<double> pendulum(double length, Solver solver) {
   return w;
 }
 
-TEST(Tether, APendulumSettlesAtItsLengthBelowTheFixedPoint) {
+TEST(Leash, APendulumSettlesAtItsLengthBelowTheFixedPoint) {
   for (Solver solver : kSolvers) {
     World<double> w = pendulum(0.5, solver);
     for (int s = 0; s < 240; ++s) w.step();
@@ -44,12 +44,12 @@ TEST(Tether, APendulumSettlesAtItsLengthBelowTheFixedPoint) {
     EXPECT_EQ(x(0, 0), 0.0);
     EXPECT_EQ(x(1, 0), 0.0);
     EXPECT_NEAR(w.velocities().col(0).norm(), 0.0, 1e-6) << name(solver);
-    EXPECT_LT(violation_of<Tether>(w).max, 1e-9);
+    EXPECT_LT(violation_of<Leash>(w).max, 1e-9);
     w.validate();
   }
 }
 
-TEST(Tether, ASlackTetherExertsNothingTheBobFallsFreely) {
+TEST(Leash, ASlackLeashExertsNothingTheBobFallsFreely) {
   for (Solver solver : kSolvers) {
     World<double> w = pendulum(100.0, solver);
     World<double> free_fall;
@@ -60,23 +60,23 @@ TEST(Tether, ASlackTetherExertsNothingTheBobFallsFreely) {
       w.step();
       free_fall.step();
     }
-    // Bit for bit the untethered bob, and the closed form of the integrator: z_n = z_0 − g·h²·n(n + 1)/2.
+    // Bit for bit the unleashed bob, and the closed form of the integrator: z_n = z_0 − g·h²·n(n + 1)/2.
     EXPECT_EQ(position_hash(w), position_hash(free_fall)) << name(solver);
     const double h = w.params().dt, g = 9.81;
     EXPECT_NEAR(w.positions()(2, 0), 1.0 - g * h * h * n * (n + 1) / 2, 1e-9) << name(solver);
-    EXPECT_EQ(violation_of<Tether>(w).max, 0.0);
+    EXPECT_EQ(violation_of<Leash>(w).max, 0.0);
   }
 }
 
-// XPBD (λ accumulated per sub-step): a compliant tether of compliance α holds the 1 kg bob at L + α·m·g, the
+// XPBD (λ accumulated per sub-step): a compliant leash of compliance α holds the 1 kg bob at L + α·m·g, the
 // stretch at which its force α⁻¹·δ carries the weight; every solver.
-TEST(Tether, ACompliantTetherStretchesByItsComplianceTimesTheWeight) {
+TEST(Leash, ACompliantLeashStretchesByItsComplianceTimesTheWeight) {
   const double alpha = 1e-4, g = 9.81;
   for (Solver solver : kSolvers) {
     World<double> w;
     w.add_particle({0, 0, 1}, 1.0);
     const Index set = w.add_constraint_set(Stiffness::xpbd_compliance(alpha));
-    Tether t = blank_constraint<Tether>();
+    Leash t = blank_constraint<Leash>();
     t.particles = {0};
     t.set = set;
     t.length = 0.5;
@@ -86,23 +86,23 @@ TEST(Tether, ACompliantTetherStretchesByItsComplianceTimesTheWeight) {
     w.set_params(p);
     for (int s = 0; s < 600; ++s) w.step();
     EXPECT_NEAR(1.0 - w.positions()(2, 0), 0.5 + alpha * g, 1e-9) << name(solver);
-    EXPECT_NEAR(violation_of<Tether>(w).max, alpha * g, 1e-9) << name(solver);
+    EXPECT_NEAR(violation_of<Leash>(w).max, alpha * g, 1e-9) << name(solver);
     w.validate();
   }
 }
 
 // A swinging pendulum: the bob never gets farther than L from the fixed point, on every solver.
-TEST(Tether, ASwingingBobStaysWithinItsLength) {
+TEST(Leash, ASwingingBobStaysWithinItsLength) {
   for (Solver solver : kSolvers) {
     World<double> w;
     w.add_particle({0.5, 0, 1}, 1.0);
     const Index set = w.add_constraint_set(Stiffness::pbd_k(1.0));
-    Tether t = blank_constraint<Tether>();
+    Leash t = blank_constraint<Leash>();
     t.particles = {0};
     t.set = set;
     t.target = {0, 0, 1};
     w.add(t, 1u);  // the fixed point given, the length measured: 0.5
-    EXPECT_DOUBLE_EQ(w.constraints<Tether>()[0].length, 0.5);
+    EXPECT_DOUBLE_EQ(w.constraints<Leash>()[0].length, 0.5);
     auto p = w.params();
     p.solver = solver;
     w.set_params(p);
@@ -113,9 +113,9 @@ TEST(Tether, ASwingingBobStaysWithinItsLength) {
   }
 }
 
-// The determinism contract with tethers among other constraints: a rope of 40 particles, its end tethered, steps to
+// The determinism contract with leashes among other constraints: a rope of 40 particles, its end leashed, steps to
 // the same bits on 1 and 2 threads under every parallel solver.
-TEST(Tether, EveryParallelSolverGivesTheSameBitsOnOneAndTwoThreads) {
+TEST(Leash, EveryParallelSolverGivesTheSameBitsOnOneAndTwoThreads) {
   for (Solver solver : {Solver::colored, Solver::jacobi, Solver::block}) {
     std::uint64_t hash[2];
     for (int threads : {1, 2}) {
@@ -123,7 +123,7 @@ TEST(Tether, EveryParallelSolverGivesTheSameBitsOnOneAndTwoThreads) {
       const Index set = w.add_constraint_set(Stiffness::pbd_k(1.0));
       for (int i = 0; i < 40; ++i) w.add_particle({0.025f * float(i), 0, 1}, i == 0 ? World<float>::kPinned : 0.1f);
       for (Index i = 0; i + 1 < 40; ++i) w.add_stretch(i, i + 1, set);
-      TetherConstraint<float> t = blank_constraint<TetherConstraint<float>>();
+      LeashConstraint<float> t = blank_constraint<LeashConstraint<float>>();
       t.particles = {39};
       t.set = set;
       t.target = {1.2f, 0, 1};
