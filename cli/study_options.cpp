@@ -126,6 +126,7 @@ StudyPlan make_plan(const StudyOptions& o) {
   plan.default_solvers = o.solvers.empty();
   plan.threads = int_list("--threads", !o.threads.empty() ? o.threads : o.scaling ? all_threads() : "1,2", 1, 1024);
   // --quick: the smoke test: budgets of 2 and 4 sweeps, at most 20 steps, one timed run, an 8x1 reference.
+  plan.default_budgets = o.budgets.empty();
   plan.budgets = int_list("--budgets", !o.budgets.empty() ? o.budgets : o.quick ? "2,4" : "1,2,4,8,16,32,64,128,256",
                           1, 4096);
   if (!o.split.empty()) plan.split = parse_split("--split", o.split);

@@ -61,6 +61,8 @@ struct StudyPlan {
   int max_steps = 0;                     ///< cap on each scene's own steps (0: none; --quick: 20)
   bool double_precision = false;         ///< World<double> instead of World<float>
   int repeats = 3;                       ///< timed runs per combination after one warm-up run
+  bool default_budgets = true;           ///< --budgets not given: scenes other than the generated ones stop at
+                                         ///< kOtherSceneBudget sweeps (their steps with contacts cost the most)
   bool default_solvers = true;           ///< --solvers not given: one-thread solvers only where affordable, the
                                          ///< large cloths with the colored solver alone, variants without serial
   std::vector<std::string> variants;     ///< --variants (empty: every one that applies to each scene)
@@ -90,6 +92,9 @@ std::vector<Split> splits_of(int budget);
 /// The splits the study runs of `budget`: every one up to kAllSplitsBudget sweeps; above it substeps alone
 /// (budget × 1): substeps win at high budgets (README), and the other splits would cost as much again each.
 constexpr int kAllSplitsBudget = 8;
+/// The largest default budget of a scene that is not generated (the headline's budgets are for the cloths and the
+/// chain).
+constexpr int kOtherSceneBudget = 32;
 std::vector<Split> study_splits(int budget);
 
 /// Parses "SxI" (e.g. "2x5"); throws pbd::Error naming `flag`.

@@ -162,6 +162,7 @@ std::vector<GeneratedScene> generated_scenes() {
 }
 
 bool is_generated_cloth(const std::string& name) { return is_generated(name) && name != "chain30"; }
+bool is_generated_scene(const std::string& name) { return is_generated(name); }
 
 void check_study_scene(const std::string& name) {
   if (name == "chain30" || cloth_resolution(name)) return;

@@ -26,6 +26,8 @@ std::vector<GeneratedScene> generated_scenes();
 
 /// Whether `name` is a generated hanging cloth cloth<N> or cloth<N>-rest (and not a built-in scene or a file).
 bool is_generated_cloth(const std::string& name);
+/// Whether `name` is any generated scene (a cloth or the chain).
+bool is_generated_scene(const std::string& name);
 
 /// Loads a built-in scene, a generated one or a scene file as `variant` (scene_variants.hpp; "plain": as it is);
 /// throws pbd::Error listing the valid names, or naming the variant that does not apply.

@@ -92,7 +92,8 @@ std::vector<Task> plan_tasks(const StudyPlan& plan, const std::vector<StudyScene
     if (plan.scaling) splits = {plan.split};
     else
       for (int b : plan.budgets)
-        for (Split s : splits_for(info, b)) splits.push_back(s);
+        if (!plan.default_budgets || b <= kOtherSceneBudget || is_generated_scene(info.base))
+          for (Split s : splits_for(info, b)) splits.push_back(s);
     for (Split s : splits) {
       std::vector<Combination> group = combinations(plan, info, s);
       if (group.empty()) continue;
