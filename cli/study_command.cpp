@@ -106,7 +106,7 @@ void add_study_command(CLI::App& app) {
                   "machine's cores)");
   cmd->add_option("--budgets", o->budgets,
                   "Comma-separated sweeps per step N; each runs every split S x I with S x I = N up to 8, and N x 1 "
-                  "above (default 1,2,4,8,16,32,64,128,256, up to 32 on scenes other than the generated ones; "
+                  "above (default 1,2,4,8,16,32,64,128,256, up to 8 on scenes other than the generated ones; "
                   "--quick 2,4)");
   cmd->add_option("--split", o->split, "SUBSTEPSxITERATIONS of --scaling (default 1x10)");
   cmd->add_option("--steps", o->steps, "Steps per run (default: each scene's own; --quick at most 20)")
@@ -152,6 +152,9 @@ void add_study_command(CLI::App& app) {
   cmd->add_flag("--quick", o->quick,
                 "Smoke test: budgets 2,4, at most 20 steps, 1 timed run, an 8x1 reference, no cloth300 (explicit "
                 "options win)");
+  cmd->add_flag("--estimate", o->estimate,
+                "Print what the study would run and its estimated time per scene (from a cost model of this kind "
+                "of machine, before anything is timed), and run nothing");
   cmd->add_flag("--scaling", o->scaling,
                 "Scaling study: strong scaling over thread counts with the same-run shared-nothing reference, and "
                 "size scaling over cloth30 .. cloth1000, at one split");
@@ -173,6 +176,7 @@ void add_study_command(CLI::App& app) {
   cmd->callback([o, merge, plot] {
     if (merge->parsed()) return;
     const StudyPlan plan = make_plan(*o);
+    if (plan.estimate) return estimate_study(plan);
     output(run_study(plan), plan.format, plan.json, plan.plots, *plot);
   });
 }

@@ -112,6 +112,7 @@ Split parse_split(const std::string& flag, const std::string& text) {
 StudyPlan make_plan(const StudyOptions& o) {
   StudyPlan plan;
   plan.quick = o.quick;
+  plan.estimate = o.estimate;
   plan.scaling = o.scaling;
   for (const std::string& s : o.scenes)
     for (const std::string& name : split_list(s))

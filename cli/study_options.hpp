@@ -31,6 +31,7 @@ struct StudyOptions {
   std::string commit;               ///< --commit / $PBD_COMMIT: the commit the program was built from ("" = unknown)
   bool quick = false;               ///< --quick
   bool scaling = false;             ///< --scaling
+  bool estimate = false;            ///< --estimate
 };
 
 /// One solver of the study: its command-line name and the engine's enum.
@@ -80,6 +81,7 @@ struct StudyPlan {
   int shard = 1, shards = 1;             ///< this run is part `shard` (1-based) of `shards`
   bool quick = false;                    ///< the smoke-test study
   bool scaling = false;                  ///< the scaling study
+  bool estimate = false;                 ///< print the plan and its estimated cost per scene, run nothing
 };
 
 /// Checks the options and resolves them into a plan; throws pbd::Error naming the bad value and listing the valid
@@ -94,7 +96,7 @@ std::vector<Split> splits_of(int budget);
 constexpr int kAllSplitsBudget = 8;
 /// The largest default budget of a scene that is not generated (the headline's budgets are for the cloths and the
 /// chain).
-constexpr int kOtherSceneBudget = 32;
+constexpr int kOtherSceneBudget = 8;
 std::vector<Split> study_splits(int budget);
 
 /// Parses "SxI" (e.g. "2x5"); throws pbd::Error naming `flag`.

@@ -183,13 +183,15 @@ Scene load_study_scene(const std::string& name, const std::string& variant) {
   return scene;
 }
 
-std::vector<std::string> study_variants(const std::string& name, const std::vector<std::string>& requested) {
+std::vector<std::string> study_variants(const std::string& name, const std::vector<std::string>& requested,
+                                        bool keep_unparsed) {
   std::string source;
   const json doc = scene_json(name, source);
+  if (requested.empty() && !is_generated(name)) return {"plain"};
   std::vector<std::string> out;
   for (const std::string& v : requested.empty() ? variant_names() : requested) {
     if (!variant_applies(doc, v)) continue;
-    if (requested.empty() && v != "plain") {
+    if (requested.empty() && v != "plain" && !keep_unparsed) {
       try {
         (void)parse_scene(apply_variant(doc, v).dump(), source);
       } catch (const Error& e) {

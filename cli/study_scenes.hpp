@@ -34,9 +34,11 @@ bool is_generated_scene(const std::string& name);
 Scene load_study_scene(const std::string& name_or_file, const std::string& variant = "plain");
 
 /// The variants the study runs on a scene: of `requested`, those that apply to it (plain always); with `requested`
-/// empty, every variant that applies, leaving out (with a note on stderr) one whose scene keys this build does not
-/// parse. An explicitly requested variant that does not parse throws the parser's pbd::Error.
-std::vector<std::string> study_variants(const std::string& name_or_file, const std::vector<std::string>& requested);
+/// empty, on a generated scene every variant that applies (a built-in scene or file: plain), leaving out (with a
+/// note on stderr) one whose scene keys this build does not parse, unless `keep_unparsed`. An explicitly requested
+/// variant that does not parse throws the parser's pbd::Error when the scene is loaded.
+std::vector<std::string> study_variants(const std::string& name_or_file, const std::vector<std::string>& requested,
+                                        bool keep_unparsed = false);
 
 /// Throws pbd::Error (listing the valid names) unless `name_or_file` names a scene load_study_scene can load.
 void check_study_scene(const std::string& name_or_file);

@@ -1,5 +1,7 @@
 #include "study_session.hpp"
 
+#include "pbd/error.hpp"
+
 #include "load_monitor.hpp"
 #include "study_environment.hpp"
 #include "study_runner.hpp"
@@ -27,9 +29,13 @@ std::string clock_text(double seconds) {
 // Scenes above this many particles get fewer splits per budget (1 × N, the middle one and N × 1) and, with the
 // default solvers, the colored solver alone (the others cost as much again each, and the headline is colored's).
 constexpr std::size_t kLargeScene = 50000;
-// With the default solvers, the one-thread solvers run where particles × sweeps per step stay below this (the
-// 100² cloth up to 64 sweeps): above it one run of theirs costs minutes.
-constexpr double kOneThreadWork = 10000.0 * 64;
+// With the default solvers, the solvers that cost about 5× the colored solver per sweep (serial, Jacobi, block) run
+// where particles × steps × sweeps per step stay below this (the 100² cloth's 60 steps up to 32 sweeps): above it
+// one run of theirs costs minutes. Variants other than plain run the colored solver alone (the headline's).
+constexpr double kCostlyWork = 10000.0 * 60 * 32;
+// With the default budgets, scenes above kLargeScene particles start at this budget: below it the 300² cloth
+// stretches by tens of % and each group costs a few seconds of timing.
+constexpr int kLargeSceneFirstBudget = 16;
 
 // The engine estimates Chebyshev's ρ only from 4 iterations on (StepParams::chebyshev).
 constexpr int kChebyshevMinIterations = 4;
@@ -63,8 +69,9 @@ std::vector<Combination> combinations(const StudyPlan& plan, const SceneInfo& in
   const int budget = split.substeps * split.iterations;
   for (const StudySolver& solver : plan.solvers) {
     if (plan.default_solvers && !plan.scaling) {
-      if (!solver.threaded && (double(info.particles) * budget > kOneThreadWork || info.variant != "plain")) continue;
-      if (info.particles > kLargeScene && solver.name != "colored") continue;
+      const bool costly = solver.solver != Solver::colored && solver.solver != Solver::serial_colored;
+      if (costly && double(info.particles) * info.steps * budget > kCostlyWork) continue;
+      if ((info.particles > kLargeScene || info.variant != "plain") && solver.name != "colored") continue;
     }
     for (int t : plan.threads) {
       if (!solver.threaded && t != plan.threads.front()) continue;  // one-thread solvers: once
@@ -92,7 +99,9 @@ std::vector<Task> plan_tasks(const StudyPlan& plan, const std::vector<StudyScene
     if (plan.scaling) splits = {plan.split};
     else
       for (int b : plan.budgets)
-        if (!plan.default_budgets || b <= kOtherSceneBudget || is_generated_scene(info.base))
+        if (!plan.default_budgets ||
+            ((b <= kOtherSceneBudget || is_generated_scene(info.base)) &&
+             (b >= kLargeSceneFirstBudget || info.particles <= kLargeScene)))
           for (Split s : splits_for(info, b)) splits.push_back(s);
     for (Split s : splits) {
       std::vector<Combination> group = combinations(plan, info, s);
@@ -131,13 +140,20 @@ std::vector<Task> plan_tasks(const StudyPlan& plan, const std::vector<StudyScene
 }
 
 // The scenes of the plan, each as every variant it runs, variants of one scene next to each other.
-std::vector<StudyScene> load_scenes(const StudyPlan& plan) {
+// With `stand_in`, a variant this build does not parse is planned with the plain scene in its place (--estimate).
+std::vector<StudyScene> load_scenes(const StudyPlan& plan, bool stand_in = false) {
   std::vector<StudyScene> out;
   for (const std::string& name : plan.scenes) {
     const std::vector<std::string> variants = plan.scaling ? std::vector<std::string>{"plain"}
-                                                           : study_variants(name, plan.variants);
+                                                           : study_variants(name, plan.variants, stand_in);
     for (const std::string& v : variants) {
-      Scene scene = load_study_scene(name, v);
+      Scene scene;
+      try {
+        scene = load_study_scene(name, v);
+      } catch (const Error&) {
+        if (!stand_in) throw;
+        scene = load_study_scene(name);
+      }
       const int steps = plan.steps > 0                       ? plan.steps
                         : plan.max_steps > 0 ? std::min(scene.steps, plan.max_steps)
                                              : scene.steps;
@@ -188,7 +204,9 @@ Reference converged_reference(const StudyPlan& plan, const std::vector<StudyScen
     const Split next{full.split.substeps * 2, full.split.iterations};
     const double estimate = 2.0 * full.seconds;
     char line[512];
-    const bool over_budget = next.substeps * next.iterations > plan.reference_max;
+    // A shard sees only its part of the records: raising the reference there would give each part its own, so a
+    // sharded run keeps --reference and `pbd study merge` checks it over every record.
+    const bool over_budget = next.substeps * next.iterations > plan.reference_max || plan.shards > 1;
     const bool over_time = spent + estimate > plan.reference_seconds;
     std::snprintf(line, sizeof line, "%s reference at %dx%d is not converged (%s); %s %dx%d (about %.0f s)",
                   info.base.c_str(), full.split.substeps, full.split.iterations,
@@ -207,6 +225,31 @@ Reference converged_reference(const StudyPlan& plan, const std::vector<StudyScen
 }
 
 }  // namespace
+
+void estimate_study(const StudyPlan& plan) {
+  const std::vector<StudyScene> scenes = load_scenes(plan, true);
+  const std::vector<Task> tasks = plan_tasks(plan, scenes);
+  double total = 0.0;
+  std::printf("# pbd study --estimate: %zu tasks; seconds from the cost model (%.3g s per sweep over one constraint "
+              "or particle on one thread), before anything is timed; a variant this build does not parse is "
+              "costed as the plain scene\n", tasks.size(), seconds_per_unit());
+  std::printf("%-28s %7s %7s %10s %12s\n", "scene", "groups", "points", "reference", "estimate_s");
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    int groups = 0, points = 0;
+    double cost = 0.0, reference = 0.0;
+    for (const Task& t : tasks) {
+      if (t.scene != i) continue;
+      cost += t.cost;
+      if (t.kind == Task::group) ++groups, points += int(t.combinations.size());
+      if (t.kind == Task::reference) reference += t.cost;
+    }
+    total += cost;
+    std::printf("%-28s %7d %7d %10.0f %12.0f\n", scenes[i].info.name.c_str(), groups, points,
+                reference * seconds_per_unit(), cost * seconds_per_unit());
+  }
+  std::printf("%-28s %7s %7s %10s %12.0f  (%s)\n", "total", "", "", "", total * seconds_per_unit(),
+              clock_text(total * seconds_per_unit()).c_str());
+}
 
 Report run_study(const StudyPlan& plan) {
   Report report;
