@@ -122,7 +122,7 @@ void add_study_command(CLI::App& app) {
                   "The reference's solver (default colored: bitwise identical on any thread count, run on the most "
                   "threads)");
   cmd->add_option("--reference-max", o->reference_max,
-                  "The most sweeps per step the reference is raised to (default 4096)")
+                  "The most sweeps per step the reference is raised to (default 4096; --quick: not raised)")
       ->check(CLI::Range(2, 1000000));
   cmd->add_option("--reference-seconds", o->reference_seconds,
                   "The longest one scene's reference may take, from the estimate of its next doubling (default 300; "

@@ -116,9 +116,9 @@ constexpr int kMaxLoops = 1000;
 // A timed run covers the whole run when one thread would do it in this long; a longer run is timed over its first
 // steps (at least 2, lasting about this long): the step of a cloth costs the same all through its run, and its
 // errors come from the one whole run made untimed.
-constexpr double kWholeRunSeconds = 1.0;
+constexpr double kWholeRunSeconds = 0.5;
 // Timed runs longer than this get at most 2 rounds: their own length already averages out the clock's noise.
-constexpr double kLongSampleSeconds = 0.5;
+constexpr double kLongSampleSeconds = 0.25;
 
 // The errors of a state: each type's measure, and a quasi-static scene's error against its closed form.
 template <class Real> Errors state_errors(const World<Real>& world, const KnownAnswer& known) {
@@ -353,7 +353,8 @@ double scene_work(const SceneInfo& info) { return double(info.constraints + info
 
 // Seconds per work unit (one sweep over one constraint or particle on one thread) assumed by the estimates before
 // the study has timed anything; the estimate of the time left is then rescaled by what has been measured.
-constexpr double kSecondsPerUnit = 5e-9;
+// Calibrated against the idle default run at 6bb0c5e (293 s; its groups estimated 1.3–1.7× too cheap at 5 ns).
+constexpr double kSecondsPerUnit = 7e-9;
 // The serial reference solver's sweep costs several times a colored one's (it has no lanes).
 // Serial, Jacobi and block cost about 5× the colored solver's per sweep (no lanes; the report at 6bb0c5e: 24–28
 // against 4.6–5.4 ns per constraint on one thread on the generated cloths).

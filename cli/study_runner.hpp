@@ -59,7 +59,7 @@ void compare_with_reference(const Scene& scene, const std::vector<StudySolver>& 
 /// its most threads that measures the errors after every step (averaged, and at the end) and the final state; each
 /// combination then makes an untimed warm-up and `repeats` timed samples (2 for a long run) in interleaved rounds,
 /// each in its own tbb::task_arena, from the scene's initial state over the whole run, or over its first steps when
-/// one thread would take over a second for the whole (at least 2). A sample is repeated until it lasts 20 ms.
+/// one thread would take over 0.5 s for the whole (at least 2). A sample is repeated until it lasts 20 ms.
 /// Every thread count of a solver must end its timed runs in the same bits (else `repeatable` is false).
 /// `load` samples the machine before each timed run. `progress(done, total)` is called after each run.
 std::vector<Record> run_group(const Scene& scene, const SceneInfo& info, const std::vector<Combination>& group,
