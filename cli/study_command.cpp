@@ -125,7 +125,7 @@ void add_study_command(CLI::App& app) {
                   "The most sweeps per step the reference is raised to (default 4096; --quick: not raised)")
       ->check(CLI::Range(2, 1000000));
   cmd->add_option("--reference-seconds", o->reference_seconds,
-                  "The longest one scene's reference may take, from the estimate of its next doubling (default 300; "
+                  "The longest one scene's reference may take, from the estimate of its next doubling (default 120; "
                   "--quick 2)")
       ->check(CLI::Range(0.0, 1e7));
   cmd->add_option("--variants", o->variants,

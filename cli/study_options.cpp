@@ -149,7 +149,7 @@ StudyPlan make_plan(const StudyOptions& o) {
   if (o.quick) plan.reference_max = plan.reference.substeps * plan.reference.iterations;
   if (o.reference_max > 0) plan.reference_max = o.reference_max;
   plan.reference_max = std::max(plan.reference_max, plan.reference.substeps * plan.reference.iterations);
-  plan.reference_seconds = o.reference_seconds > 0.0 ? o.reference_seconds : o.quick ? 2.0 : 300.0;
+  plan.reference_seconds = o.reference_seconds > 0.0 ? o.reference_seconds : o.quick ? 2.0 : 120.0;
   if (!(o.target > 0.0)) throw Error("--target: must be above 0 (an error in %)");
   plan.target = o.target;
   plan.variants = split_list(o.variants);

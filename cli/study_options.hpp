@@ -71,7 +71,7 @@ struct StudyPlan {
   StudySolver reference_solver;          ///< its solver (double precision; default colored, bitwise identical on
                                          ///< any thread count, run on the most threads)
   int reference_max = 4096;              ///< the most sweeps per step it is raised to when not converged
-  double reference_seconds = 300.0;      ///< the longest one scene's reference may take (the next doubling is
+  double reference_seconds = 120.0;      ///< the longest one scene's reference may take (the next doubling is
                                          ///< estimated from the last)
   double target = 1.0;                   ///< the headline's error, in % of the primary measure (run-averaged)
   std::string json;                      ///< JSON report file ("" = none)

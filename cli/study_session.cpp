@@ -253,6 +253,9 @@ void estimate_study(const StudyPlan& plan) {
   }
   std::printf("%-28s %7s %7s %10s %12.0f  (%s)\n", "total", "", "", "", total * seconds_per_unit(),
               clock_text(total * seconds_per_unit()).c_str());
+  if (!plan.scaling)
+    std::printf("# raising a reference that fails its check adds at most %.0f s per scene (--reference-seconds)\n",
+                plan.reference_seconds);
 }
 
 Report run_study(const StudyPlan& plan) {
