@@ -127,7 +127,11 @@ void check_reference(Reference& ref, const std::vector<Record>& records) {
   compare("the run's end", ref.trajectory_change_mm, trajectory, "mm");
   for (const auto& [m, change] : ref.error_change) {
     const auto it = smallest.find(m);
-    if (it != smallest.end() && it->second > 0.0) compare(m + " (run average)", change.rms, it->second, "");
+    const std::string unit = m.size() > 4 && m.compare(m.size() - 4, 4, "_pct") == 0   ? "%"
+                             : m.size() > 3 && m.compare(m.size() - 3, 3, "_mm") == 0  ? "mm"
+                             : m.size() > 4 && m.compare(m.size() - 4, 4, "_rad") == 0 ? "rad"
+                                                                                       : "";
+    if (it != smallest.end() && it->second > 0.0) compare(m + " (run average)", change.rms, it->second, unit.c_str());
   }
   ref.converged = ref.failures.empty();
 }
