@@ -1,5 +1,5 @@
 // `pbd list`: the scenes pbd can run, one line each: the built-in scenes with their description and size, then the
-// generated hanging cloths of the study.
+// generated scenes of the study (hanging cloths, the cloth at rest, the compliant chain).
 #include "commands.hpp"
 #include "scene_dir.hpp"
 #include "study_scenes.hpp"
@@ -17,11 +17,9 @@ void add_list_command(CLI::App& app) {
       std::printf("%-14s %7d particles %8zu constraints  %s\n", name.c_str(), int(s.world.num_particles()),
                   s.world.num_constraints(), s.description.c_str());
     }
-    for (const std::string& name : generated_scene_names()) {
-      const int n = std::stoi(name.substr(5));
-      std::printf("%-14s %7d particles %8s              generated hanging cloth %dx%d for the study: two corners "
-                  "pinned, PBD stretch and bending (any cloth<N>, 2 <= N <= 4096)\n", name.c_str(), n * n, "", n, n);
-    }
+    for (const GeneratedScene& g : generated_scenes())
+      std::printf("%-14s %7ld particles %8s              generated for the study: %s\n", g.name.c_str(), g.particles,
+                  "", g.description.c_str());
     std::fflush(stdout);
     if (std::ferror(stdout)) throw std::runtime_error("cannot write to standard output");
   });

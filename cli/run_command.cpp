@@ -1,6 +1,8 @@
-// `pbd run SCENE`: steps a scene and writes its frames as OBJ or VTU files; prints the time per step, for every
-// volume constraint the volume reached against its target, and the final state hash (a determinism check with
-// --expect-hash); --stats writes each step's phase times as CSV.
+// `pbd run SCENE`: steps a scene and writes its frames as OBJ or VTU files; prints the time per step, each
+// constraint type's RMS error at the final frame and averaged over the run's steps (a moving scene's final frame is
+// a noisy measure: runs are compared by the average), for every volume constraint the volume reached against its
+// target, and the final state hash (a determinism check with --expect-hash); --stats writes each step's phase times
+// as CSV.
 #include "commands.hpp"
 #include "pbd/io/atomic_file.hpp"
 #include "pbd/io/build_world.hpp"
@@ -80,6 +82,43 @@ template <class Real> std::string constraint_counts(const World<Real>& world) {
   return text;
 }
 
+// Each violation type's RMS and maximum after every step, summed, for the run's average (untimed).
+struct RunErrors {
+  std::vector<std::string> types;      // in constraint_violations' order
+  std::vector<double> rms_sum, max_sum;
+  std::vector<NamedViolation> last;
+  int steps = 0;
+  template <class Real> void add(const World<Real>& world) {
+    last = constraint_violations(world);
+    for (const NamedViolation& v : last) {
+      auto it = std::find(types.begin(), types.end(), v.type);
+      if (it == types.end()) {
+        types.push_back(v.type);
+        rms_sum.push_back(0.0);
+        max_sum.push_back(0.0);
+        it = types.end() - 1;
+      }
+      const std::size_t k = std::size_t(it - types.begin());
+      rms_sum[k] += v.value.rms;
+      max_sum[k] += v.value.max;
+    }
+    ++steps;
+  }
+  // "errors (RMS; final frame | averaged over N steps):" and one line per type in its measure's unit.
+  void print() const {
+    if (last.empty() || steps == 0) return;
+    std::printf("errors (RMS at the final frame | averaged over the %d steps; max likewise):\n", steps);
+    for (const NamedViolation& v : last) {
+      const std::size_t k = std::size_t(std::find(types.begin(), types.end(), v.type) - types.begin());
+      const Measure* m = v.measure.key[0] ? &v.measure : find_measure(v.type);
+      const double scale = m ? m->scale : 1.0;
+      std::printf("  %-16s %-4s rms %10.4g | %10.4g   max %10.4g | %10.4g\n", m ? m->key : v.type.c_str(),
+                  m ? m->unit : "", scale * v.value.rms, scale * rms_sum[k] / steps, scale * v.value.max,
+                  scale * max_sum[k] / steps);
+    }
+  }
+};
+
 template <class Real> void run(const Scene& scene, const RunOptions& o, int steps, int threads) {
   World<Real> world = build_world<Real>(scene.world);
   StepParams<Real> params = world.params();
@@ -112,6 +151,7 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
   if (!o.stats.empty()) csv << kStatsHeader;
   frame(0);
   std::vector<double> ms;
+  RunErrors errors;
   auto last_report = std::chrono::steady_clock::now();
   for (int s = 1; s <= steps; ++s) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -119,6 +159,7 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     const auto t1 = std::chrono::steady_clock::now();
     ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     if (!o.stats.empty()) stats_row(csv, s, world.time(), world.last_step_stats());
+    errors.add(world);
     frame(s);
     if (std::chrono::duration<double>(t1 - last_report).count() > 1.0) {
       std::fprintf(stderr, "pbd run: step %d of %d\n", s, steps);
@@ -133,6 +174,7 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
               mean, sorted.empty() ? 0.0 : sorted.front());
   const Violation v = stretch_violation(world);
   if (v.count) std::printf("stretch error: rms %.3e, max %.3e (relative)\n", v.rms, v.max);
+  errors.print();
   const Matrix3X<Real> x = world.positions();
   for (std::size_t i = 0; i < volumes.size(); ++i) {
     const auto& vc = volumes.items[i];

@@ -94,9 +94,10 @@ void add_study_command(CLI::App& app) {
       "study", "The speed-vs-error study: time per step and error reached for scenes x sweep budgets (every split "
                "into substeps x iterations) x solvers x threads; table/CSV/JSON on stdout, JSON report, plots");
   cmd->add_option("--scene", o->scenes,
-                  "Built-in scene (pbd list), cloth<N> (generated hanging cloth, e.g. cloth30 .. cloth1000) or a "
-                  "scene JSON file; repeatable or comma-separated (default: the built-in scenes but pile, and cloth30, "
-                  "cloth100, cloth300 (--quick: not cloth300); --scaling: cloth30, cloth100, cloth300, cloth1000)");
+                  "Built-in scene (pbd list), generated cloth<N> (hanging cloth, 1 s), cloth<N>-rest (damped to rest), "
+                  "chain30 (compliant chain against alpha*T), or a scene JSON file; repeatable or comma-separated "
+                  "(default: the built-in scenes but pile, and cloth30, cloth100, cloth300, cloth30-rest, chain30 "
+                  "(--quick: not cloth300); --scaling: cloth30, cloth100, cloth300, cloth1000)");
   cmd->add_option("--solvers", o->solvers,
                   "Comma-separated: " + solver_names() + ", or any but serial with +chebyshev (splits of 4 or more iterations; default "
                   "serial,colored,jacobi,block; --scaling: colored,jacobi,block)");
@@ -104,7 +105,8 @@ void add_study_command(CLI::App& app) {
                   "Comma-separated thread counts; serial solvers run once, on 1 (default 1,2; --scaling: 1 to the "
                   "machine's cores)");
   cmd->add_option("--budgets", o->budgets,
-                  "Comma-separated sweeps per step N; each runs every split S x I with S x I = N (default 2,8; "
+                  "Comma-separated sweeps per step N; each runs every split S x I with S x I = N up to 8, and N x 1 "
+                  "above (default 1,2,4,8,16,32,64,128,256, up to 8 on scenes other than the generated ones; "
                   "--quick 2,4)");
   cmd->add_option("--split", o->split, "SUBSTEPSxITERATIONS of --scaling (default 1x10)");
   cmd->add_option("--steps", o->steps, "Steps per run (default: each scene's own; --quick at most 20)")
@@ -113,7 +115,26 @@ void add_study_command(CLI::App& app) {
   cmd->add_option("--repeats", o->repeats, "Timed runs per combination after the warm-up (default 3; --quick 1)")
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--reference", o->reference,
-                  "SUBSTEPSxITERATIONS of the converged reference (serial, double; default 16x4; --quick 8x2)");
+                  "SUBSTEPSxITERATIONS the reference starts at (double; default twice the largest budget, as "
+                  "substeps: 512x1; --quick 8x1); while it is not converged (its change at half its budget above a "
+                  "tenth of the smallest error it is compared with) its substeps double");
+  cmd->add_option("--reference-solver", o->reference_solver,
+                  "The reference's solver (default colored: bitwise identical on any thread count, run on the most "
+                  "threads)");
+  cmd->add_option("--reference-max", o->reference_max,
+                  "The most sweeps per step the reference is raised to (default 4096; --quick: not raised)")
+      ->check(CLI::Range(2, 1000000));
+  cmd->add_option("--reference-seconds", o->reference_seconds,
+                  "The longest one scene's reference may take, from the estimate of its next doubling (default 120; "
+                  "--quick 2)")
+      ->check(CLI::Range(0.0, 1e7));
+  cmd->add_option("--variants", o->variants,
+                  "Comma-separated: plain, tethers, hierarchy, tethers+hierarchy (default: every one that applies "
+                  "to each scene and that this build parses); a variant edits the scene JSON before parsing");
+  cmd->add_option("--target", o->target,
+                  "The headline's error in % of the primary measure, run-averaged (default 1): the fastest point "
+                  "at or below it per scene, variant, solver and threads")
+      ->check(CLI::Range(1e-9, 1e9));
   cmd->add_option("--format", o->format, "What goes to stdout: table, csv or json")->capture_default_str();
   cmd->add_option("--json", o->json, "Write the JSON report to FILE");
   cmd->add_option("--plots", o->plots,
@@ -129,8 +150,11 @@ void add_study_command(CLI::App& app) {
   auto plot = std::make_shared<PlotTools>();
   add_plot_options(cmd, *plot);
   cmd->add_flag("--quick", o->quick,
-                "Smoke test: budgets 2,4, at most 20 steps, 1 timed run, an 8x2 reference, no cloth300 (explicit options "
-                "win)");
+                "Smoke test: budgets 2,4, at most 20 steps, 1 timed run, an 8x1 reference, no cloth300 (explicit "
+                "options win)");
+  cmd->add_flag("--estimate", o->estimate,
+                "Print what the study would run and its estimated time per scene (from a cost model of this kind "
+                "of machine, before anything is timed), and run nothing");
   cmd->add_flag("--scaling", o->scaling,
                 "Scaling study: strong scaling over thread counts with the same-run shared-nothing reference, and "
                 "size scaling over cloth30 .. cloth1000, at one split");
@@ -152,6 +176,7 @@ void add_study_command(CLI::App& app) {
   cmd->callback([o, merge, plot] {
     if (merge->parsed()) return;
     const StudyPlan plan = make_plan(*o);
+    if (plan.estimate) return estimate_study(plan);
     output(run_study(plan), plan.format, plan.json, plan.plots, *plot);
   });
 }

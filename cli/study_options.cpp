@@ -2,6 +2,7 @@
 
 #include "pbd/error.hpp"
 #include "scene_dir.hpp"
+#include "scene_variants.hpp"
 #include "study_scenes.hpp"
 
 #include <algorithm>
@@ -79,7 +80,7 @@ std::vector<std::string> default_study_scenes() {
   std::vector<std::string> out;
   for (const std::string& name : builtin_scene_names())
     if (name != "pile") out.push_back(name);
-  for (const char* cloth : {"cloth30", "cloth100", "cloth300"}) out.push_back(cloth);
+  for (const char* scene : {"cloth30", "cloth100", "cloth300", "cloth30-rest", "chain30"}) out.push_back(scene);
   return out;
 }
 
@@ -90,6 +91,11 @@ std::vector<Split> splits_of(int budget) {
   for (int s = 1; s <= budget; ++s)
     if (budget % s == 0) out.push_back({s, budget / s});
   return out;
+}
+
+std::vector<Split> study_splits(int budget) {
+  if (budget <= kAllSplitsBudget) return splits_of(budget);
+  return {{budget, 1}};
 }
 
 Split parse_split(const std::string& flag, const std::string& text) {
@@ -106,6 +112,7 @@ Split parse_split(const std::string& flag, const std::string& text) {
 StudyPlan make_plan(const StudyOptions& o) {
   StudyPlan plan;
   plan.quick = o.quick;
+  plan.estimate = o.estimate;
   plan.scaling = o.scaling;
   for (const std::string& s : o.scenes)
     for (const std::string& name : split_list(s))
@@ -117,9 +124,12 @@ StudyPlan make_plan(const StudyOptions& o) {
   // Main mode: every solver (serial is the baseline); scaling mode: the parallel ones.
   plan.solvers = solver_list(!o.solvers.empty() ? o.solvers : o.scaling ? "colored,jacobi,block"
                                                                           : "serial,colored,jacobi,block");
+  plan.default_solvers = o.solvers.empty();
   plan.threads = int_list("--threads", !o.threads.empty() ? o.threads : o.scaling ? all_threads() : "1,2", 1, 1024);
-  // --quick: the smoke test: budgets of 2 and 4 sweeps, at most 20 steps, one timed run, an 8x2 reference.
-  plan.budgets = int_list("--budgets", !o.budgets.empty() ? o.budgets : o.quick ? "2,4" : "2,8", 1, 4096);
+  // --quick: the smoke test: budgets of 2 and 4 sweeps, at most 20 steps, one timed run, an 8x1 reference.
+  plan.default_budgets = o.budgets.empty();
+  plan.budgets = int_list("--budgets", !o.budgets.empty() ? o.budgets : o.quick ? "2,4" : "1,2,4,8,16,32,64,128,256",
+                          1, 4096);
   if (!o.split.empty()) plan.split = parse_split("--split", o.split);
   plan.steps = o.steps;
   plan.max_steps = o.quick ? 20 : 0;
@@ -127,9 +137,30 @@ StudyPlan make_plan(const StudyOptions& o) {
     throw Error("--precision: \"" + o.precision + "\" is not float or double");
   plan.double_precision = o.precision == "double";
   plan.repeats = o.repeats > 0 ? o.repeats : (o.quick ? 1 : 3);
-  plan.reference = parse_split("--reference", !o.reference.empty() ? o.reference : o.quick ? "8x2" : "16x4");
-  if (plan.reference.iterations < 2) throw Error("--reference: needs at least 2 iterations (it is checked at half)");
-  if (plan.reference.substeps < 2) throw Error("--reference: needs at least 2 substeps (it is checked at half)");
+  // The reference starts at twice the largest budget, as substeps (substeps converge the time discretisation too).
+  const std::string first_reference = std::to_string(2 * plan.budgets.back()) + "x1";
+  plan.reference = parse_split("--reference", !o.reference.empty() ? o.reference : first_reference);
+  if (plan.reference.substeps * plan.reference.iterations < 2)
+    throw Error("--reference: needs at least 2 sweeps per step (it is checked at half its budget)");
+  const std::vector<StudySolver> reference = solver_list(o.reference_solver.empty() ? "colored" : o.reference_solver);
+  if (reference.size() != 1) throw Error("--reference-solver: give one solver");
+  plan.reference_solver = reference.front();
+  // --quick checks its reference but does not raise it (the smoke test's time stays that of one reference run).
+  if (o.quick) plan.reference_max = plan.reference.substeps * plan.reference.iterations;
+  if (o.reference_max > 0) plan.reference_max = o.reference_max;
+  plan.reference_max = std::max(plan.reference_max, plan.reference.substeps * plan.reference.iterations);
+  plan.reference_seconds = o.reference_seconds > 0.0 ? o.reference_seconds : o.quick ? 2.0 : 120.0;
+  if (!(o.target > 0.0)) throw Error("--target: must be above 0 (an error in %)");
+  plan.target = o.target;
+  plan.variants = split_list(o.variants);
+  for (const std::string& v : plan.variants) {
+    const auto& names = variant_names();
+    if (std::find(names.begin(), names.end(), v) == names.end()) {
+      std::string valid;
+      for (const std::string& n : names) valid += (valid.empty() ? "" : ", ") + n;
+      throw Error("--variants: unknown variant \"" + v + "\" (valid: " + valid + ")");
+    }
+  }
   if (o.format != "table" && o.format != "csv" && o.format != "json")
     throw Error("--format: \"" + o.format + "\" is not table, csv or json");
   plan.format = o.format;

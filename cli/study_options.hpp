@@ -18,7 +18,12 @@ struct StudyOptions {
   int steps = 0;                    ///< --steps; 0: each scene's own
   std::string precision = "float";  ///< --precision
   int repeats = 0;                  ///< --repeats (timed runs after the warm-up); 0: default
-  std::string reference;            ///< --reference SxI: the converged reference's substeps × iterations
+  std::string reference;            ///< --reference SxI: the reference's first budget, substeps × iterations
+  std::string reference_solver;     ///< --reference-solver
+  int reference_max = 0;            ///< --reference-max: the most sweeps per step the reference may be raised to
+  double reference_seconds = 0.0;   ///< --reference-seconds: the longest a scene's reference may take
+  std::string variants;             ///< --variants
+  double target = 1.0;              ///< --target: the error the headline asks for, in % (run-averaged)
   std::string json;                 ///< --json FILE
   std::string plots;                ///< --plots DIR
   std::string format = "table";     ///< --format table|csv|json (stdout)
@@ -26,6 +31,7 @@ struct StudyOptions {
   std::string commit;               ///< --commit / $PBD_COMMIT: the commit the program was built from ("" = unknown)
   bool quick = false;               ///< --quick
   bool scaling = false;             ///< --scaling
+  bool estimate = false;            ///< --estimate
 };
 
 /// One solver of the study: its command-line name and the engine's enum.
@@ -56,7 +62,18 @@ struct StudyPlan {
   int max_steps = 0;                     ///< cap on each scene's own steps (0: none; --quick: 20)
   bool double_precision = false;         ///< World<double> instead of World<float>
   int repeats = 3;                       ///< timed runs per combination after one warm-up run
-  Split reference{16, 4};                ///< the converged reference's substeps × iterations (serial, double)
+  bool default_budgets = true;           ///< --budgets not given: scenes other than the generated ones stop at
+                                         ///< kOtherSceneBudget sweeps (their steps with contacts cost the most)
+  bool default_solvers = true;           ///< --solvers not given: one-thread solvers only where affordable, the
+                                         ///< large cloths with the colored solver alone, variants without serial
+  std::vector<std::string> variants;     ///< --variants (empty: every one that applies to each scene)
+  Split reference{512, 1};               ///< the reference's first budget (default: twice the largest, as substeps)
+  StudySolver reference_solver;          ///< its solver (double precision; default colored, bitwise identical on
+                                         ///< any thread count, run on the most threads)
+  int reference_max = 4096;              ///< the most sweeps per step it is raised to when not converged
+  double reference_seconds = 120.0;      ///< the longest one scene's reference may take (the next doubling is
+                                         ///< estimated from the last)
+  double target = 1.0;                   ///< the headline's error, in % of the primary measure (run-averaged)
   std::string json;                      ///< JSON report file ("" = none)
   std::string plots;                     ///< plot directory ("" = none)
   std::string format = "table";          ///< what stdout gets: table, csv or json
@@ -64,6 +81,7 @@ struct StudyPlan {
   int shard = 1, shards = 1;             ///< this run is part `shard` (1-based) of `shards`
   bool quick = false;                    ///< the smoke-test study
   bool scaling = false;                  ///< the scaling study
+  bool estimate = false;                 ///< print the plan and its estimated cost per scene, run nothing
 };
 
 /// Checks the options and resolves them into a plan; throws pbd::Error naming the bad value and listing the valid
@@ -72,6 +90,14 @@ StudyPlan make_plan(const StudyOptions& options);
 
 /// Every split of `budget` sweeps: s × (budget / s) for each divisor s, from 1 × budget to budget × 1.
 std::vector<Split> splits_of(int budget);
+
+/// The splits the study runs of `budget`: every one up to kAllSplitsBudget sweeps; above it substeps alone
+/// (budget × 1): substeps win at high budgets (README), and the other splits would cost as much again each.
+constexpr int kAllSplitsBudget = 8;
+/// The largest default budget of a scene that is not generated (the headline's budgets are for the cloths and the
+/// chain).
+constexpr int kOtherSceneBudget = 8;
+std::vector<Split> study_splits(int budget);
 
 /// Parses "SxI" (e.g. "2x5"); throws pbd::Error naming `flag`.
 Split parse_split(const std::string& flag, const std::string& text);

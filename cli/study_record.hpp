@@ -38,6 +38,11 @@ struct SceneInfo {
   std::string primary_error;   ///< the measure its results are judged by (a key of Errors)
   std::string family;          ///< "cloth" for the generated cloth<N>, else ""
   std::vector<std::string> measures;  ///< the error measures it has
+  std::string base;            ///< the scene as named (name is base+variant for a variant other than plain)
+  std::string variant = "plain";  ///< the variant run (scene_variants.hpp)
+  std::string known_answer;    ///< "rest" or "chain" for a quasi-static scene with a closed form (study_scenes.hpp)
+  int average_from = 1;        ///< errors are averaged over steps average_from .. steps (1-based): the whole run,
+                               ///< or for a quasi-static scene its last quarter (once it has settled)
 };
 
 /// One sampled step of the reference: the state before it and the positions after it.
@@ -46,20 +51,32 @@ struct ReferenceSample {
   double time = 0.0;            ///< simulated time before the step, s
   Matrix3X<double> x, v;        ///< positions (m) and velocities (m/s) before the step
   Matrix3X<double> x_after;     ///< positions after the step, m
+  Matrix3X<double> x_half;      ///< positions after the same step at half the reference's budget, m
 };
 
-/// The converged reference of one scene: serial solver, double precision, many substeps and iterations.
+/// The reference of one scene (its plain variant): a deterministic solver in double at a large budget, verified to
+/// be converged against the records it is compared with (study_reference.hpp).
 struct Reference {
-  std::string scene;              ///< scene name
+  std::string scene;              ///< scene name (the plain variant's; every variant of it is compared with it)
+  std::string solver;             ///< its solver
+  int threads = 1;                ///< threads it ran on (its solver is bitwise identical on any count)
   int substeps = 0;               ///< substeps per step
   int iterations = 0;             ///< iterations per substep
   int steps = 0;                  ///< steps run
-  Matrix3X<double> positions;     ///< final positions
+  Matrix3X<double> positions;     ///< final positions (kept in memory only)
   std::vector<ReferenceSample> samples;  ///< the sampled steps (kept in memory only)
-  double iteration_convergence_mm = 0.0;  ///< RMS over samples: one step at iterations/2 against the reference step
-  double time_convergence_mm = 0.0;       ///< RMS over samples: one step at substeps/2 against the reference step
-  Errors errors;                  ///< its final state's errors
-  double seconds = 0.0;           ///< wall time spent computing it
+  Errors errors;                  ///< its errors averaged over the run
+  Errors errors_final;            ///< its final state's errors
+  // Its own change at half its budget (substeps halved, or iterations when it has one substep):
+  double step_change_mm = 0.0;        ///< RMS over samples of one step at half the budget against the reference step
+  double trajectory_change_mm = 0.0;  ///< final positions of a whole run at half the budget against its own
+  Errors error_change;                ///< |averaged error at half the budget − its own|, per measure (rms and max)
+  // The check (finish() redoes it over every record, e.g. after a merge):
+  bool converged = false;         ///< every change at most a tenth of the smallest error it is compared with
+  std::vector<std::string> failures;  ///< the changes that are not, as text
+  bool capped = false;            ///< the study could not raise its budget further (cap or time limit)
+  std::vector<std::string> tried; ///< the budgets tried before it, "SxI"
+  double seconds = 0.0;           ///< wall time spent computing it (every budget tried)
 };
 
 /// What one combination measured.
@@ -80,8 +97,14 @@ struct Record {
   std::size_t particles = 0;    ///< particles
   std::size_t constraints = 0;  ///< persistent constraints
   std::size_t colors = 0;       ///< colors of the persistent constraints (0 for solvers that do not color)
-  Errors errors;                ///< the final state's errors, physical units
-  double primary_error = 0.0;   ///< errors[scene's primary measure].rms
+  std::string variant = "plain"; ///< the variant (scene_variants.hpp); `scene` names base+variant
+  int timing_steps = 0;         ///< steps of each timed run (all of them, or the first few of a long run)
+  Errors errors;                ///< errors averaged over the run's steps (SceneInfo::average_from on), physical units
+  Errors errors_final;          ///< the final state's errors
+  double primary_error = 0.0;   ///< errors[scene's primary measure].rms: averaged over the run
+  double primary_error_final = 0.0;  ///< errors_final[scene's primary measure].rms
+  std::optional<double> settle_motion_mm;  ///< quasi-static scenes: RMS displacement over the averaged steps, mm
+  std::optional<bool> settled;  ///< quasi-static scenes: that displacement below 1 mm
   std::optional<double> ref_error_mm;        ///< RMS over sampled steps of one step's RMS distance from the reference
                                              ///< step taken from the same reference state, mm (none in scaling mode)
   std::optional<double> ref_error_max_mm;    ///< maximum over sampled steps and particles of that distance, mm
@@ -92,7 +115,12 @@ struct Record {
   double load = 0.0;            ///< mean number of other runnable processes sampled around its timed runs
   bool busy = false;            ///< its timing is suspect: CV above 10% or the machine was loaded
   bool pareto = false;          ///< on its scene's front of ms_per_step against primary_error
+  Matrix3X<double> final_positions;  ///< the error run's final positions (kept in memory only)
   int budget() const { return substeps * iterations; }  ///< sweeps per step
+  /// The scene as named, without its variant.
+  std::string base() const {
+    return variant == "plain" || scene.size() <= variant.size() ? scene : scene.substr(0, scene.size() - variant.size() - 1);
+  }
   /// Nanoseconds per constraint projection: ms_per_step / (constraints × substeps × iterations).
   double ns_per_projection() const;
   /// "SxI": substeps × iterations.

@@ -2,6 +2,7 @@
 
 #include "pbd/error.hpp"
 #include "load_monitor.hpp"
+#include "study_scenes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +21,13 @@ double Record::ns_per_projection() const {
 namespace {
 
 using json = nlohmann::json;
+
+std::string fmt(double v, const char* f = "%.3g") {
+  if (!std::isfinite(v)) return "inf";
+  char s[32];
+  std::snprintf(s, sizeof s, f, v);
+  return s;
+}
 
 std::string hex(std::uint64_t h) {
   char s[19];
@@ -60,7 +68,73 @@ const SceneInfo* find_scene(const Report& r, const std::string& name) {
 }
 
 
+// Whether a measure is in % (the headline's target applies to it): stretch_pct, area_pct, volume_pct, ...
+bool percent_measure(const std::string& m) { return m.size() > 4 && m.compare(m.size() - 4, 4, "_pct") == 0; }
+
+std::vector<TimeToTarget> times_to_target(const Report& report) {
+  std::vector<TimeToTarget> out;
+  const double target = report.study.value("options", json::object()).value("target_pct", 1.0);
+  for (const Record& r : report.records) {
+    const SceneInfo* scene = find_scene(report, r.scene);
+    if (!scene || !percent_measure(scene->primary_error)) continue;
+    auto it = std::find_if(out.begin(), out.end(), [&](const TimeToTarget& t) {
+      return t.scene == r.scene && t.solver == r.solver && t.threads == r.threads;
+    });
+    const bool reached = r.primary_error <= target;
+    if (it == out.end()) {
+      out.push_back({r.scene, r.base(), r.variant, r.solver, r.threads, scene->primary_error, target, reached,
+                     r.substeps, r.iterations, r.ms_per_step, r.primary_error});
+      continue;
+    }
+    TimeToTarget& t = *it;
+    const bool better = reached ? !t.reached || r.ms_per_step < t.ms_per_step
+                                : !t.reached && r.primary_error < t.primary_error;
+    if (better) {
+      t.reached = reached;
+      t.substeps = r.substeps;
+      t.iterations = r.iterations;
+      t.ms_per_step = r.ms_per_step;
+      t.primary_error = r.primary_error;
+    }
+  }
+  return out;
+}
+
 }  // namespace
+
+void check_reference(Reference& ref, const std::vector<Record>& records) {
+  ref.failures.clear();
+  double step = INFINITY, trajectory = INFINITY;
+  std::map<std::string, double> smallest;
+  for (const Record& r : records) {
+    if (r.base() != ref.scene) continue;
+    if (r.ref_error_mm) step = std::min(step, *r.ref_error_mm);
+    if (r.trajectory_error_mm) trajectory = std::min(trajectory, *r.trajectory_error_mm);
+    for (const auto& [m, v] : r.errors) {
+      const auto it = smallest.find(m);
+      smallest[m] = it == smallest.end() ? v.rms : std::min(it->second, v.rms);
+    }
+  }
+  char line[256];
+  auto compare = [&](const std::string& what, double change, double error, const char* unit) {
+    if (!std::isfinite(error)) return;  // nothing compared with it
+    if (change <= kReferenceMargin * error) return;
+    std::snprintf(line, sizeof line, "%s changes by %.3g %s at half its budget, more than a tenth of the smallest "
+                  "error it is compared with (%.3g %s)", what.c_str(), change, unit, error, unit);
+    ref.failures.push_back(line);
+  };
+  compare("one step", ref.step_change_mm, step, "mm");
+  compare("the run's end", ref.trajectory_change_mm, trajectory, "mm");
+  for (const auto& [m, change] : ref.error_change) {
+    const auto it = smallest.find(m);
+    const std::string unit = m.size() > 4 && m.compare(m.size() - 4, 4, "_pct") == 0   ? "%"
+                             : m.size() > 3 && m.compare(m.size() - 3, 3, "_mm") == 0  ? "mm"
+                             : m.size() > 4 && m.compare(m.size() - 4, 4, "_rad") == 0 ? "rad"
+                                                                                       : "";
+    if (it != smallest.end() && it->second > 0.0) compare(m + " (run average)", change.rms, it->second, unit.c_str());
+  }
+  ref.converged = ref.failures.empty();
+}
 
 void finish(Report& report) {
   std::vector<Record>& records = report.records;
@@ -134,8 +208,32 @@ void finish(Report& report) {
                                r.ms_per_step_max, median(ratios), *lo, *hi});
     }
   }
+  for (Reference& ref : report.references) check_reference(ref, records);
+  report.time_to_target.clear();
+  if (report.study.value("mode", "study") != "scaling") report.time_to_target = times_to_target(report);
   // Warnings.
   json warnings = json::array();
+  for (const Reference& ref : report.references)
+    if (!ref.converged)
+      warnings.push_back(ref.scene + ": THE REFERENCE IS NOT CONVERGED (" + ref.solver + " " +
+                         std::to_string(ref.substeps) + "x" + std::to_string(ref.iterations) +
+                         (ref.capped ? ", and the study could not raise its budget further" : "") + "): " +
+                         (ref.failures.empty() ? std::string("?") : ref.failures.front()) +
+                         "; ref_mm and traj_mm of its scene are bounded by the reference's own error");
+  for (const SceneInfo& scene : report.scenes) {
+    int moving = 0, points = 0;
+    std::string splits;
+    for (const Record& r : records)
+      if (r.scene == scene.name && r.settled) {
+        ++points;
+        if (*r.settled) continue;
+        if (moving++ < 6) splits += (splits.empty() ? "" : ", ") + r.solver + " " + r.split();
+      }
+    if (moving)
+      warnings.push_back(scene.name + ": " + std::to_string(moving) + " of " + std::to_string(points) +
+                         " points had not settled at the end (they moved more than 1 mm RMS over the steps averaged; e.g. " + splits +
+                         "): their error is not that of a state at rest");
+  }
   const json& context = report.study["context"];
   const int cores = context.value("cores", 1);
   const double before = context.value("load_before", 0.0), during = context.value("load_during", 0.0);
@@ -160,22 +258,30 @@ void finish(Report& report) {
 }
 
 json report_json(const Report& report) {
-  json doc = {{"schema", 2}, {"study", report.study}};
+  json doc = {{"schema", 3}, {"study", report.study}};
   json& scenes = doc["scenes"] = json::array();
   for (const SceneInfo& s : report.scenes)
     scenes.push_back({{"name", s.name}, {"particles", s.particles}, {"constraints", s.constraints},
                       {"steps", s.steps}, {"size_m", s.size_m}, {"primary_error", s.primary_error},
-                      {"family", s.family.empty() ? json(nullptr) : json(s.family)}, {"measures", s.measures}});
+                      {"family", s.family.empty() ? json(nullptr) : json(s.family)}, {"measures", s.measures},
+                      {"base", s.base}, {"variant", s.variant},
+                      {"known_answer", s.known_answer.empty() ? json(nullptr) : json(s.known_answer)},
+                      {"average_from", s.average_from}});
   // Every error measure's label and unit, as the constraint types declare them (plot_study.py labels its axes so).
   json& measures = doc["measures"] = json::object();
   for (const NamedMeasure& m : violation_measures())
     measures[m.measure.key] = {{"type", m.type}, {"label", m.measure.label}, {"unit", m.measure.unit}};
+  for (const ExtraMeasure& m : known_answer_measures())
+    measures[m.key] = {{"type", nullptr}, {"label", m.label}, {"unit", m.unit}};
   json& refs = doc["references"] = json::array();
   for (const Reference& r : report.references)
-    refs.push_back({{"scene", r.scene}, {"solver", "serial"}, {"precision", "double"}, {"substeps", r.substeps},
-                    {"iterations", r.iterations}, {"steps", r.steps}, {"seconds", r.seconds},
-                    {"iteration_convergence_mm", finite(r.iteration_convergence_mm)},
-                    {"time_convergence_mm", finite(r.time_convergence_mm)}, {"errors", errors_json(r.errors)}});
+    refs.push_back({{"scene", r.scene}, {"solver", r.solver}, {"precision", "double"}, {"threads", r.threads},
+                    {"substeps", r.substeps}, {"iterations", r.iterations}, {"steps", r.steps},
+                    {"seconds", r.seconds}, {"errors", errors_json(r.errors)},
+                    {"errors_final", errors_json(r.errors_final)}, {"step_change_mm", finite(r.step_change_mm)},
+                    {"trajectory_change_mm", finite(r.trajectory_change_mm)},
+                    {"error_change", errors_json(r.error_change)}, {"converged", r.converged},
+                    {"failures", r.failures}, {"capped", r.capped}, {"tried", r.tried}});
   json& records = doc["records"] = json::array();
   for (const Record& r : report.records)
     records.push_back({{"scene", r.scene}, {"solver", r.solver}, {"threads", r.threads}, {"budget", r.budget()},
@@ -184,8 +290,12 @@ json report_json(const Report& report) {
                        {"ms_per_step", r.ms_per_step}, {"ms_per_step_min", r.ms_per_step_min},
                        {"ms_per_step_max", r.ms_per_step_max}, {"ms_per_step_cv", r.ms_per_step_cv},
                        {"ns_per_projection", r.ns_per_projection()}, {"particles", r.particles},
-                       {"constraints", r.constraints}, {"colors", r.colors}, {"errors", errors_json(r.errors)},
-                       {"primary_error", finite(r.primary_error)},
+                       {"constraints", r.constraints}, {"colors", r.colors}, {"variant", r.variant},
+                       {"timing_steps", r.timing_steps}, {"errors", errors_json(r.errors)},
+                       {"errors_final", errors_json(r.errors_final)}, {"primary_error", finite(r.primary_error)},
+                       {"primary_error_final", finite(r.primary_error_final)},
+                       {"settle_motion_mm", optional_number(r.settle_motion_mm)},
+                       {"settled", r.settled ? json(*r.settled) : json(nullptr)},
                        {"ref_error_mm", r.ref_error_mm ? finite(*r.ref_error_mm) : json(nullptr)},
                        {"ref_error_max_mm", r.ref_error_max_mm ? finite(*r.ref_error_max_mm) : json(nullptr)},
                        {"trajectory_error_mm", r.trajectory_error_mm ? finite(*r.trajectory_error_mm) : json(nullptr)},
@@ -201,6 +311,12 @@ json report_json(const Report& report) {
     dom.push_back({{"scene", d.scene}, {"solver", d.solver}, {"threads", d.threads}, {"measure", d.measure},
                    {"serial_points", d.serial_points}, {"dominated", d.serial_points - int(d.undominated.size())},
                    {"undominated", d.undominated}});
+  json& ttt = doc["time_to_target"] = json::array();
+  for (const TimeToTarget& t : report.time_to_target)
+    ttt.push_back({{"scene", t.scene}, {"base", t.base}, {"variant", t.variant}, {"solver", t.solver},
+                   {"threads", t.threads}, {"measure", t.measure}, {"target", t.target}, {"reached", t.reached},
+                   {"substeps", t.substeps}, {"iterations", t.iterations}, {"ms_per_step", t.ms_per_step},
+                   {"primary_error", finite(t.primary_error)}});
   json& sn = doc["shared_nothing"] = json::array();
   for (const SharedNothing& s : report.shared_nothing) {
     const auto [lo, hi] = std::minmax_element(s.speedups.begin(), s.speedups.end());
@@ -226,7 +342,7 @@ json report_json(const Report& report) {
 
 Report report_from_json(const json& doc, const std::string& source) {
   try {
-    if (doc.value("schema", 0) != 2) throw Error(source + ": not a pbd study report of schema 2");
+    if (doc.value("schema", 0) != 3) throw Error(source + ": not a pbd study report of schema 3");
     Report report;
     report.study = doc.at("study");
     for (const json& s : doc.at("scenes")) {
@@ -239,6 +355,10 @@ Report report_from_json(const json& doc, const std::string& source) {
       i.primary_error = s.at("primary_error");
       i.family = s.at("family").is_null() ? "" : s.at("family").get<std::string>();
       i.measures = s.at("measures").get<std::vector<std::string>>();
+      i.base = s.at("base");
+      i.variant = s.at("variant");
+      i.known_answer = s.at("known_answer").is_null() ? "" : s.at("known_answer").get<std::string>();
+      i.average_from = s.at("average_from");
       report.scenes.push_back(i);
     }
     for (const json& r : doc.at("references")) {
@@ -247,10 +367,16 @@ Report report_from_json(const json& doc, const std::string& source) {
       ref.substeps = r.at("substeps");
       ref.iterations = r.at("iterations");
       ref.steps = r.at("steps");
+      ref.solver = r.at("solver");
+      ref.threads = r.at("threads");
       ref.seconds = r.at("seconds");
-      ref.iteration_convergence_mm = finite_back(r.at("iteration_convergence_mm"));
-      ref.time_convergence_mm = finite_back(r.at("time_convergence_mm"));
       ref.errors = errors_back(r.at("errors"));
+      ref.errors_final = errors_back(r.at("errors_final"));
+      ref.step_change_mm = finite_back(r.at("step_change_mm"));
+      ref.trajectory_change_mm = finite_back(r.at("trajectory_change_mm"));
+      ref.error_change = errors_back(r.at("error_change"));
+      ref.capped = r.at("capped");
+      ref.tried = r.at("tried").get<std::vector<std::string>>();
       report.references.push_back(std::move(ref));
     }
     for (const json& j : doc.at("records")) {
@@ -271,8 +397,14 @@ Report report_from_json(const json& doc, const std::string& source) {
       r.particles = j.at("particles");
       r.constraints = j.at("constraints");
       r.colors = j.at("colors");
+      r.variant = j.at("variant");
+      r.timing_steps = j.at("timing_steps");
       r.errors = errors_back(j.at("errors"));
+      r.errors_final = errors_back(j.at("errors_final"));
       r.primary_error = finite_back(j.at("primary_error"));
+      r.primary_error_final = finite_back(j.at("primary_error_final"));
+      r.settle_motion_mm = number_or_none(j.at("settle_motion_mm"));
+      if (!j.at("settled").is_null()) r.settled = j.at("settled").get<bool>();
       if (!j.at("trajectory_error_mm").is_null() || !j.at("ref_error_mm").is_null()) {
         r.ref_error_mm = finite_back(j.at("ref_error_mm"));
         r.ref_error_max_mm = finite_back(j.at("ref_error_max_mm"));
@@ -364,17 +496,6 @@ Report merge_reports(const std::vector<Report>& parts, const std::vector<std::st
   return out;
 }
 
-namespace {
-
-std::string fmt(double v, const char* f = "%.3g") {
-  if (!std::isfinite(v)) return "inf";
-  char s[32];
-  std::snprintf(s, sizeof s, f, v);
-  return s;
-}
-
-}  // namespace
-
 void print_table(std::ostream& out, const Report& report) {
   const json& c = report.study["context"];
   // A context field as text: "?" when it is missing or could not be found (null).
@@ -398,26 +519,36 @@ void print_table(std::ostream& out, const Report& report) {
     std::snprintf(line, sizeof line, "\n## %s: %zu particles, %zu constraints, %d steps; primary error %s\n",
                   s.name.c_str(), s.particles, s.constraints, s.steps, s.primary_error.c_str());
     out << line;
+    if (!s.known_answer.empty())
+      out << "known answer: " << (s.known_answer == "chain" ? "each link stretches by alpha*T_k (extension_pct)"
+                                                            : "RMS stretch 0 at rest")
+          << "; errors averaged over steps " << s.average_from << ".." << s.steps << " (settled: moved less than 1 mm RMS over them)\n";
     for (const Reference& r : report.references)
-      if (r.scene == s.name) {
-        std::snprintf(line, sizeof line, "reference: serial, double, %dx%d, %.1f s; one step at half the "
-                      "iterations moves %s mm, at half the substeps %s mm\n", r.substeps, r.iterations, r.seconds,
-                      fmt(r.iteration_convergence_mm).c_str(), fmt(r.time_convergence_mm).c_str());
+      if (r.scene == s.base) {
+        std::string tried;
+        for (const std::string& t : r.tried) tried += (tried.empty() ? " after " : ", ") + t;
+        std::snprintf(line, sizeof line, "reference: %s, double, %dT, %dx%d%s, %.1f s; at half its budget one step "
+                      "moves %s mm, the run ends %s mm away: %s\n", r.solver.c_str(), r.threads, r.substeps,
+                      r.iterations, tried.c_str(), r.seconds, fmt(r.step_change_mm).c_str(),
+                      fmt(r.trajectory_change_mm).c_str(), r.converged ? "converged" : "*** NOT CONVERGED ***");
         out << line;
+        for (const std::string& f : r.failures) out << "  not converged: " << f << "\n";
       }
-    std::snprintf(line, sizeof line, "%-*s %3s %8s %10s %21s %5s %7s %11s %10s %10s %16s\n", width, "solver", "thr",
-                  "split", "ms/step", "(min-max)", "cv%", "ns/proj", s.primary_error.c_str(), "ref_mm", "traj_mm",
-                  "state_hash");
+    const std::string primary_final = s.primary_error + "@end";
+    std::snprintf(line, sizeof line, "%-*s %3s %8s %10s %21s %5s %7s %11s %11s %10s %10s %16s\n", width, "solver",
+                  "thr", "split", "ms/step", "(min-max)", "cv%", "ns/proj", (s.primary_error + "~").c_str(),
+                  primary_final.c_str(), "ref_mm", "traj_mm", "state_hash");
     out << line;
     for (const Record& r : report.records) {
       if (r.scene != s.name) continue;
       const std::string range = "(" + fmt(r.ms_per_step_min, "%.4g") + "-" + fmt(r.ms_per_step_max, "%.4g") + ")";
-      std::snprintf(line, sizeof line, "%-*s %3d %8s %10.4g %21s %5.1f %7.1f %11s %10s %10s %16s%s%s%s\n",
+      std::snprintf(line, sizeof line, "%-*s %3d %8s %10.4g %21s %5.1f %7.1f %11s %11s %10s %10s %16s%s%s%s%s\n",
                     width, r.solver.c_str(), r.threads, r.split().c_str(), r.ms_per_step, range.c_str(),
                     100 * r.ms_per_step_cv, r.ns_per_projection(), fmt(r.primary_error).c_str(),
-                    r.ref_error_mm ? fmt(*r.ref_error_mm).c_str() : "-",
+                    fmt(r.primary_error_final).c_str(), r.ref_error_mm ? fmt(*r.ref_error_mm).c_str() : "-",
                     r.trajectory_error_mm ? fmt(*r.trajectory_error_mm).c_str() : "-", hex(r.state_hash).c_str(),
-                    r.pareto ? "  front" : "", r.busy ? "  BUSY" : "", r.repeatable ? "" : "  (runs differ!)");
+                    r.pareto ? "  front" : "", r.busy ? "  BUSY" : "", r.repeatable ? "" : "  (runs differ!)",
+                    r.settled && !*r.settled ? "  (moving)" : "");
       out << line;
     }
     bool header = false;
@@ -437,6 +568,23 @@ void print_table(std::ostream& out, const Report& report) {
                       sn.threads, median(sn.speedups));
         out << line;
       }
+  }
+  if (!report.time_to_target.empty()) {
+    const TimeToTarget& first = report.time_to_target.front();
+    std::snprintf(line, sizeof line, "\n# Time per step to reach %s%% (run-averaged primary error): the fastest point "
+                  "at or below it\n", fmt(first.target).c_str());
+    out << line;
+  }
+  for (const TimeToTarget& t : report.time_to_target) {
+    if (t.reached)
+      std::snprintf(line, sizeof line, "%-24s %-*s %dT: %10.4g ms/step at %dx%d (%s %s)\n", t.scene.c_str(), width,
+                    t.solver.c_str(), t.threads, t.ms_per_step, t.substeps, t.iterations, t.measure.c_str(),
+                    fmt(t.primary_error).c_str());
+    else
+      std::snprintf(line, sizeof line, "%-24s %-*s %dT: not reached; lowest %s %s at %dx%d (%.4g ms/step)\n",
+                    t.scene.c_str(), width, t.solver.c_str(), t.threads, t.measure.c_str(),
+                    fmt(t.primary_error).c_str(), t.substeps, t.iterations, t.ms_per_step);
+    out << line;
   }
   if (!report.dominance.empty())
     out << "\n# Dominance: for each serial point, a point of the parallel solver at its most threads with lower "
@@ -466,8 +614,10 @@ void print_csv(std::ostream& out, const Report& report) {
     for (const auto& [name, v] : r.errors) measures.insert(name);
   out << "scene,solver,threads,budget,substeps,iterations,steps,precision,repeats,ms_per_step,ms_per_step_min,"
          "ms_per_step_max,ms_per_step_cv,ns_per_projection,particles,constraints,colors,primary_error,ref_error_mm,"
-         "ref_error_max_mm,trajectory_error_mm,energy_drift,state_hash,repeatable,load,busy,pareto";
+         "ref_error_max_mm,trajectory_error_mm,energy_drift,state_hash,repeatable,load,busy,pareto,variant,timing_steps,"
+         "primary_error_final,settle_motion_mm,settled";
   for (const std::string& m : measures) out << "," << m << "_rms," << m << "_max";
+  for (const std::string& m : measures) out << "," << m << "_rms_final," << m << "_max_final";
   out << "\n";
   auto opt = [](const std::optional<double>& v) { return v ? fmt(*v, "%.6g") : std::string(); };
   for (const Record& r : report.records) {
@@ -479,12 +629,15 @@ void print_csv(std::ostream& out, const Report& report) {
         << "," << fmt(r.primary_error, "%.6g") << "," << opt(r.ref_error_mm) << "," << opt(r.ref_error_max_mm) << ","
         << opt(r.trajectory_error_mm) << "," << opt(r.energy_drift) << "," << hex(r.state_hash) << ","
         << (r.repeatable ? 1 : 0) << "," << fmt(r.load, "%.2f") << "," << (r.busy ? 1 : 0) << ","
-        << (r.pareto ? 1 : 0);
-    for (const std::string& m : measures) {
-      const auto it = r.errors.find(m);
-      if (it == r.errors.end()) out << ",,";
-      else out << "," << fmt(it->second.rms, "%.6g") << "," << fmt(it->second.max, "%.6g");
-    }
+        << (r.pareto ? 1 : 0) << "," << r.variant << "," << r.timing_steps << ","
+        << fmt(r.primary_error_final, "%.6g") << "," << opt(r.settle_motion_mm) << ","
+        << (r.settled ? (*r.settled ? "1" : "0") : "");
+    for (const Errors* e : {&r.errors, &r.errors_final})
+      for (const std::string& m : measures) {
+        const auto it = e->find(m);
+        if (it == e->end()) out << ",,";
+        else out << "," << fmt(it->second.rms, "%.6g") << "," << fmt(it->second.max, "%.6g");
+      }
     out << "\n";
   }
 }

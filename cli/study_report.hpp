@@ -36,6 +36,27 @@ struct Dominance {
   std::vector<std::string> undominated;  ///< splits "SxI" of the serial points none of its points dominates
 };
 
+/// The headline: per (scene and variant, solver, threads), the fastest point whose run-averaged primary error is
+/// at or below the target (in % measures only), or the lowest error it reached.
+struct TimeToTarget {
+  std::string scene, base, variant, solver;  ///< scene (base+variant), the scene as named, variant, solver
+  int threads = 1;                ///< threads
+  std::string measure;            ///< the primary measure
+  double target = 1.0;            ///< the target, in the measure's unit (%)
+  bool reached = false;           ///< some point is at or below it
+  int substeps = 0, iterations = 0;  ///< the fastest such point, or the lowest-error point when not reached
+  double ms_per_step = 0.0;       ///< its time per step, ms
+  double primary_error = 0.0;     ///< its run-averaged primary error
+};
+
+/// The reference check: the reference's own change at half its budget must be at most a tenth of the smallest
+/// error it is compared with, over every record of its scene (all variants): the one-step change against the
+/// smallest ref_error_mm, the change of the run's end against the smallest trajectory_error_mm, and the change of
+/// each averaged error measure (RMS) against that measure's smallest averaged RMS. Sets ref.converged and
+/// ref.failures (one text per failed comparison).
+constexpr double kReferenceMargin = 0.1;
+void check_reference(Reference& ref, const std::vector<Record>& records);
+
 /// Strong scaling of one solver on one scene (scaling mode): speed-up over the same solver on 1 thread, per round.
 struct StrongScaling {
   std::string scene, solver;     ///< scene and solver
@@ -56,13 +77,15 @@ struct Report {
   std::vector<BestSplit> best_splits;     ///< best split per budget
   std::vector<Dominance> dominance;       ///< dominance of serial by each parallel solver
   std::vector<StrongScaling> strong;      ///< strong scaling (scaling mode)
+  std::vector<TimeToTarget> time_to_target;  ///< the headline (main mode)
 };
 
-/// Derives the Pareto flags, best splits, dominance and strong scaling from the records, and the warnings
-/// (busy points, a busy machine) into study["warnings"] and study["busy"].
+/// Derives the Pareto flags, best splits, dominance, strong scaling and the time to the target from the records,
+/// re-checks each reference against them, and the warnings (busy points, a busy machine, a reference that is not
+/// converged, a quasi-static run that did not settle) into study["warnings"] and study["busy"].
 void finish(Report& report);
 
-/// The report as JSON (schema 2; docs/results.md describes every field).
+/// The report as JSON (schema 3; docs/results.md describes every field).
 nlohmann::json report_json(const Report& report);
 /// The report read back from JSON (the references without their in-memory samples); throws pbd::Error naming
 /// `source` and the missing or malformed key.

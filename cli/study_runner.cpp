@@ -11,7 +11,9 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
+#include <set>
 #include <thread>
 #include <type_traits>
 
@@ -66,7 +68,6 @@ template <class Real> void advance(World<Real>& world, int steps) {
 
 // The steps (0-based) the reference keeps: up to kSamples, evenly spread, the last included.
 constexpr int kSamples = 5;
-constexpr int kConvergenceSamples = 2;  // the reference's own convergence is checked at the last two
 std::vector<int> sample_steps(int steps) {
   std::vector<int> out;
   const int n = std::min(kSamples, steps);
@@ -112,27 +113,151 @@ double median(std::vector<double> v) {
 // alone is too short for the clock and the scheduler's noise to be small against it.
 constexpr double kMinSampleSeconds = 0.02;
 constexpr int kMaxLoops = 1000;
+// A timed run covers the whole run when one thread would do it in this long; a longer run is timed over its first
+// steps (at least 2, lasting about this long): the step of a cloth costs the same all through its run, and its
+// errors come from the one whole run made untimed.
+constexpr double kWholeRunSeconds = 0.5;
+// Timed runs longer than this get at most 2 rounds: their own length already averages out the clock's noise.
+constexpr double kLongSampleSeconds = 0.25;
+
+// The errors of a state: each type's measure, and a quasi-static scene's error against its closed form.
+template <class Real> Errors state_errors(const World<Real>& world, const KnownAnswer& known) {
+  Errors e = errors_of(constraint_violations(world));
+  if (!known.kind.empty())
+    for (const auto& [key, value] : known_answer_errors(known, world.positions().template cast<double>()))
+      e[key] = value;
+  return e;
+}
+
+// Mean over steps of each measure's RMS and maximum.
+struct ErrorMean {
+  Errors sum;
+  int count = 0;
+  void add(const Errors& e) {
+    for (const auto& [key, v] : e) {
+      sum[key].rms += v.rms;
+      sum[key].max += v.max;
+    }
+    ++count;
+  }
+  Errors mean() const {
+    Errors out = sum;
+    for (auto& [key, v] : out) v = {finite_or_inf(v.rms / std::max(count, 1)), finite_or_inf(v.max / std::max(count, 1))};
+    return out;
+  }
+};
+
+// What one whole untimed run gives: its errors, averaged over the steps from info.average_from on and at the end.
+struct RunResult {
+  Errors mean, final;
+  Matrix3X<double> positions;
+  std::uint64_t hash = 0;
+  double step_seconds = 0.0;  // wall time of the steps alone (not of the error measures)
+  double motion = 0.0;        // RMS displacement over the averaged steps, m
+  std::optional<double> drift;
+};
+
+// Runs `world` over info.steps steps, measuring its errors after each; `before_step(s, world)` runs first at step s.
+template <class Real, class BeforeStep>
+RunResult error_run(World<Real> world, const SceneInfo& info, const KnownAnswer& known, BeforeStep&& before_step) {
+  RunResult out;
+  const Energy e0 = energy(world);
+  ErrorMean mean;
+  Matrix3X<double> window_start;
+  for (int s = 0; s < info.steps; ++s) {
+    if (s + 1 == info.average_from) window_start = world.positions().template cast<double>();
+    before_step(s, world);
+    const auto t0 = Clock::now();
+    world.step();
+    out.step_seconds += seconds_since(t0);
+    if (s + 1 >= info.average_from) mean.add(state_errors(world, known));
+  }
+  out.mean = mean.mean();
+  out.final = state_errors(world, known);
+  out.positions = world.positions().template cast<double>();
+  out.hash = position_hash(world);
+  if (window_start.cols() == out.positions.cols()) out.motion = distance(window_start, out.positions).rms;
+  out.drift = energy_drift(world, e0, info.size_m);
+  return out;
+}
+
+double primary_of(const Errors& e, const std::string& primary) {
+  const auto it = e.find(primary);
+  return finite_or_inf(it == e.end() ? 0.0 : it->second.rms);
+}
 
 // One combination of a group while the group runs.
 template <class Real> struct Member {
   Combination c;
   std::unique_ptr<tbb::task_arena> arena;
   World<Real> initial;
-  Energy e0;
   Record r;
-  std::size_t first_sample = 0;
-  int loops = 1;  // runs per timed sample
+  int loops = 1;               // runs per timed sample
+  int rounds = 1;              // timed samples
+  std::uint64_t timing_hash = 0;  // state after timing_steps steps
 };
+
+// The error run of each solver of the group, on its most threads (the parallel solvers end in the same bits on
+// any count, which the timed runs check); the others take its errors. Returns each member's estimated seconds per
+// step on one thread.
+template <class Real>
+std::vector<double> error_runs(std::vector<Member<Real>>& members, const SceneInfo& info,
+                               const std::function<void()>& progress) {
+  const KnownAnswer known = known_answer(info.base);
+  std::map<std::string, std::size_t> runner;  // solver → the member that runs its errors
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    const auto it = runner.find(members[i].c.solver.name);
+    if (it == runner.end() || members[it->second].c.threads < members[i].c.threads)
+      runner[members[i].c.solver.name] = i;
+  }
+  std::map<std::string, double> one_thread_step;  // solver → estimated seconds per step on one thread
+  for (const auto& [name, i] : runner) {
+    Member<Real>& m = members[i];
+    Record& r = m.r;
+    const RunResult run = m.arena->execute([&] { return error_run(m.initial, info, known, [](int, World<Real>&) {}); });
+    r.state_hash = run.hash;
+    r.errors = run.mean;
+    r.errors_final = run.final;
+    r.primary_error = primary_of(run.mean, info.primary_error);
+    r.primary_error_final = primary_of(run.final, info.primary_error);
+    r.energy_drift = run.drift;
+    r.final_positions = run.positions;
+    if (!known.kind.empty()) {
+      r.settle_motion_mm = 1e3 * run.motion;
+      r.settled = run.motion < known.settled_motion;
+    }
+    one_thread_step[name] = run.step_seconds / std::max(info.steps, 1) * (m.c.solver.threaded ? m.c.threads : 1);
+    if (progress) progress();
+  }
+  std::vector<double> out;
+  for (Member<Real>& m : members) {
+    const Record& from = members[runner[m.c.solver.name]].r;
+    if (&from != &m.r) {
+      m.r.state_hash = from.state_hash;
+      m.r.errors = from.errors;
+      m.r.errors_final = from.errors_final;
+      m.r.primary_error = from.primary_error;
+      m.r.primary_error_final = from.primary_error_final;
+      m.r.energy_drift = from.energy_drift;
+      m.r.final_positions = from.final_positions;
+      m.r.settle_motion_mm = from.settle_motion_mm;
+      m.r.settled = from.settled;
+    }
+    out.push_back(one_thread_step[m.c.solver.name]);
+  }
+  return out;
+}
 
 template <class Real>
 std::vector<Record> run_group_typed(const Scene& scene, const SceneInfo& info, const std::vector<Combination>& group,
-                                    const Reference* ref, int repeats, LoadMonitor& load,
-                                    const std::function<void(int, int)>& progress) {
-  const int total = int(group.size()) * (repeats + 1);
+                                    int repeats, LoadMonitor& load, const std::function<void(int, int)>& progress) {
+  std::set<std::string> solvers;
+  for (const Combination& c : group) solvers.insert(c.solver.name);
+  const int total = int(solvers.size() + group.size()) + int(group.size()) * repeats;
   int done = 0;
   auto report_progress = [&] {
     ++done;
-    if (progress) progress(done, total);
+    if (progress) progress(std::min(done, total), total);
   };
   std::vector<Member<Real>> members;
   members.reserve(group.size());
@@ -140,73 +265,70 @@ std::vector<Record> run_group_typed(const Scene& scene, const SceneInfo& info, c
     auto arena = std::make_unique<tbb::task_arena>(c.threads);
     World<Real> initial =
         arena->execute([&] { return prepared_world<Real>(scene, c.solver.solver, c.split, c.solver.chebyshev); });
-    Member<Real> m{c, std::move(arena), std::move(initial), {}, {}, 0, 1};
+    Member<Real> m{c, std::move(arena), std::move(initial), {}, 1, repeats, 0};
     Record& r = m.r;
     r.scene = info.name;
+    r.variant = info.variant;
     r.solver = c.solver.name;
     r.threads = c.threads;
     r.substeps = c.split.substeps;
     r.iterations = c.split.iterations;
     r.steps = c.steps;
     r.precision = std::is_same_v<Real, float> ? "float" : "double";
-    r.repeats = repeats;
     r.particles = m.initial.num_particles();
     r.constraints = m.initial.num_constraints();
     r.colors = c.solver.solver == Solver::serial ? 0 : std::size_t(m.initial.num_colors());
-    m.e0 = energy(m.initial);
     members.push_back(std::move(m));
   }
-  // Warm-up: each member's run, untimed; it gives the final state's errors and hash, and how many runs one timed
-  // sample needs to last kMinSampleSeconds.
-  for (Member<Real>& m : members) {
+  const std::vector<double> one_thread_step = error_runs(members, info, report_progress);
+  // The timed runs' length (the same for every thread count of a solver, so their end states compare), and an
+  // untimed warm-up of it that also sets how many runs one timed sample needs to last kMinSampleSeconds.
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    Member<Real>& m = members[i];
+    const double per_step = std::max(one_thread_step[i], 1e-9);
+    m.r.timing_steps = per_step * m.r.steps <= kWholeRunSeconds
+                           ? m.r.steps
+                           : std::clamp(int(std::ceil(kWholeRunSeconds / per_step)), 2, m.r.steps);
     m.arena->execute([&] {
-      Record& r = m.r;
       World<Real> world = m.initial;
       const auto t0 = Clock::now();
-      advance(world, r.steps);
+      advance(world, m.r.timing_steps);
       const double seconds = seconds_since(t0);
       m.loops = std::clamp(int(std::ceil(kMinSampleSeconds / std::max(seconds, 1e-9))), 1, kMaxLoops);
-      r.state_hash = position_hash(world);
-      r.errors = errors_of(constraint_violations(world));
-      const auto primary = r.errors.find(info.primary_error);
-      r.primary_error = finite_or_inf(primary == r.errors.end() ? 0.0 : primary->second.rms);
-      r.energy_drift = energy_drift(world, m.e0, info.size_m);
-      if (ref) {
-        r.trajectory_error_mm = finite_or_inf(1e3 * position_distance(world, ref->positions).rms);
-        Rms step_error;  // one step from each sampled reference state, against the reference's step
-        for (const ReferenceSample& s : ref->samples) {
-          World<Real> w = m.initial;
-          load_sample(w, s);
-          w.step();
-          step_error.add(position_distance(w, s.x_after));
-        }
-        r.ref_error_mm = finite_or_inf(1e3 * step_error.rms());
-        r.ref_error_max_mm = finite_or_inf(1e3 * step_error.max);
-      }
+      m.rounds = seconds > kLongSampleSeconds ? std::min(repeats, 2) : repeats;
+      m.timing_hash = position_hash(world);
     });
+    // A member that ran the whole run ends as its solver's error run did, on whatever thread count.
+    if (m.r.timing_steps == m.r.steps && m.timing_hash != m.r.state_hash) m.r.repeatable = false;
+    if (m.r.timing_steps == m.r.steps) m.r.state_hash = m.timing_hash;
+    m.r.repeats = m.rounds;
     report_progress();
   }
   // The timed rounds, interleaved: A B C ... A B C ...
-  for (Member<Real>& m : members) m.first_sample = load.count();
   std::vector<std::vector<double>> load_samples(members.size());
   for (int k = 0; k < repeats; ++k) {
     for (std::size_t i = 0; i < members.size(); ++i) {
       Member<Real>& m = members[i];
+      if (k >= m.rounds) continue;
       load_samples[i].push_back(load.sample());
       m.arena->execute([&] {
         double seconds = 0.0;
         for (int l = 0; l < m.loops; ++l) {
           World<Real> world = m.initial;  // copied outside the timed region
           const auto t0 = Clock::now();
-          advance(world, m.r.steps);
+          advance(world, m.r.timing_steps);
           seconds += seconds_since(t0);
-          m.r.repeatable = m.r.repeatable && position_hash(world) == m.r.state_hash;
+          m.r.repeatable = m.r.repeatable && position_hash(world) == m.timing_hash;
         }
-        m.r.ms.push_back(1e3 * seconds / (double(m.r.steps) * m.loops));
+        m.r.ms.push_back(1e3 * seconds / (double(m.r.timing_steps) * m.loops));
       });
       report_progress();
     }
   }
+  // Every thread count of a solver ends its timed runs in the same bits.
+  for (Member<Real>& m : members)
+    for (const Member<Real>& o : members)
+      if (o.c.solver.name == m.c.solver.name && o.timing_hash != m.timing_hash) m.r.repeatable = false;
   std::vector<Record> out;
   for (std::size_t i = 0; i < members.size(); ++i) {
     Record r = std::move(members[i].r);
@@ -229,15 +351,30 @@ std::vector<Record> run_group_typed(const Scene& scene, const SceneInfo& info, c
 
 double scene_work(const SceneInfo& info) { return double(info.constraints + info.particles); }
 
+// Seconds per work unit (one sweep over one constraint or particle on one thread) assumed by the estimates before
+// the study has timed anything; the estimate of the time left is then rescaled by what has been measured.
+// Calibrated against the idle default run at 6bb0c5e (293 s; its groups estimated 1.3–1.7× too cheap at 5 ns).
+constexpr double kSecondsPerUnit = 7e-9;
+// The serial reference solver's sweep costs several times a colored one's (it has no lanes).
+// Serial, Jacobi and block cost about 5× the colored solver's per sweep (no lanes; the report at 6bb0c5e: 24–28
+// against 4.6–5.4 ns per constraint on one thread on the generated cloths).
+double solver_factor(const StudySolver& s) { return s.solver == Solver::colored || s.solver == Solver::serial_colored ? 1.0 : 5.0; }
+
 }  // namespace
 
-SceneInfo scene_info(const Scene& scene, int steps) {
+SceneInfo scene_info(const Scene& scene, int steps, const std::string& base, const std::string& variant) {
   SceneInfo info;
-  info.name = scene.name;
+  info.base = base;
+  info.variant = variant;
+  info.name = variant == "plain" ? base : base + "+" + variant;
   info.steps = steps;
   info.particles = std::size_t(scene.world.num_particles());
   info.constraints = scene.world.num_constraints();
-  info.family = is_generated_cloth(scene.name) ? "cloth" : "";
+  info.family = is_generated_cloth(base) && known_answer(base).kind.empty() ? "cloth" : "";
+  const KnownAnswer known = known_answer(base);
+  info.known_answer = known.kind;
+  // A quasi-static scene's error is that of the state it settles in: averaged over the last quarter of its run.
+  info.average_from = known.kind.empty() ? 1 : std::max(1, steps - steps / 4);
   World<double> world = build_world<double>(scene.world);
   info.size_m = bounding_diagonal(world);
   if (!(info.size_m > 0.0)) info.size_m = 1.0;
@@ -246,6 +383,7 @@ SceneInfo scene_info(const Scene& scene, int steps) {
     types.push_back(v.type);
     info.measures.push_back(measure_of(v.type).first);
   }
+  for (const auto& [key, value] : known_answer_errors(known, world.positions())) info.measures.push_back(key);
   std::string primary = scene.primary_error == "penetration" ? "collision"
                         : scene.primary_error == "overlap"   ? "particle contact"
                                                              : scene.primary_error;
@@ -261,64 +399,114 @@ SceneInfo scene_info(const Scene& scene, int steps) {
                 " to measure");
   }
   info.primary_error = primary.empty() ? "" : measure_of(primary).first;
+  if (known.kind == "chain") info.primary_error = "extension_pct";  // against α·T, not the constraints' own C
   return info;
 }
 
-Reference compute_reference(const Scene& scene, const SceneInfo& info, Split split,
-                            const std::function<void(int)>& progress) {
+Split half_of(Split split) {
+  return split.substeps >= 2 ? Split{split.substeps / 2, split.iterations} : Split{1, split.iterations / 2};
+}
+
+ReferenceRun reference_run(const Scene& scene, const SceneInfo& info, const StudySolver& solver, int threads,
+                           Split split, bool sampled, const std::function<void(int)>& progress) {
   const auto t0 = Clock::now();
+  ReferenceRun out;
+  out.split = split;
+  tbb::task_arena arena(solver.threaded ? threads : 1);
+  arena.execute([&] {
+    const World<double> initial = prepared_world<double>(scene, solver.solver, split, solver.chebyshev);
+    const std::vector<int> samples = sampled ? sample_steps(info.steps) : std::vector<int>();
+    Rms step_change;
+    std::optional<ReferenceSample> pending;  // a sample waiting for the positions after its step
+    const RunResult run = error_run(initial, info, known_answer(info.base), [&](int s, World<double>& world) {
+      if (progress && s > 0) progress(s);
+      if (pending) {
+        pending->x_after = world.positions();
+        step_change.add(distance(pending->x_after, pending->x_half));
+        out.samples.push_back(std::move(*pending));
+        pending.reset();
+      }
+      if (std::find(samples.begin(), samples.end(), s) == samples.end()) return;
+      // The same state stepped at half the budget: how far one step of the reference is from converged.
+      World<double> half = world;
+      StepParams<double> params = half.params();
+      const Split h = half_of(split);
+      params.substeps = h.substeps;
+      params.iterations = h.iterations;
+      half.set_params(params);
+      half.step();
+      pending = ReferenceSample{s, world.time(), world.positions(), world.velocities(), {}, half.positions()};
+    });
+    if (pending) {
+      pending->x_after = run.positions;
+      step_change.add(distance(pending->x_after, pending->x_half));
+      out.samples.push_back(std::move(*pending));
+    }
+    out.mean = run.mean;
+    out.final = run.final;
+    out.positions = run.positions;
+    out.step_change_mm = 1e3 * step_change.rms();
+  });
+  out.seconds = seconds_since(t0);
+  return out;
+}
+
+Reference make_reference(const SceneInfo& info, const StudySolver& solver, int threads, const ReferenceRun& full,
+                         const ReferenceRun& half) {
   Reference ref;
-  ref.scene = info.name;
-  ref.substeps = split.substeps;
-  ref.iterations = split.iterations;
+  ref.scene = info.base;
+  ref.solver = solver.name;
+  ref.threads = solver.threaded ? threads : 1;
+  ref.substeps = full.split.substeps;
+  ref.iterations = full.split.iterations;
   ref.steps = info.steps;
-  World<double> world = prepared_world<double>(scene, Solver::serial, split);
-  const std::vector<int> samples = sample_steps(info.steps);
-  const int first_checked = samples[samples.size() - std::min<std::size_t>(kConvergenceSamples, samples.size())];
-  Rms iteration_error, time_error;
-  for (int s = 0; s < info.steps; ++s) {
-    if (progress && s > 0) progress(s);
-    if (std::find(samples.begin(), samples.end(), s) == samples.end()) {
-      world.step();
-      continue;
-    }
-    ReferenceSample sample{s, world.time(), world.positions(), world.velocities(), {}};
-    // At the last samples, the same state stepped at half the iterations and at half the substeps: how far the
-    // reference is from converged in each.
-    const bool check = s >= first_checked;
-    auto coarse_step = [&](Split coarse) {
-      World<double> w = world;
-      StepParams<double> params = w.params();
-      params.substeps = coarse.substeps;
-      params.iterations = coarse.iterations;
-      w.set_params(params);
-      w.step();
-      return Matrix3X<double>(w.positions());
-    };
-    const Matrix3X<double> half_iterations = check ? coarse_step({split.substeps, split.iterations / 2}) : Matrix3X<double>();
-    const Matrix3X<double> half_substeps = check ? coarse_step({split.substeps / 2, split.iterations}) : Matrix3X<double>();
-    world.step();
-    sample.x_after = world.positions();
-    if (check) {
-      iteration_error.add(distance(half_iterations, sample.x_after));
-      time_error.add(distance(half_substeps, sample.x_after));
-    }
-    ref.samples.push_back(std::move(sample));
+  ref.positions = full.positions;
+  ref.samples = full.samples;
+  ref.errors = full.mean;
+  ref.errors_final = full.final;
+  ref.step_change_mm = finite_or_inf(full.step_change_mm);
+  ref.trajectory_change_mm = finite_or_inf(1e3 * distance(half.positions, full.positions).rms);
+  for (const auto& [key, v] : full.mean) {
+    const auto it = half.mean.find(key);
+    if (it == half.mean.end()) continue;
+    ref.error_change[key] = {finite_or_inf(std::abs(v.rms - it->second.rms)),
+                             finite_or_inf(std::abs(v.max - it->second.max))};
   }
-  ref.positions = world.positions();
-  ref.iteration_convergence_mm = 1e3 * iteration_error.rms();
-  ref.time_convergence_mm = 1e3 * time_error.rms();
-  ref.errors = errors_of(constraint_violations(world));
-  ref.seconds = seconds_since(t0);
   return ref;
 }
 
+void compare_with_reference(const Scene& scene, const std::vector<StudySolver>& solvers, const Reference& ref,
+                            std::vector<Record*>& records) {
+  for (Record* r : records) {
+    const auto solver = std::find_if(solvers.begin(), solvers.end(), [&](const StudySolver& s) { return s.name == r->solver; });
+    if (solver == solvers.end()) continue;
+    tbb::task_arena arena(r->threads);
+    auto measure = [&](auto zero) {
+      using Real = decltype(zero);
+      const World<Real> initial = prepared_world<Real>(scene, solver->solver, {r->substeps, r->iterations}, solver->chebyshev);
+      Rms step_error;  // one step from each sampled reference state, against the reference's step
+      for (const ReferenceSample& s : ref.samples) {
+        World<Real> w = initial;
+        load_sample(w, s);
+        w.step();
+        step_error.add(position_distance(w, s.x_after));
+      }
+      r->ref_error_mm = finite_or_inf(1e3 * step_error.rms());
+      r->ref_error_max_mm = finite_or_inf(1e3 * step_error.max);
+      r->trajectory_error_mm = finite_or_inf(1e3 * distance(r->final_positions, ref.positions).rms);
+    };
+    arena.execute([&] {
+      if (r->precision == "double") measure(0.0);
+      else measure(0.0f);
+    });
+  }
+}
+
 std::vector<Record> run_group(const Scene& scene, const SceneInfo& info, const std::vector<Combination>& group,
-                              const Reference* ref, int repeats, LoadMonitor& load,
-                              const std::function<void(int, int)>& progress) {
+                              int repeats, LoadMonitor& load, const std::function<void(int, int)>& progress) {
   if (group.empty()) return {};
-  return group.front().double_precision ? run_group_typed<double>(scene, info, group, ref, repeats, load, progress)
-                                        : run_group_typed<float>(scene, info, group, ref, repeats, load, progress);
+  return group.front().double_precision ? run_group_typed<double>(scene, info, group, repeats, load, progress)
+                                        : run_group_typed<float>(scene, info, group, repeats, load, progress);
 }
 
 std::vector<double> shared_nothing_speedups(const Scene& part, int steps, Split split, int threads, int rounds) {
@@ -365,16 +553,26 @@ std::vector<double> shared_nothing_speedups(const Scene& part, int steps, Split 
 
 double estimated_group_cost(const SceneInfo& info, const std::vector<Combination>& group, int repeats) {
   double cost = 0.0;
+  std::set<std::string> error_run;
   for (const Combination& c : group) {
-    const double sweeps = double(repeats + 1) * c.steps * c.split.substeps * c.split.iterations + 1.0 * kSamples;
-    cost += sweeps / (c.solver.threaded ? std::sqrt(double(c.threads)) : 1.0) * scene_work(info);
+    const double sweeps = double(c.split.substeps) * c.split.iterations;
+    const double threads = (c.solver.threaded ? std::sqrt(double(c.threads)) : 1.0) / solver_factor(c.solver);
+    // The error run measures every constraint after every step: about two sweeps more.
+    if (error_run.insert(c.solver.name).second) cost += c.steps * (sweeps + 2.0) / threads * scene_work(info);
+    // Warm-up and timed runs: whole runs up to kWholeRunSeconds, then a few steps (in work units, about 1 s).
+    const double timed =
+        std::min(c.steps * sweeps * scene_work(info), kWholeRunSeconds / kSecondsPerUnit / solver_factor(c.solver));
+    cost += (1.0 + std::min(repeats, timed * kSecondsPerUnit > kLongSampleSeconds ? 2 : repeats)) * timed / threads;
   }
   return cost;
 }
 
-double estimated_reference_cost(const SceneInfo& info, Split split) {
-  const double steps = info.steps + 1.5 * std::min(kConvergenceSamples, info.steps);
-  return 1.5 * steps * split.substeps * split.iterations * scene_work(info);  // double, serial
+double estimated_reference_cost(const SceneInfo& info, Split split, int threads) {
+  // A run at the budget and one at half of it, in double (about 1.3× float's cost), on `threads`.
+  return 1.3 * 1.5 * info.steps * (split.substeps * split.iterations + 2.0) * scene_work(info) /
+         std::sqrt(double(threads));
 }
+
+double seconds_per_unit() { return kSecondsPerUnit; }
 
 }  // namespace pbd::cli

@@ -1,6 +1,7 @@
 #pragma once
-// Running `pbd study`'s measurements: the converged reference of a scene, a group of combinations timed in
-// interleaved rounds (A B C A B C ...), and the same-run shared-nothing reference of thread scaling.
+// Running `pbd study`'s measurements: a group of combinations (errors from one untimed run, timings in interleaved
+// rounds A B C A B C ...), the reference runs of a scene and the records' distance from them, and the same-run
+// shared-nothing reference of thread scaling.
 #include "pbd/io/scene.hpp"
 #include "load_monitor.hpp"
 #include "study_options.hpp"
@@ -20,27 +21,49 @@ struct Combination {
 };
 
 /// The scene as the study runs it: sizes, steps, its primary error measure (the scene's `primary_error`, else
-/// volume if it has any, else stretch, else its first type). Throws pbd::Error naming the scene's file when it
+/// volume if it has any, else stretch, else its first type; a chain's is its extension against α·T), the steps its
+/// errors are averaged over, its name (base, or base+variant). Throws pbd::Error naming the scene's file when it
 /// states a primary error it has no constraint for.
-SceneInfo scene_info(const Scene& scene, int steps);
+SceneInfo scene_info(const Scene& scene, int steps, const std::string& base, const std::string& variant = "plain");
 
-/// The reference of `scene` over `info.steps` steps: the serial solver in double at `split`. Keeps its state at
-/// up to 5 sampled steps (spread over the run, the last included) with the positions after each, and measures how
-/// converged it is: one step at half the iterations, and one at half the substeps, from the last two sampled states.
-/// `progress(steps done)` is called after every step.
-Reference compute_reference(const Scene& scene, const SceneInfo& info, Split split,
-                            const std::function<void(int)>& progress = {});
+/// One whole run of the reference solver at one budget.
+struct ReferenceRun {
+  Split split;                         ///< its budget
+  Errors mean, final;                  ///< its errors, averaged over the run and at the end
+  Matrix3X<double> positions;          ///< final positions
+  std::vector<ReferenceSample> samples;  ///< with `sampled`: up to 5 steps, with the step at half the budget
+  double step_change_mm = 0.0;         ///< RMS over the samples of the half-budget step against the full one
+  double seconds = 0.0;                ///< wall time
+};
 
-/// Runs every combination of `group` (same scene, split and precision): each once untimed (warm-up; it also
-/// measures the errors and the hash), then `repeats` interleaved rounds in which each takes one timed sample in its
-/// own tbb::task_arena: runs from the scene's initial state, repeated until the sample lasts 20 ms (a run of a tiny
-/// scene is too short to time alone). With a reference, each combination also steps once from each
-/// of the reference's sampled states (ref_error_mm) and its final state is compared with the reference's
-/// (trajectory_error_mm). `load` samples the machine before each timed run.
-/// `progress(done, total)` is called after each run (warm-ups and timed samples).
+/// Half of a budget: half the substeps, or half the iterations when there is one substep.
+Split half_of(Split split);
+
+/// Runs `scene` over info.steps steps with `solver` in double at `split` on `threads` (one for a one-thread
+/// solver); with `sampled`, keeps the state at up to 5 sampled steps (spread over the run, the last included) and
+/// steps each also at half the budget. `progress(steps done)` is called after every step.
+ReferenceRun reference_run(const Scene& scene, const SceneInfo& info, const StudySolver& solver, int threads,
+                           Split split, bool sampled, const std::function<void(int)>& progress = {});
+
+/// The reference of `info.base` from a sampled run at its budget and a run at half of it (its own changes).
+Reference make_reference(const SceneInfo& info, const StudySolver& solver, int threads, const ReferenceRun& full,
+                         const ReferenceRun& half);
+
+/// Each record's distance from the reference: one step from each of its samples against its own step
+/// (ref_error_mm), and the final positions against its final positions (trajectory_error_mm). `scene` is the
+/// records' own (variant) scene; `solvers` names their solvers.
+void compare_with_reference(const Scene& scene, const std::vector<StudySolver>& solvers, const Reference& ref,
+                            std::vector<Record*>& records);
+
+/// Runs every combination of `group` (same scene, split and precision). Each solver makes one untimed whole run on
+/// its most threads that measures the errors after every step (averaged, and at the end) and the final state; each
+/// combination then makes an untimed warm-up and `repeats` timed samples (2 for a long run) in interleaved rounds,
+/// each in its own tbb::task_arena, from the scene's initial state over the whole run, or over its first steps when
+/// one thread would take over 0.5 s for the whole (at least 2). A sample is repeated until it lasts 20 ms.
+/// Every thread count of a solver must end its timed runs in the same bits (else `repeatable` is false).
+/// `load` samples the machine before each timed run. `progress(done, total)` is called after each run.
 std::vector<Record> run_group(const Scene& scene, const SceneInfo& info, const std::vector<Combination>& group,
-                              const Reference* ref, int repeats, LoadMonitor& load,
-                              const std::function<void(int, int)>& progress = {});
+                              int repeats, LoadMonitor& load, const std::function<void(int, int)>& progress = {});
 
 /// The same-run shared-nothing reference at `threads`: `threads` copies of the world of `part` (serial solver at
 /// `split`; the caller passes 1/threads of the scene's data where it can be split), each stepped on its own thread
@@ -48,8 +71,10 @@ std::vector<Record> run_group(const Scene& scene, const SceneInfo& info, const s
 /// Returns the rounds' speed-ups.
 std::vector<double> shared_nothing_speedups(const Scene& part, int steps, Split split, int threads, int rounds);
 
-/// Relative cost of a group and of a reference, for the estimate of the time left.
+/// Estimated cost of a group and of a reference (a run at `split` and one at half of it), in work units; times
+/// seconds_per_unit() it is a first estimate in seconds on this kind of machine.
 double estimated_group_cost(const SceneInfo& info, const std::vector<Combination>& group, int repeats);
-double estimated_reference_cost(const SceneInfo& info, Split split);
+double estimated_reference_cost(const SceneInfo& info, Split split, int threads);
+double seconds_per_unit();
 
 }  // namespace pbd::cli

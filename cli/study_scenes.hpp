@@ -1,23 +1,71 @@
 #pragma once
-// The scenes `pbd study` accepts: built-in scenes, scene files, and the generated hanging cloths "cloth<N>"
-// (N×N particles, stretch + bending; cloth30 to cloth1000 are the scaling sizes).
+// The scenes `pbd study` accepts: built-in scenes, scene files, and generated ones:
+//  - "cloth<N>": the hanging cloth (N×N particles on a 1 m square, two corners pinned, PBD stretch k = 1 and XPBD
+//    bending of one material for every N), 1 s (60 steps at 60 Hz) for every N;
+//  - "cloth<N>-rest": the same cloth with damping, run until it hangs at rest: its exact RMS stretch is 0;
+//  - "chain30": 30 links of 10 g hanging from a pin, XPBD compliance α = 1e-3 m/N, damped to rest: link k (from
+//    the top) carries the weight T_k of the particles below it and stretches by exactly α·T_k.
+// Every scene can be run as a variant (scene_variants.hpp), which edits its JSON before it is parsed.
 #include "scene_dir.hpp"
+#include "study_record.hpp"
 
 #include <string>
 #include <vector>
 
 namespace pbd::cli {
 
-/// The generated scaling scenes offered by name (any cloth<N> with 2 ≤ N ≤ 4096 is accepted).
-std::vector<std::string> generated_scene_names();
+/// A generated scene offered by name, for `pbd list`.
+struct GeneratedScene {
+  std::string name;         ///< e.g. cloth100
+  long particles = 0;       ///< its particles
+  std::string description;  ///< one line
+};
 
-/// Whether `name` is a generated hanging cloth cloth<N> (and not a built-in scene or a file).
+/// The generated scenes offered by name (any cloth<N>, cloth<N>-rest with 2 ≤ N ≤ 4096 is accepted too).
+std::vector<GeneratedScene> generated_scenes();
+
+/// Whether `name` is a generated hanging cloth cloth<N> or cloth<N>-rest (and not a built-in scene or a file).
 bool is_generated_cloth(const std::string& name);
+/// Whether `name` is any generated scene (a cloth or the chain).
+bool is_generated_scene(const std::string& name);
 
-/// Loads a built-in scene, a generated cloth<N> or a scene file; throws pbd::Error listing the valid names.
-Scene load_study_scene(const std::string& name_or_file);
+/// Loads a built-in scene, a generated one or a scene file as `variant` (scene_variants.hpp; "plain": as it is);
+/// throws pbd::Error listing the valid names, or naming the variant that does not apply.
+Scene load_study_scene(const std::string& name_or_file, const std::string& variant = "plain");
+
+/// The variants the study runs on a scene: of `requested`, those that apply to it (plain always); with `requested`
+/// empty, on a generated scene every variant that applies (a built-in scene or file: plain), leaving out (with a
+/// note on stderr) one whose scene keys this build does not parse, unless `keep_unparsed`. An explicitly requested
+/// variant that does not parse throws the parser's pbd::Error when the scene is loaded.
+std::vector<std::string> study_variants(const std::string& name_or_file, const std::vector<std::string>& requested,
+                                        bool keep_unparsed = false);
 
 /// Throws pbd::Error (listing the valid names) unless `name_or_file` names a scene load_study_scene can load.
 void check_study_scene(const std::string& name_or_file);
+
+/// The closed-form answer of a quasi-static generated scene ("" kind: none): what its error is measured against,
+/// and from which step on it is averaged (the settled part of the run).
+struct KnownAnswer {
+  std::string kind;          ///< "rest" (cloth<N>-rest: stretch → 0), "chain" (chain30: extension α·T_k), or ""
+  int links = 0;             ///< chain: links (the particles below the pin)
+  double compliance = 0.0;   ///< chain: α, m/N
+  double link_mass = 0.0;    ///< chain: mass of each particle, kg
+  double gravity = 0.0;      ///< chain: |g|, m/s²
+  double rest_length = 0.0;  ///< chain: rest length of a link, m
+  double settled_motion = 0.0;  ///< RMS displacement (m) over the averaged steps below which the run has settled
+};
+
+/// The known answer of a scene by its name (kind "" for a scene that has none).
+KnownAnswer known_answer(const std::string& name);
+
+/// For a chain: each link's extension against α·T_k, in % of α·T_k (RMS and maximum over the links), as the
+/// measure "extension_pct"; nothing for other kinds. `x` holds the chain's particles first, the pin first.
+Errors known_answer_errors(const KnownAnswer& answer, const Matrix3X<double>& x);
+
+/// The label and unit of the measures known_answer_errors adds (for the report's "measures").
+struct ExtraMeasure {
+  std::string key, label, unit;
+};
+std::vector<ExtraMeasure> known_answer_measures();
 
 }  // namespace pbd::cli

@@ -15,4 +15,8 @@ namespace pbd::cli {
 /// Runs the plan's measurements (progress and the estimated time left on stderr) and returns the finished report.
 Report run_study(const StudyPlan& plan);
 
+/// Prints on stdout what the plan would run, per scene and variant: its groups, points and estimated time (the
+/// reference's first budget and the half of it included; raising it is not), and the total.
+void estimate_study(const StudyPlan& plan);
+
 }  // namespace pbd::cli

@@ -1,20 +1,25 @@
 #!/usr/bin/python3
-"""Plots of a `pbd study` JSON report, schema 2 (run with Debian's /usr/bin/python3, which has python3-matplotlib).
+"""Plots of a `pbd study` JSON report, schema 3 (run with Debian's /usr/bin/python3, which has python3-matplotlib).
 
 Usage: scripts/plot_study.py STUDY.json [OUT_DIR]
 
 Writes into OUT_DIR (default: the JSON's folder), each figure as .png (150 dpi) and .svg; one without data is skipped:
   speed_error        per scene: primary error against ms per step (median, bars min..max), marker per solver, fill
                      per thread count, busy points hollow with a red edge; grey steps: the Pareto front, labelled SxI
-  headline           the same for the largest cloth<N> measured at several splits alone (the README's figure)
+  headline           the same for the largest cloth<N> measured at several splits alone
+  time_to_accuracy   per scene with a % primary error measured at several budgets: run-averaged error against ms
+                     per step, one line per solver and variant (plain, tethers, hierarchy, both) at its most threads
+                     (its lower envelope: the fastest time for each error), and the target (1%): the README's figure
   convergence        per scene: primary error against sweeps per step, each solver at its most threads: all
                      iterations (1xN, solid), all substeps (Nx1, dashed), the best split per budget (big markers)
   thread_scaling     study mode: per scene, speed-up of each parallel solver from 1 thread to its most threads (median
                      over the splits, bar min..max), the ideal, and the shared-nothing ceiling of this machine;
                      scaling mode: per scene, speed-up against threads (scaling.strong), the ideal and shared-nothing
   ns_per_projection  cloth<N> family (2 or more scenes): ns per constraint projection against particles
-  summary.md         context and warnings; per scene the best split per budget of each solver at its most threads
-                     and the dominance check; in scaling mode the strong-scaling table
+  summary.md         context and warnings; the time per step to reach the target per scene, variant, solver and
+                     threads; per scene the reference and its check, the best split per budget of each solver at its
+                     most threads and the dominance check; in scaling mode the strong-scaling table
+Every error is the report's: averaged over the run (a quasi-static scene: over its settled last quarter).
 """
 import json
 import math
@@ -255,6 +260,59 @@ def headline(st, out):
     return speed_error(st, out, headline=True)
 
 
+VARIANT_DASH = {"plain": "-", "tethers": "--", "hierarchy": ":", "tethers+hierarchy": "-."}
+
+
+def time_to_accuracy(st, out):
+    """Run-averaged primary error against time per step, per (solver, variant) at its most threads."""
+    target = (st.info.get("options") or {}).get("target_pct", 1.0)
+    bases = []
+    for s in st.with_records():
+        if str(s.get("primary_error", "")).endswith("_pct") and \
+                len({r["budget"] for r in st.by_scene[s["name"]]}) > 1 and s.get("base", s["name"]) not in bases:
+            bases.append(s.get("base", s["name"]))
+    if not bases:
+        return []
+    fig, axes = panels(len(bases), *((6.0, 4.2) if len(bases) == 1 else ()))
+    variants = []
+    for ax, base in zip(axes, bases):
+        scenes = [s for s in st.scenes if s.get("base", s["name"]) == base and st.by_scene.get(s["name"])]
+        drawn = 0
+        for sc in scenes:
+            variant = sc.get("variant", "plain")
+            variants += [variant] * (variant not in variants)
+            for solver in sorted({r["solver"] for r in st.by_scene[sc["name"]]}, key=st.order):
+                top = st.top.get((sc["name"], solver))
+                pts = sorted((r["ms_per_step"], st.error(r)) for r in st.by_scene[sc["name"]]
+                             if r["solver"] == solver and r["threads"] == top and pos(st.error(r))
+                             and pos(r["ms_per_step"]))
+                env, best = [], math.inf  # lower envelope: the lowest error reached by this time
+                for x, y in pts:
+                    if y < best:
+                        best = y
+                        env.append((x, y))
+                if not env:
+                    continue
+                color, marker = solver_style(solver)
+                ax.plot([p[0] for p in env], [p[1] for p in env], color=color, marker=marker, markersize=3.5,
+                        linestyle=VARIANT_DASH.get(variant, "-"), linewidth=1.0)
+                drawn += 1
+        if drawn:
+            loglog(ax)
+            ax.axhline(target, color="red", linewidth=0.7, linestyle="--")
+        sc0 = st.scene.get(base) or scenes[0]
+        ax.set_title(f"{base} ({sc0.get('particles', 0):,} particles)")
+        ax.set_xlabel("time per step, median (ms)")
+        ax.set_ylabel(measure_label(sc0.get("primary_error", "?")) + ", run average")
+        ax.grid(True, which="both", linewidth=0.3, alpha=0.5)
+    handles = solver_handles(sorted({r["solver"] for r in st.records}, key=st.order), linestyle="none")
+    handles += [Line2D([], [], color="gray", linestyle=VARIANT_DASH.get(v, "-"), label=v) for v in variants]
+    handles += [Line2D([], [], color="red", linestyle="--", linewidth=0.7, label=f"target {target:g}%")]
+    fig.suptitle("Time per step against run-averaged error (each solver at its most threads; lower envelope)",
+                 fontsize=10)
+    return save(fig, out, "time_to_accuracy", handles, ncol=4)
+
+
 def convergence(st, out):
     scenes = [s for s in st.with_records() if len({r["budget"] for r in st.by_scene[s["name"]]}) > 1]
     if not scenes:
@@ -417,6 +475,21 @@ def summary(st, out):
              f"(max {load('load_during_max')}), {fmt(info.get('seconds'), '.4g')} s in total.", ""]
     if info.get("warnings") or info.get("busy"):
         lines += ["**Warning:**", ""] + [f"- {w}" for w in info.get("warnings") or ["the study was marked busy"]] + [""]
+    ttt = st.doc.get("time_to_target") or []
+    if ttt:
+        lines += [f"## Time per step to reach {fmt(ttt[0].get('target'))}% (run-averaged primary error)", "",
+                  "| scene | variant | solver | threads | ms/step | split | error |", "|---|---|---|---:|---:|---|---:|"]
+        for t in ttt:
+            lines.append(f"| {t['base']} | {t['variant']} | {t['solver']} | {t['threads']} | "
+                         + (f"{fmt(t['ms_per_step'])} | {t['substeps']}x{t['iterations']} | {fmt(t['primary_error'])} |"
+                            if t["reached"] else f"not reached | lowest at {t['substeps']}x{t['iterations']} | "
+                            f"{fmt(t['primary_error'])} |"))
+        lines += [""]
+    for ref in st.doc.get("references") or []:
+        lines.append(f"- reference of {ref['scene']}: {ref['solver']}, double, {ref['substeps']}x{ref['iterations']}"
+                     f", {fmt(ref.get('seconds'))} s: " + ("converged" if ref.get("converged") else
+                                                          "**not converged**: " + "; ".join(ref.get("failures") or [])))
+    lines += [""] if lines[-1] else []
     rec = {(r["scene"], r["solver"], r["threads"], r["substeps"], r["iterations"]): r for r in st.records}
     for sc in st.scenes:
         name, unit = sc["name"], measure_label(sc["primary_error"])
@@ -459,14 +532,14 @@ def main(argv):
         return 2
     with open(argv[1]) as f:
         doc = json.load(f)
-    if not isinstance(doc, dict) or doc.get("schema") != 2:
-        sys.stderr.write(f"plot_study.py: {argv[1]} lacks \"schema\": 2; this script reads only schema 2 reports\n")
+    if not isinstance(doc, dict) or doc.get("schema") != 3:
+        sys.stderr.write(f"plot_study.py: {argv[1]} lacks \"schema\": 3; this script reads only schema 3 reports\n")
         return 1
     out = argv[2] if len(argv) > 2 else (os.path.dirname(argv[1]) or ".")
     os.makedirs(out, exist_ok=True)
     MEASURES.update(doc.get("measures", {}))
     st = Study(doc)
-    for plot in (speed_error, headline, convergence, thread_scaling, ns_per_projection, summary):
+    for plot in (speed_error, headline, time_to_accuracy, convergence, thread_scaling, ns_per_projection, summary):
         print(f"plot_study.py: {plot.__name__}: " + (", ".join(plot(st, out)) or "no data, skipped"), file=sys.stderr)
     return 0
 

@@ -3,15 +3,20 @@
 
 Usage: check_study.py PBD_EXECUTABLE OUT_DIR
 
-1. `pbd study --quick --json --plots` (every default scene): every field of the report (schema 2) is present and
-   consistent (min <= median <= max, budget = substeps x iterations, every split of the budget measured, the
-   primary error is that measure's RMS, one Pareto point at least per scene, best splits and dominance derived);
-   colored, Jacobi and block end in the same bits on 1 and 2 threads; every plot exists as PNG and SVG.
+1. `pbd study --quick --json --plots` (every default scene): every field of the report (schema 3) is present and
+   consistent (min <= median <= max, budget = substeps x iterations, every split the study runs of the budget
+   measured, the primary error is that measure's run-averaged RMS and primary_error_final the final frame's, one
+   Pareto point at least per scene, best splits, dominance and the time to 1% derived, a reference with its check for
+   every scene without a closed form, the quasi-static scenes' settling check); colored, Jacobi and block end in the
+   same bits on 1 and 2 threads; every plot exists as PNG and SVG.
 2. The same small study as one run and as three shards joined by `pbd study merge`: the same records in the same
    order, with the same state hashes and errors.
 3. `--scaling` on two small cloths: strong scaling entries (speed-up over the same solver on 1 thread, min <= median
    <= max) and the shared-nothing reference.
 4. `--format csv|json`, `pbd list`, and bad options and bad merges: status 2 and a message naming the problem.
+5. The reference check fails when the reference is too weak: a 2x1 reference that may not be raised is reported
+   NOT CONVERGED (flag in the JSON, warning in the table); allowed to double, the study raises it.
+6. The chain's error is its closed form: at 1 x 256 sweeps the links' extension is within 1% of alpha*T.
 """
 import csv
 import io
@@ -24,14 +29,25 @@ import time
 RECORD = ["scene", "solver", "threads", "budget", "substeps", "iterations", "steps", "precision", "repeats", "ms_runs",
           "ms_per_step", "ms_per_step_min", "ms_per_step_max", "ms_per_step_cv", "ns_per_projection", "particles",
           "constraints", "colors", "errors", "primary_error", "ref_error_mm", "ref_error_max_mm",
-          "trajectory_error_mm", "energy_drift", "state_hash", "repeatable", "load", "busy", "pareto"]
+          "trajectory_error_mm", "energy_drift", "state_hash", "repeatable", "load", "busy", "pareto", "variant",
+          "timing_steps", "errors_final", "primary_error_final", "settle_motion_mm", "settled"]
+REFERENCE = ["scene", "solver", "precision", "threads", "substeps", "iterations", "steps", "seconds", "errors",
+             "errors_final", "step_change_mm", "trajectory_change_mm", "error_change", "converged", "failures",
+             "capped", "tried"]
 CONTEXT = ["compiler", "flags", "build_type", "cpu", "cores", "load_before", "load_during", "load_during_max",
            "commit", "date", "loadavg_start"]
 # What must not depend on how the work was split into shards (timings and load do).
 SAME = ["scene", "solver", "threads", "budget", "substeps", "iterations", "steps", "precision", "particles",
         "constraints", "colors", "errors", "primary_error", "ref_error_mm", "ref_error_max_mm", "trajectory_error_mm",
-        "energy_drift", "state_hash", "repeatable"]
-PLOTS = ["speed_error", "convergence", "thread_scaling", "ns_per_projection"]
+        "energy_drift", "state_hash", "repeatable", "errors_final", "primary_error_final", "settled"]
+PLOTS = ["speed_error", "convergence", "thread_scaling", "ns_per_projection", "time_to_accuracy"]
+
+
+def study_splits(budget, scene):
+    """The splits the study runs of a budget: all of them up to 8 sweeps, N x 1 above (and 1 x N for the chain)."""
+    if budget <= 8:
+        return {(s, budget // s) for s in range(1, budget + 1) if budget % s == 0}
+    return {(budget, 1)} | ({(1, budget)} if scene.get("known_answer") == "chain" else set())
 
 
 def fail(message):
@@ -55,10 +71,22 @@ def check_report(doc, out):
         if key not in study["context"]:
             fail(f"context has no {key}")
     scenes = {s["name"]: s for s in doc["scenes"]}
-    if set(scenes) != set(study["options"]["scenes"]):
+    if {s["base"] for s in scenes.values()} != set(study["options"]["scenes"]):
         fail(f"scenes {sorted(scenes)} differ from the options' {study['options']['scenes']}")
-    if len(doc["references"]) != len(scenes):
-        fail("expected one reference per scene")
+    for name, sc in scenes.items():
+        if name != (sc["base"] if sc["variant"] == "plain" else f"{sc['base']}+{sc['variant']}"):
+            fail(f"scene {name}: base {sc['base']}, variant {sc['variant']}")
+    exact = {sc["base"] for sc in scenes.values() if sc["known_answer"]}
+    if {r["scene"] for r in doc["references"]} != {sc["base"] for sc in scenes.values()} - exact:
+        fail(f"expected one reference per scene without a closed form: {[r['scene'] for r in doc['references']]}")
+    if exact != {"cloth30-rest", "chain30"}:
+        fail(f"scenes with a closed form: {sorted(exact)}")
+    for ref in doc["references"]:
+        for key in REFERENCE:
+            if key not in ref:
+                fail(f"reference of {ref.get('scene')} has no {key}")
+        if ref["converged"] != (not ref["failures"]):
+            fail(f"reference of {ref['scene']}: converged {ref['converged']} but failures {ref['failures']}")
     records = doc["records"]
     for r in records:
         where = f"{r.get('scene')}/{r.get('solver')}/{r.get('threads')}T/{r.get('substeps')}x{r.get('iterations')}"
@@ -76,19 +104,30 @@ def check_report(doc, out):
         primary = scene["primary_error"]
         if primary not in r["errors"] or r["errors"][primary]["rms"] != r["primary_error"]:
             fail(f"record {where}: primary_error {r['primary_error']} is not errors[{primary}].rms")
-        if set(r["errors"]) != set(scene["measures"]):
+        if primary not in r["errors_final"] or r["errors_final"][primary]["rms"] != r["primary_error_final"]:
+            fail(f"record {where}: primary_error_final is not errors_final[{primary}].rms")
+        if set(r["errors"]) != set(scene["measures"]) or set(r["errors_final"]) != set(scene["measures"]):
             fail(f"record {where}: measures {sorted(r['errors'])}, scene says {scene['measures']}")
         for key in ("ref_error_mm", "trajectory_error_mm"):
-            if not (isinstance(r[key], (int, float)) and r[key] >= 0):
+            if scene["known_answer"]:
+                if r[key] is not None:
+                    fail(f"record {where}: {key} = {r[key]!r} on a scene measured against its closed form")
+            elif not (isinstance(r[key], (int, float)) and r[key] >= 0):
                 fail(f"record {where}: {key} = {r[key]!r}")
+        if (r["settled"] is None) != (not scene["known_answer"]) or \
+                (r["settled"] is not None and r["settled"] != (r["settle_motion_mm"] < 1.0)):
+            fail(f"record {where}: settled {r['settled']}, motion {r['settle_motion_mm']}")
+        if not 1 <= r["timing_steps"] <= r["steps"]:
+            fail(f"record {where}: timing_steps {r['timing_steps']} of {r['steps']} steps")
         if not r["repeatable"]:
             fail(f"record {where}: runs ended in different states")
     # Every split of every budget, for every solver and thread count.
     budgets = study["options"]["budgets"]
     for name in scenes:
         for b in budgets:
-            splits = {(s, b // s) for s in range(1, b + 1) if b % s == 0}
-            for solver in study["options"]["solvers"]:
+            splits = study_splits(b, scenes[name])
+            # Variants other than plain run the colored solver alone (with the default solvers).
+            for solver in study["options"]["solvers"] if scenes[name]["variant"] == "plain" else ["colored"]:
                 for t in (study["options"]["threads"] if solver != "serial" else [1]):
                     got = {(r["substeps"], r["iterations"]) for r in records
                            if r["scene"] == name and r["solver"] == solver and r["threads"] == t and r["budget"] == b}
@@ -115,6 +154,15 @@ def check_report(doc, out):
             fail(f"best split {b} is not the lowest error {lowest}")
     if not doc["dominance"] or not doc["shared_nothing"]:
         fail("no dominance or shared_nothing entries")
+    # The headline: per scene with a % primary measure, solver and threads, the fastest point at or below 1%.
+    for t in doc["time_to_target"]:
+        pts = [r for r in records if (r["scene"], r["solver"], r["threads"]) == (t["scene"], t["solver"], t["threads"])]
+        under = [r for r in pts if r["primary_error"] is not None and r["primary_error"] <= t["target"]]
+        if t["reached"] != bool(under) or (under and t["ms_per_step"] != min(r["ms_per_step"] for r in under)) or \
+                (not under and t["primary_error"] != min(r["primary_error"] for r in pts)):
+            fail(f"time_to_target {t} does not match the records")
+    if not any(t["scene"] == "cloth30" for t in doc["time_to_target"]):
+        fail("no time to 1% for cloth30")
     for stem in PLOTS:
         for ext in ("png", "svg"):
             path = os.path.join(out, f"{stem}.{ext}")
@@ -126,7 +174,8 @@ def check_report(doc, out):
 
 
 def check_shards(pbd, out):
-    small = ["study", "--quick", "--scene", "rope,cloth30,inflate", "--budgets", "1,4"]
+    # A sharded run keeps its reference at --reference (each part sees only its own records): so does this whole run.
+    small = ["study", "--quick", "--scene", "rope,cloth30,inflate", "--budgets", "1,4", "--reference-max", "8"]
     whole = os.path.join(out, "whole.json")
     run(pbd, small + ["--json", whole])
     parts = []
@@ -188,12 +237,12 @@ def check_scaling(pbd, out):
 
 
 def check_formats_and_errors(pbd):
-    base = ["study", "--quick", "--scene", "rope", "--budgets", "2", "--threads", "1"]
+    base = ["study", "--quick", "--scene", "rope", "--budgets", "2", "--threads", "1", "--variants", "plain"]
     rows = list(csv.DictReader(io.StringIO(run(pbd, base + ["--format", "csv"]).stdout)))
     if len(rows) != 2 * 4 or "stretch_pct_rms" not in rows[0]:
         fail(f"--format csv: {len(rows)} rows, columns {list(rows[0]) if rows else []}")
     doc = json.loads(run(pbd, base + ["--format", "json"]).stdout)
-    if doc.get("schema") != 2 or len(doc["records"]) != 2 * 4:
+    if doc.get("schema") != 3 or len(doc["records"]) != 2 * 4:
         fail("--format json does not print the report")
     # +chebyshev: the accelerated solver, only at splits of 4 or more iterations (the engine estimates its rho there).
     doc = json.loads(run(pbd, ["study", "--quick", "--scene", "rope", "--budgets", "4", "--threads", "1", "--solvers",
@@ -209,7 +258,8 @@ def check_formats_and_errors(pbd):
                            (["--scene", "no-such-scene"], "cloth100"),
                            (["--threads", "0"], "out of range"),
                            (["--budgets", "0"], "out of range"),
-                           (["--reference", "8x1"], "at least 2 iterations"),
+                           (["--reference", "1x1"], "at least 2 sweeps"),
+                           (["--variants", "plain,magic"], "tethers+hierarchy"),
                            (["--reference", "8"], "SUBSTEPSxITERATIONS"),
                            (["--shard", "4/3"], "1 <= I <= N"),
                            (["--format", "xml"], "table, csv or json"),
@@ -222,6 +272,34 @@ def check_formats_and_errors(pbd):
         fail(f"merge of a missing file: status {bad.returncode}, stderr {bad.stderr!r}")
 
 
+def check_reference_and_chain(pbd):
+    base = ["study", "--quick", "--scene", "cloth30", "--solvers", "colored", "--threads", "1,2", "--budgets", "4,8"]
+    # Too weak, and not allowed to be raised: the check fails, loudly.
+    weak = run(pbd, base + ["--reference", "2x1", "--reference-max", "2"])
+    doc = json.loads(run(pbd, base + ["--reference", "2x1", "--reference-max", "2", "--format", "json"]).stdout)
+    ref = doc["references"][0]
+    if ref["converged"] or not ref["capped"] or not ref["failures"] or (ref["substeps"], ref["iterations"]) != (2, 1):
+        fail(f"a 2x1 reference against 8-sweep points passed its check: {ref}")
+    if "NOT CONVERGED" not in weak.stdout or "NOT CONVERGED" not in weak.stderr or \
+            not any("NOT CONVERGED" in w for w in doc["study"]["warnings"]):
+        fail("a reference that is not converged is not reported loudly (table, stderr, JSON warnings)")
+    # Allowed to double: the study raises it and says which budgets it tried.
+    doc = json.loads(run(pbd, base + ["--reference", "2x1", "--reference-max", "16", "--format", "json"]).stdout)
+    ref = doc["references"][0]
+    if not ref["tried"] or ref["tried"][0] != "2x1" or ref["substeps"] <= 2:
+        fail(f"the study did not raise a failing 2x1 reference: {ref}")
+    # The chain against its closed form alpha*T: within 1% at 1 x 256 sweeps, far from it at 1 x 4.
+    doc = json.loads(run(pbd, ["study", "--scene", "chain30", "--solvers", "serial,colored", "--threads", "1",
+                               "--budgets", "4,256", "--repeats", "1", "--format", "json"]).stdout)
+    chain = {(r["solver"], r["substeps"], r["iterations"]): r for r in doc["records"]}
+    for solver in ("serial", "colored"):
+        if not chain[solver, 1, 256]["primary_error"] < 1.0 or not chain[solver, 1, 4]["primary_error"] > 10.0:
+            fail(f"chain30 {solver}: extension error {chain[solver, 1, 256]['primary_error']}% at 1x256, "
+                 f"{chain[solver, 1, 4]['primary_error']}% at 1x4")
+        if not chain[solver, 1, 256]["settled"]:
+            fail(f"chain30 {solver} 1x256 did not settle")
+
+
 def main(pbd, out):
     os.makedirs(out, exist_ok=True)
     report = os.path.join(out, "study.json")
@@ -229,13 +307,14 @@ def main(pbd, out):
     r = run(pbd, ["study", "--quick", "--json", report, "--plots", out])
     # Reported, not asserted: timings belong to benchmarks, and this test also runs under the sanitizers.
     print(f"pbd study --quick took {time.time() - start:.1f} s")
-    if "left)" not in r.stderr or "converged reference" not in r.stderr:
+    if "left)" not in r.stderr or "reference colored" not in r.stderr or "estimated" not in r.stderr:
         fail("no progress lines (with the time left, and for the references) on stderr")
     with open(report) as f:
         records = check_report(json.load(f), out)
     merged = check_shards(pbd, out)
     check_scaling(pbd, out)
     check_formats_and_errors(pbd)
+    check_reference_and_chain(pbd)
     print(f"ok: {len(records)} records with every field, plots present, 3 merged shards equal one run ({merged} "
           "records), formats and bad options checked")
 
