@@ -27,6 +27,17 @@ template <class Real> struct Chebyshev {
   friend bool operator==(const Chebyshev&, const Chebyshev&) = default;  ///< same settings
 };
 
+/// Hierarchical position based dynamics (Müller 2008) over the stretch constraints' particle graph: coarser levels
+/// of particles, one-sided distance constraints between them, and a coarse-to-fine pass at every sub-step before the
+/// sweeps (engine/src/solve/hierarchy.hpp). Off by default; any solver.
+struct Hierarchy {
+  bool enabled = false;  ///< run the coarse-to-fine pass
+  int levels = 4;        ///< coarse levels above the stretch constraints, in [1, 16] (fewer where a level stops shrinking)
+  int parents = 2;       ///< k: every particle left out of a coarser level has >= k neighbours in it, in [1, 8]
+  int sweeps = 1;        ///< sweeps of each coarse level's constraints per pass, in [1, 64]
+  friend bool operator==(const Hierarchy&, const Hierarchy&) = default;  ///< same settings
+};
+
 /// Parameters of step(); validated by World::set_params.
 template <class Real> struct StepParams {
   Real dt = Real(1) / Real(60);              ///< time step in seconds, > 0
@@ -39,6 +50,7 @@ template <class Real> struct StepParams {
   Real jacobi_omega = 1;                     ///< Jacobi over-relaxation factor ω, in (0, 2)
   SweepOrder sweep_order = SweepOrder::forward;  ///< Gauss-Seidel sweep order (symmetric: for closed bodies)
   Chebyshev<Real> chebyshev;                 ///< acceleration of the sweeps (off by default)
+  Hierarchy hierarchy;                       ///< coarse-to-fine pass before the sweeps (off by default)
 };
 
 /// What the last step() did and how long each phase took (wall-clock seconds, summed over sub-steps).
