@@ -35,6 +35,10 @@ struct Hierarchy {
   int levels = 4;        ///< coarse levels above the stretch constraints, in [1, 16] (fewer where a level stops shrinking)
   int parents = 2;       ///< k: every particle left out of a coarser level has >= k neighbours in it, in [1, 8]
   int sweeps = 1;        ///< sweeps of each coarse level's constraints per pass, in [1, 64]
+  /// Also coarsen stretch constraints of compliant sets (XPBD α > 0; a coarse constraint gets its path's summed α).
+  /// Off by default: a position-only coarse pass moves XPBD's fixed point (the sweeps start from λ = 0 at positions
+  /// the pass moved), so a compliant body settles shorter than α·T (solve/hierarchy.hpp).
+  bool compliant = false;
   friend bool operator==(const Hierarchy&, const Hierarchy&) = default;  ///< same settings
 };
 

@@ -8,7 +8,12 @@
 // What is cooked (build_hierarchy, once per change of the model: keyed by Model::edits, the number of constraint
 // sets and the settings; held by Model::hierarchy, shared and never changed once built):
 //   level 0      the particles of the stretch constraints, joined by them (no constraints of its own: those are the
-//                sweeps' stretch constraints). Between two particles the shortest rest length counts.
+//                sweeps' stretch constraints). Between two particles the shortest rest length counts. Constraints
+//                of compliant sets (XPBD α > 0) take part only with StepParams::hierarchy.compliant: the pass moves
+//                positions but not the sweeps' λ, which start from 0 each sub-step, and XPBD's sweeps converge to
+//                positions x with x − M⁻¹∇Cᵀλ equal to where they started. A pass that moved the start from the
+//                prediction therefore moves the answer: a compliant chain settles shorter than α·T. At α = 0 the
+//                answer is C = 0 whatever the start, and the coarse constraints are inactive there.
 //   level l + 1  a subset of level l, chosen in particle index order, so the same model gives the same levels:
 //                  1. pinned particles (inverse mass 0) are in every level, so they stay pinned;
 //                  2. a greedy independent set: each particle not yet decided joins, its undecided neighbours not;

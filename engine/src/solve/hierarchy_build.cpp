@@ -70,7 +70,7 @@ Graph make_graph(std::vector<Index> particles, std::vector<Candidate> candidates
 }
 
 // Level 0: the stretch constraints' particles and edges, with the world's masses.
-template <class Real> Graph fine_graph(const Model<Real>& m, std::vector<Index>& local) {
+template <class Real> Graph fine_graph(const Model<Real>& m, bool compliant, std::vector<Index>& local) {
   const auto& items = m.template store<StretchConstraint<Real>>().items;
   std::vector<Candidate> candidates;
   candidates.reserve(items.size());
@@ -78,6 +78,7 @@ template <class Real> Graph fine_graph(const Model<Real>& m, std::vector<Index>&
   for (const auto& c : items) {
     const Stiffness& s = m.sets[c.set];
     const double alpha = s.mode == StiffnessMode::xpbd ? s.compliance : 0.0;
+    if (alpha > 0 && !compliant) continue;
     const Index a = std::min(c.particles[0], c.particles[1]), b = std::max(c.particles[0], c.particles[1]);
     candidates.push_back({a, b, double(c.rest), alpha});
     used[a] = used[b] = 1;
@@ -214,7 +215,7 @@ template <class Real> HierarchyModel<Real> build_hierarchy(const Model<Real>& m,
   h.settings = settings;
   std::vector<Index> local(std::size_t(m.num_particles()), kNone);
   const std::vector<std::uint8_t> fixed = pinned_flags(m.inverse_mass);
-  Graph g = fine_graph(m, local);
+  Graph g = fine_graph(m, settings.compliant, local);
   h.fine_particles = Index(g.particles.size());
   for (int l = 0; l < settings.levels && !g.pairs.empty(); ++l) {
     const std::vector<std::uint8_t> coarse = choose_coarse(g, settings.parents);

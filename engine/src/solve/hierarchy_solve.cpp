@@ -79,7 +79,11 @@ template <class Real>
 std::string validate_hierarchy(const HierarchyModel<Real>& h, const Model<Real>& m, const Matrix3X<Real>* x) {
   const std::size_t n = std::size_t(m.num_particles());
   std::vector<std::uint8_t> in_finer(n, 0), in_level(n, 0);
-  for (const auto& c : m.template store<StretchConstraint<Real>>().items) in_finer[c.particles[0]] = in_finer[c.particles[1]] = 1;
+  for (const auto& c : m.template store<StretchConstraint<Real>>().items) {
+    const Stiffness& s = m.sets[c.set];
+    if (h.settings.compliant || s.mode != StiffnessMode::xpbd || !(s.compliance > 0))
+      in_finer[c.particles[0]] = in_finer[c.particles[1]] = 1;
+  }
   for (std::size_t l = 0; l < h.levels.size(); ++l) {
     const HierarchyLevel<Real>& level = h.levels[l];
     auto where = [&](auto... what) { return message("hierarchy level ", l + 1, ": ", what...); };
