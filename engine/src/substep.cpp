@@ -177,8 +177,10 @@ template <class Real, class Runner> void substep(StepContext<Real>& c, Runner& r
   const auto t3 = clock::now();
   // 4. solve: the hierarchy's coarse-to-fine pass (hierarchy.hpp, never on a team: step_on_team), then the sweeps
   if constexpr (!Runner::kTeam)
-    if (c.params.hierarchy.enabled && m.hierarchy)
+    if (c.params.hierarchy.enabled && m.hierarchy) {
       run_hierarchy(*m.hierarchy, k.hierarchy, k.p, h, run.parallel, c.config);
+      out.seconds_hierarchy += seconds(t3, clock::now());
+    }
   bool in_q = false;
   if constexpr (Runner::kTeam) {
     in_q = sweep_on_team(run, *own, q, p);

@@ -147,6 +147,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   stats_.seconds_collisions = run.seconds_collisions;
   stats_.seconds_solve = run.seconds_solve;
   stats_.seconds_waiting = run.seconds_waiting;
+  stats_.seconds_hierarchy = run.seconds_hierarchy;
   stats_.solve_threads = run.threads;
   stats_.chebyshev_fallbacks = run.chebyshev_fallbacks;
   keep_storage();

@@ -64,6 +64,7 @@ struct StepStats {
   double seconds_collisions = 0.0;  ///< generating collision constraints and particle contacts (the broad phase)
   double seconds_coloring = 0.0;    ///< coloring persistent constraints (only when they changed)
   double seconds_solve = 0.0;       ///< the sweeps
+  double seconds_hierarchy = 0.0;   ///< of seconds_solve: the hierarchy's coarse-to-fine passes
   double seconds_waiting = 0.0;     ///< of seconds_solve: the time the sweeps' threads waited for one another at
                                     ///< barriers, averaged over the threads (0 on one thread); the scaling loss
   int solve_threads = 0;            ///< most threads that ran one sub-step's sweeps together (1: one thread)
