@@ -4,8 +4,8 @@
 // (mean of the per-step RMS, every step) and at the last step, and the time per step (median; and the hierarchy's
 // share of it).
 //   hierarchy_bench SCENE.json [--threads T] [--steps N] [--solver S] [--precision float|double] CONFIG...
-// CONFIG is SUBSTEPSxITERATIONS, with "+h" for the hierarchy, "+hL" for L levels, "+hLsK" or "+hsK" for K sweeps
-// per coarse level (e.g. 8x1 8x1+h 16x1+h3 8x1+h6s2).
+// CONFIG is SUBSTEPSxITERATIONS, with "+h" for the hierarchy, then optionally its levels L and options: sK sweeps per
+// coarse level, pK parents, c compliant stretch too (e.g. 8x1 8x1+h 16x1+h3 8x1+h6s2p1 1x20+hc).
 #include "pbd/io/build_world.hpp"
 #include "pbd/io/scene.hpp"
 #include "pbd/metrics.hpp"
@@ -14,6 +14,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -24,7 +25,8 @@ namespace {
 
 struct Config {
   std::string label;
-  int substeps = 1, iterations = 1, levels = 0, sweeps = 1;  // levels 0: no hierarchy
+  int substeps = 1, iterations = 1, levels = 0, sweeps = 1, parents = 2;  // levels 0: no hierarchy
+  bool compliant = false;
 };
 
 Config parse_config(const std::string& s) {
@@ -36,11 +38,23 @@ Config parse_config(const std::string& s) {
   c.iterations = std::stoi(s.substr(x + 1, plus == std::string::npos ? std::string::npos : plus - x - 1));
   if (plus != std::string::npos) {
     const std::string h = s.substr(plus + 1);
-    if (h.empty() || h[0] != 'h') throw std::runtime_error("config " + s + ": expected +h or +hL");
-    const auto sw = h.find('s');
-    c.levels = h.size() > 1 && sw != 1 ? std::stoi(h.substr(1, sw == std::string::npos ? std::string::npos : sw - 1))
-                                       : pbd::Hierarchy{}.levels;
-    if (sw != std::string::npos) c.sweeps = std::stoi(h.substr(sw + 1));
+    if (h.empty() || h[0] != 'h') throw std::runtime_error("config " + s + ": expected +h[L][sK][pK][c]");
+    c.levels = pbd::Hierarchy{}.levels;
+    std::size_t i = 1;
+    auto number = [&] {
+      std::size_t used = 0;
+      const int v = std::stoi(h.substr(i), &used);
+      i += used;
+      return v;
+    };
+    if (i < h.size() && std::isdigit(static_cast<unsigned char>(h[i]))) c.levels = number();
+    while (i < h.size()) {
+      const char key = h[i++];
+      if (key == 's') c.sweeps = number();
+      else if (key == 'p') c.parents = number();
+      else if (key == 'c') c.compliant = true;
+      else throw std::runtime_error("config " + s + ": unknown hierarchy option " + key);
+    }
   }
   return c;
 }
@@ -58,11 +72,13 @@ int run(const pbd::Scene& scene, const std::vector<Config>& configs, pbd::Solver
     p.hierarchy.enabled = c.levels > 0;
     if (c.levels > 0) p.hierarchy.levels = c.levels;
     p.hierarchy.sweeps = c.sweeps;
+    p.hierarchy.parents = c.parents;
+    p.hierarchy.compliant = c.compliant;
     w.set_params(p);
     worlds.push_back(std::move(w));
   }
   const std::size_t n = configs.size();
-  std::vector<std::vector<double>> ms(n), hier_ms(n);
+  std::vector<std::vector<double>> ms(n), hier_ms(n), solve_ms(n), integrate_ms(n);
   std::vector<double> rms_sum(n, 0.0), last_rms(n, 0.0), max_rms(n, 0.0);
   for (int step = 0; step < steps; ++step)
     for (std::size_t i = 0; i < n; ++i) {
@@ -70,23 +86,26 @@ int run(const pbd::Scene& scene, const std::vector<Config>& configs, pbd::Solver
       arena.execute([&] { worlds[i].step(); });
       const auto t1 = std::chrono::steady_clock::now();
       ms[i].push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-      hier_ms[i].push_back(1e3 * worlds[i].last_step_stats().seconds_hierarchy);
+      const pbd::StepStats& st = worlds[i].last_step_stats();
+      hier_ms[i].push_back(1e3 * st.seconds_hierarchy);
+      solve_ms[i].push_back(1e3 * st.seconds_solve);
+      integrate_ms[i].push_back(1e3 * st.seconds_integrate);
       const double rms = pbd::stretch_violation(worlds[i]).rms;
       rms_sum[i] += rms;
       last_rms[i] = rms;
       max_rms[i] = std::max(max_rms[i], rms);
     }
   std::printf("config,substeps,iterations,levels,rms_stretch_mean_pct,rms_stretch_last_pct,rms_stretch_max_pct,"
-              "ms_per_step_median,ms_per_step_min,hierarchy_ms_median,state_hash\n");
+              "ms_per_step_median,ms_per_step_min,hierarchy_ms_median,solve_ms_median,integrate_ms_median,state_hash\n");
   for (std::size_t i = 0; i < n; ++i) {
     auto median = [](std::vector<double> v) {
       std::sort(v.begin(), v.end());
       return v[v.size() / 2];
     };
-    std::printf("%s,%d,%d,%d,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%016llx\n", configs[i].label.c_str(), configs[i].substeps,
+    std::printf("%s,%d,%d,%d,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,%016llx\n", configs[i].label.c_str(), configs[i].substeps,
                 configs[i].iterations, configs[i].levels, 100.0 * rms_sum[i] / steps, 100.0 * last_rms[i],
                 100.0 * max_rms[i], median(ms[i]), *std::min_element(ms[i].begin(), ms[i].end()), median(hier_ms[i]),
-                static_cast<unsigned long long>(pbd::position_hash(worlds[i])));
+                median(solve_ms[i]), median(integrate_ms[i]), static_cast<unsigned long long>(pbd::position_hash(worlds[i])));
   }
   return 0;
 }
