@@ -39,6 +39,8 @@ struct RunOptions {
   std::string stats;        // --stats FILE: per-step phase times as CSV
   std::string precision = "float";
   std::optional<double> chebyshev_rho;  // --chebyshev: accelerate with this ρ (0: estimated)
+  bool hierarchy = false;               // --hierarchy: the coarse-to-fine pass (StepParams::hierarchy)
+  std::optional<int> hierarchy_levels;  // --hierarchy-levels L (implies --hierarchy)
 };
 
 // The state hash as `pbd run` prints it and --expect-hash takes it: 16 lowercase hex digits.
@@ -128,6 +130,8 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     params.chebyshev.enabled = true;
     params.chebyshev.rho = Real(*o.chebyshev_rho);
   }
+  if (o.hierarchy || o.hierarchy_levels) params.hierarchy.enabled = true;
+  if (o.hierarchy_levels) params.hierarchy.levels = *o.hierarchy_levels;
   world.set_params(params);
   std::optional<FrameSeries> series;
   if (!o.frames.empty()) {
@@ -224,6 +228,9 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--chebyshev", o->chebyshev_rho,
                   "Chebyshev acceleration of the sweeps with this spectral radius in [0, 1) (0: estimated)")
       ->check(CLI::Range(0.0, 0.999999));
+  cmd->add_flag("--hierarchy", o->hierarchy, "Hierarchical PBD: a coarse-to-fine pass over the stretch constraints before each sub-step's sweeps");
+  cmd->add_option("--hierarchy-levels", o->hierarchy_levels, "Coarse levels of --hierarchy (implies it; default 4)")
+      ->check(CLI::Range(1, 16));
   cmd->add_option("--sweep-order", o->sweep_order, "forward or symmetric (default: the scene's own)")
       ->check(CLI::IsMember({"forward", "symmetric"}));
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores; at most what the machine gives)")

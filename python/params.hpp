@@ -19,12 +19,13 @@ struct StepParamsPy {
   Solver solver = Solver::colored;
   SweepOrder sweep_order = SweepOrder::forward;
   double jacobi_omega = 1.0;
+  Hierarchy hierarchy;  // hierarchical PBD (off by default)
 };
 
 /// The Python view of a world's parameters.
 template <class Real> StepParamsPy to_python(const StepParams<Real>& p) {
   return {double(p.dt), p.substeps, p.iterations, {double(p.gravity.x()), double(p.gravity.y()), double(p.gravity.z())},
-          double(p.damping), double(p.collision_margin), p.solver, p.sweep_order, double(p.jacobi_omega)};
+          double(p.damping), double(p.collision_margin), p.solver, p.sweep_order, double(p.jacobi_omega), p.hierarchy};
 }
 
 /// `base` (the world's parameters) with the fields of `p` in Real.
@@ -38,6 +39,7 @@ template <class Real> StepParams<Real> to_engine(const StepParamsPy& p, StepPara
   base.solver = p.solver;
   base.sweep_order = p.sweep_order;
   base.jacobi_omega = Real(p.jacobi_omega);
+  base.hierarchy = p.hierarchy;
   return base;
 }
 

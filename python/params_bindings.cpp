@@ -47,6 +47,22 @@ void bind_params(py::module_& m) {
       .value("forward", SweepOrder::forward, "every sub-step in insertion (color) order")
       .value("symmetric", SweepOrder::symmetric, "odd sub-steps sweep backwards (closed bodies)");
 
+  py::class_<Hierarchy>(m, "Hierarchy", "Hierarchical PBD (Mueller 2008): a coarse-to-fine pass over the stretch "
+                                        "constraints before each sub-step's sweeps.")
+      .def(py::init<>(), "the defaults: off, 4 levels, 2 parents, 1 sweep per level, rigid stretch only")
+      .def_readwrite("enabled", &Hierarchy::enabled, "run the coarse-to-fine pass")
+      .def_readwrite("levels", &Hierarchy::levels, "coarse levels, in [1, 16]")
+      .def_readwrite("parents", &Hierarchy::parents, "k: neighbours in the coarser level of every particle left out, in [1, 8]")
+      .def_readwrite("sweeps", &Hierarchy::sweeps, "sweeps of each coarse level per pass, in [1, 64]")
+      .def_readwrite("compliant", &Hierarchy::compliant,
+                     "also coarsen compliant (XPBD alpha > 0) stretch; it then settles shorter than alpha*T")
+      .def("__repr__", [](const Hierarchy& h) {
+        std::ostringstream o;
+        o << "pbd.Hierarchy(enabled=" << (h.enabled ? "True" : "False") << ", levels=" << h.levels
+          << ", parents=" << h.parents << ", sweeps=" << h.sweeps << ", compliant=" << (h.compliant ? "True" : "False") << ")";
+        return o.str();
+      });
+
   py::class_<StepParamsPy>(m, "StepParams",
                            "Parameters of step() (a copy: read World.params, change it, assign it back).")
       .def(py::init<>(), "the defaults: dt 1/60 s, 1 substep, 10 iterations, gravity (0, 0, -9.81), colored solver")
@@ -59,6 +75,7 @@ void bind_params(py::module_& m) {
       .def_readwrite("solver", &StepParamsPy::solver, "which solver step() runs (Solver)")
       .def_readwrite("sweep_order", &StepParamsPy::sweep_order, "Gauss-Seidel sweep order (SweepOrder)")
       .def_readwrite("jacobi_omega", &StepParamsPy::jacobi_omega, "Jacobi over-relaxation factor, in (0, 2)")
+      .def_readwrite("hierarchy", &StepParamsPy::hierarchy, "hierarchical PBD settings (Hierarchy; off by default)")
       .def("__repr__", [](const StepParamsPy& p) {
         std::ostringstream o;
         o << "pbd.StepParams(dt=" << p.dt << ", substeps=" << p.substeps << ", iterations=" << p.iterations
@@ -96,6 +113,7 @@ void bind_params(py::module_& m) {
       .def_readonly("substeps", &StepStats::substeps, "sub-steps taken")
       .def_readonly("sweeps", &StepStats::sweeps, "sweeps taken (substeps x iterations)")
       .def_readonly("colors", &StepStats::colors, "groups of the persistent constraints (0 for serial)")
+      .def_readonly("seconds_hierarchy", &StepStats::seconds_hierarchy, "of seconds_solve: the hierarchy's passes")
       .def_readonly("chebyshev_fallbacks", &StepStats::chebyshev_fallbacks, "sub-steps whose Chebyshev acceleration stopped")
       .def_readonly("chebyshev_rho", &StepStats::chebyshev_rho, "rho of the Chebyshev acceleration after the step")
       .def_readonly("collisions", &StepStats::collisions, "collision constraints and particle contacts of the last sub-step")

@@ -58,6 +58,16 @@ template <class Real> void check_params(const StepParams<Real>& p) {
     if (!(c.diverge > Real(1)) || !std::isfinite(c.diverge))
       throw Error(detail::message("set_params: chebyshev.diverge must be finite and > 1, got ", c.diverge));
   }
+  check_hierarchy(p.hierarchy);
+}
+
+void check_hierarchy(const Hierarchy& h) {
+  if (h.levels < 1 || h.levels > 16)
+    throw Error(detail::message("set_params: hierarchy.levels must be in [1, 16], got ", h.levels));
+  if (h.parents < 1 || h.parents > 8)
+    throw Error(detail::message("set_params: hierarchy.parents must be in [1, 8], got ", h.parents));
+  if (h.sweeps < 1 || h.sweeps > 64)
+    throw Error(detail::message("set_params: hierarchy.sweeps must be in [1, 64], got ", h.sweeps));
 }
 
 template <class Real>

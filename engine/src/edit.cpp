@@ -5,6 +5,7 @@
 #include "pbd/checks.hpp"
 #include "pbd/detail/message.hpp"
 #include "pbd/closed_mesh.hpp"
+#include "solve/hierarchy.hpp"
 #include "solve/schedule.hpp"
 
 #include <pbd/graph_coloring/validate.hpp>
@@ -287,6 +288,10 @@ template <class Real> void World<Real>::validate() const {
       seen[i] = 1;
     }
   }
+  if (model_.hierarchy)  // the cooked hierarchy, while it matches the model
+    if (model_.hierarchy->edits == model_.edits)
+      if (const std::string why = detail::validate_hierarchy(*model_.hierarchy, model_); !why.empty())
+        throw Error("validate: " + why);
   // Each ring corner's row (volume.hpp: ring_rows) is the row of that corner's particle in its constraint.
   if (v.table.ring_rows.size() != v.table.ring.size())
     throw Error(detail::message("validate: ", v.table.ring_rows.size(), " volume ring rows for ", v.table.ring.size(),

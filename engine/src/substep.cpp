@@ -11,6 +11,7 @@
 
 #include "contact/particle_contacts.hpp"
 #include "contact/scratch.hpp"
+#include "solve/hierarchy.hpp"
 #include "solve/integrate.hpp"
 #include "solve/restitution.hpp"
 #include "solve/sweep.hpp"
@@ -174,7 +175,12 @@ template <class Real, class Runner> void substep(StepContext<Real>& c, Runner& r
   // 3. contacts (a team's step has none)
   if constexpr (!Runner::kTeam) generate_contacts(c, run.parallel);
   const auto t3 = clock::now();
-  // 4. solve
+  // 4. solve: the hierarchy's coarse-to-fine pass (hierarchy.hpp, never on a team: step_on_team), then the sweeps
+  if constexpr (!Runner::kTeam)
+    if (c.params.hierarchy.enabled && m.hierarchy) {
+      run_hierarchy(*m.hierarchy, k.hierarchy, k.p, h, run.parallel, c.config);
+      out.seconds_hierarchy += seconds(t3, clock::now());
+    }
   bool in_q = false;
   if constexpr (Runner::kTeam) {
     in_q = sweep_on_team(run, *own, q, p);
@@ -263,7 +269,7 @@ template <class Real> bool step_on_team(const StepContext<Real>& c) {
   return is_parallel(solver) && solver != Solver::jacobi && !(c.callback && *c.callback) && m.colliders.empty() &&
          m.contact.empty() && m.user.empty() && m.volume.table.empty() && c.scratch.free_bodies.count == 0 &&
          tbb::this_task_arena::max_concurrency() >= 2 && c.scratch.team_skip == 0 &&
-         !(c.params.chebyshev.enabled && c.params.iterations > 1);
+         !(c.params.chebyshev.enabled && c.params.iterations > 1) && !c.params.hierarchy.enabled;
 }
 
 #define PBD_SUBSTEP_INSTANTIATE(Real)                                                              \

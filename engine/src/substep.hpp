@@ -31,6 +31,7 @@ struct SubstepsReport {
   double seconds_collisions = 0.0; ///< step 3
   double seconds_solve = 0.0;      ///< step 4 (with each sub-step's λ reset)
   double seconds_waiting = 0.0;    ///< of seconds_solve, the sweeps' threads' time waiting for one another
+  double seconds_hierarchy = 0.0;  ///< of seconds_solve, the hierarchy's passes
 };
 
 /// Every sub-step of a step (steps 1–5 each; x and p trade places after each, so an odd count leaves the positions

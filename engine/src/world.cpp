@@ -4,6 +4,7 @@
 
 #include "pbd/detail/message.hpp"
 #include "pbd/metrics.hpp"
+#include "solve/hierarchy.hpp"
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
 #include "substep.hpp"
@@ -121,6 +122,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
     stats_.seconds_coloring = seconds_since(c0);
     stats_.colors = num_colors();
   }
+  if (params_.hierarchy.enabled) detail::ensure_hierarchy(model_, params_.hierarchy);  // cooked once per edit
   // A force callback may fail at a later sub-step: keep the state it started from so nothing is half-stepped.
   const bool rollback = force_callback_ && params_.substeps > 1;
   if (rollback) {
@@ -154,6 +156,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   stats_.seconds_collisions = run.seconds_collisions;
   stats_.seconds_solve = run.seconds_solve;
   stats_.seconds_waiting = run.seconds_waiting;
+  stats_.seconds_hierarchy = run.seconds_hierarchy;
   stats_.solve_threads = run.threads;
   stats_.chebyshev_fallbacks = run.chebyshev_fallbacks;
   keep_storage();

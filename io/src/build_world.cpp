@@ -110,7 +110,7 @@ template <class Real> World<Real> build_world(const WorldDescription& d) {
   const Chebyshev<double>& c = p.chebyshev;
   w.set_params({Real(p.dt), p.substeps, p.iterations, Vec3<Real>(p.gravity.cast<Real>()), Real(p.damping),
                 Real(p.collision_margin), p.solver, Real(p.jacobi_omega), p.sweep_order,
-                Chebyshev<Real>{c.enabled, Real(c.rho), c.delay, Real(c.max_rho), Real(c.diverge)}});
+                Chebyshev<Real>{c.enabled, Real(c.rho), c.delay, Real(c.max_rho), Real(c.diverge)}, p.hierarchy});
   w.set_blocking(d.blocking);
   return w;
 }

@@ -36,7 +36,7 @@ template <class Real> WorldDescription describe_world(const World<Real>& w) {
   const Chebyshev<Real>& c = p.chebyshev;
   d.params = {double(p.dt), p.substeps, p.iterations, p.gravity.template cast<double>(), double(p.damping),
               double(p.collision_margin), p.solver, double(p.jacobi_omega), p.sweep_order,
-              Chebyshev<double>{c.enabled, double(c.rho), c.delay, double(c.max_rho), double(c.diverge)}};
+              Chebyshev<double>{c.enabled, double(c.rho), c.delay, double(c.max_rho), double(c.diverge)}, p.hierarchy};
   d.blocking = w.blocking();
   return d;
 }

@@ -410,6 +410,33 @@ std::vector<std::string> error_measures() {
   return names;
 }
 
+// The top-level "hierarchy": true or false, an integer (0: off, L > 0: on with L levels), or an object {"levels": L,
+// "parents": k, "sweeps": s, "compliant": false, "enabled": true} (every key optional; StepParams::hierarchy's
+// defaults).
+Hierarchy read_hierarchy(const JsonObject& o) {
+  const nlohmann::json& v = o.value("hierarchy");
+  Hierarchy h;
+  if (v.is_boolean()) {
+    h.enabled = v.get<bool>();
+  } else if (v.is_number_integer()) {
+    h.levels = int(o.integer("hierarchy", 0, 16));
+    h.enabled = h.levels > 0;
+    if (!h.enabled) h.levels = Hierarchy{}.levels;
+  } else if (v.is_object()) {
+    const JsonObject j = o.object("hierarchy");
+    h.enabled = j.boolean("enabled", true);
+    h.levels = int(j.integer("levels", 1, 16, h.levels));
+    h.parents = int(j.integer("parents", 1, 8, h.parents));
+    h.sweeps = int(j.integer("sweeps", 1, 64, h.sweeps));
+    h.compliant = j.boolean("compliant", h.compliant);
+    j.reject_unknown_keys();
+  } else {
+    o.fail("hierarchy", "expected true, false, a number of levels (0: off) or an object {\"levels\": L, \"parents\": k, "
+                        "\"sweeps\": s}");
+  }
+  return h;
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source) {
@@ -452,6 +479,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
     else o.fail("sweep_order", message("unknown sweep order ", detail::quoted(order),
                                        " (expected \"forward\" or \"symmetric\")"));
   }
+  if (o.has("hierarchy")) p.hierarchy = read_hierarchy(o);
   at_path(f, "", [&] { world.set_params(p); });
   for (const auto& [v, path] : o.array("bodies")) {
     at_path(f, path, [&, &v = v, &path = path] {

@@ -36,6 +36,10 @@ void check_stiffness(const Stiffness& s, const std::string& what);
 /// Throws "set_params: ..." naming the first bad step parameter (Chebyshev's included).
 template <class Real> void check_params(const StepParams<Real>& p);
 
+/// Throws "set_params: hierarchy.<field> must be in [..], got ..." naming the first bad hierarchy setting (check_params
+/// runs it too, whether or not the hierarchy is enabled).
+void check_hierarchy(const Hierarchy& h);
+
 /// Throws "<what>: ..." unless a plane's normal and offset are finite and the normal is not zero, and its material
 /// is valid; returns |normal|.
 template <class Real>

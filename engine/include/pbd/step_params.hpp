@@ -27,6 +27,21 @@ template <class Real> struct Chebyshev {
   friend bool operator==(const Chebyshev&, const Chebyshev&) = default;  ///< same settings
 };
 
+/// Hierarchical position based dynamics (Müller 2008) over the stretch constraints' particle graph: coarser levels
+/// of particles, one-sided distance constraints between them, and a coarse-to-fine pass at every sub-step before the
+/// sweeps (engine/src/solve/hierarchy.hpp). Off by default; any solver.
+struct Hierarchy {
+  bool enabled = false;  ///< run the coarse-to-fine pass
+  int levels = 4;        ///< coarse levels above the stretch constraints, in [1, 16] (fewer where a level stops shrinking)
+  int parents = 2;       ///< k: every particle left out of a coarser level has >= k neighbours in it, in [1, 8]
+  int sweeps = 1;        ///< sweeps of each coarse level's constraints per pass, in [1, 64]
+  /// Also coarsen stretch constraints of compliant sets (XPBD α > 0; a coarse constraint gets its path's summed α).
+  /// Off by default: a position-only coarse pass moves XPBD's fixed point (the sweeps start from λ = 0 at positions
+  /// the pass moved), so a compliant body settles shorter than α·T (solve/hierarchy.hpp).
+  bool compliant = false;
+  friend bool operator==(const Hierarchy&, const Hierarchy&) = default;  ///< same settings
+};
+
 /// Parameters of step(); validated by World::set_params.
 template <class Real> struct StepParams {
   Real dt = Real(1) / Real(60);              ///< time step in seconds, > 0
@@ -39,6 +54,7 @@ template <class Real> struct StepParams {
   Real jacobi_omega = 1;                     ///< Jacobi over-relaxation factor ω, in (0, 2)
   SweepOrder sweep_order = SweepOrder::forward;  ///< Gauss-Seidel sweep order (symmetric: for closed bodies)
   Chebyshev<Real> chebyshev;                 ///< acceleration of the sweeps (off by default)
+  Hierarchy hierarchy;                       ///< coarse-to-fine pass before the sweeps (off by default)
 };
 
 /// What the last step() did and how long each phase took (wall-clock seconds, summed over sub-steps).
@@ -48,6 +64,7 @@ struct StepStats {
   double seconds_collisions = 0.0;  ///< generating collision constraints and particle contacts (the broad phase)
   double seconds_coloring = 0.0;    ///< coloring persistent constraints (only when they changed)
   double seconds_solve = 0.0;       ///< the sweeps
+  double seconds_hierarchy = 0.0;   ///< of seconds_solve: the hierarchy's coarse-to-fine passes
   double seconds_waiting = 0.0;     ///< of seconds_solve: the time the sweeps' threads waited for one another at
                                     ///< barriers, averaged over the threads (0 on one thread); the scaling loss
   int solve_threads = 0;            ///< most threads that ran one sub-step's sweeps together (1: one thread)

@@ -73,6 +73,13 @@ template <class C> struct FirstFitScratch {
   std::vector<C> by_index;            // the constraints in generation order while they are laid out
 };
 
+/// The hierarchy's per-sub-step buffers (hierarchy.hpp: run_hierarchy).
+template <class Real> struct HierarchyScratch {
+  std::vector<Real> start;           // p at the start of the pass, 3 per particle
+  std::vector<Real> lambda;          // λ of one level's constraints
+  PartitionerPool partitioners;      // one per loop of the pass
+};
+
 template <class Real> struct Scratch {
   Matrix3X<Real> p;                                 // predicted positions
   Store<CollisionConstraint<Real>> collisions;      // this sub-step's collisions (color order for colored solvers)
@@ -98,6 +105,7 @@ template <class Real> struct Scratch {
   std::vector<Real> cheb_lambda_prev, cheb_lambda_cur;  // Chebyshev: every λ likewise (compliant sets only)
   std::vector<double> cheb_sums;                    // Chebyshev: per block of particles, the sweep's change
   PartitionerPool cheb_partitioners;                // Chebyshev: its three particle passes
+  HierarchyScratch<Real> hierarchy;                 // the hierarchy's pass (hierarchy.hpp)
   Matrix3X<Real> callback_forces;                   // filled by the force callback
   Matrix3X<Real> rollback_x, rollback_v;            // state at the start of a step with a callback and sub-steps
 };

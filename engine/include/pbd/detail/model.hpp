@@ -15,6 +15,7 @@
 #include "pbd/stiffness.hpp"
 
 #include <array>
+#include <memory>
 #include <tuple>
 #include <vector>
 
@@ -42,6 +43,9 @@ template <class Real> struct VolumeStore {
   std::vector<Index> offsets;     ///< color c is order[offsets[c], offsets[c + 1])
   Index num_colors() const { return offsets.empty() ? 0 : Index(offsets.size() - 1); }  ///< colors laid out
 };
+
+/// The hierarchy of the stretch constraints (engine/src/solve/hierarchy.hpp), cooked when StepParams::hierarchy is on.
+template <class Real> struct HierarchyModel;
 
 /// Particle ranges Model::particle_cuts are counted for: a team of M threads, M dividing it, cuts exactly there.
 inline constexpr Index kCutParts = 64;
@@ -77,6 +81,9 @@ template <class Real> struct Model {
   /// particles). A team cuts each color there (sweep.hpp), so each thread keeps one range of particles from color
   /// to color.
   std::vector<std::vector<Index>> particle_cuts;
+  /// Cooked when the hierarchy is on (solve/hierarchy.hpp: ensure_hierarchy, keyed by `edits`); never changed once
+  /// built, so copies of a world may share it.
+  std::shared_ptr<const HierarchyModel<Real>> hierarchy;
 
   /// The store of built-in type C.
   template <class C> Store<C>& store() {
