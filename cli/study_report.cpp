@@ -2,6 +2,7 @@
 
 #include "pbd/error.hpp"
 #include "load_monitor.hpp"
+#include "scene_variants.hpp"
 #include "study_scenes.hpp"
 
 #include <algorithm>
@@ -465,11 +466,15 @@ Report merge_reports(const std::vector<Report>& parts, const std::vector<std::st
       if (out.scenes[i].name == scene) return i;
     return out.scenes.size();
   };
-  std::stable_sort(out.scenes.begin(), out.scenes.end(), [&](const SceneInfo& a, const SceneInfo& b) {
-    const auto pa = std::find(scene_order.begin(), scene_order.end(), a.name) - scene_order.begin();
-    const auto pb = std::find(scene_order.begin(), scene_order.end(), b.name) - scene_order.begin();
-    return pa < pb;
-  });
+  // A scene's variants follow it in the order one run takes them (scene_variants.hpp), whichever shard ran them.
+  const std::vector<std::string>& variants = variant_names();
+  auto position = [&](const SceneInfo& s) {
+    const std::string& base = s.base.empty() ? s.name : s.base;
+    return std::make_pair(std::find(scene_order.begin(), scene_order.end(), base) - scene_order.begin(),
+                          std::find(variants.begin(), variants.end(), s.variant) - variants.begin());
+  };
+  std::stable_sort(out.scenes.begin(), out.scenes.end(),
+                   [&](const SceneInfo& a, const SceneInfo& b) { return position(a) < position(b); });
   std::stable_sort(out.records.begin(), out.records.end(), [&](const Record& a, const Record& b) {
     return std::make_tuple(rank(a.scene), a.budget(), a.substeps) < std::make_tuple(rank(b.scene), b.budget(), b.substeps);
   });
