@@ -34,7 +34,9 @@ TEST(Tether, ASlackTetherLeavesItsParticleBitForBit) {
     const double w[1] = {1};
     double lambda = 0;
     project(Tether{{0}, 0, {0, 0, 0}, length}, p, w, SolveCoefficients<double>{1, 0}, lambda);
-    if (length == 0.5) EXPECT_EQ(std::memcmp(p, start, sizeof p), 0);
+    if (length == 0.5) {
+      EXPECT_EQ(std::memcmp(p, start, sizeof p), 0);
+    }
     EXPECT_LE(std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]), length * (1 + 1e-15));
     EXPECT_EQ(lambda, 0);
   }
@@ -222,7 +224,9 @@ TEST(Tether, AHangingClothStretchesLessWithTethersAtEqualSweeps) {
     // other ones (split masses), so it gains less at this budget.
     EXPECT_LT(with_sum, (solver == Solver::jacobi ? 0.9 : 0.5) * without_sum) << name(solver);
     // A Gauss-Seidel sweep ends with the tethers: none is left stretched.
-    if (solver != Solver::jacobi) EXPECT_LT(violation_of<TetherConstraint<float>>(with).max, 1e-6) << name(solver);
+    if (solver != Solver::jacobi) {
+      EXPECT_LT(violation_of<TetherConstraint<float>>(with).max, 1e-6) << name(solver);
+    }
   }
 }
 
