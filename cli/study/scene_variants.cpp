@@ -26,6 +26,17 @@ bool has_pins(const json& body) {
   return false;
 }
 
+// Tethers hold a particle within its rest distance of the pins, so they belong on bodies whose stretch is meant to
+// hold its rest length: on compliant (XPBD) stretch they would stop the stretch that the compliance asks for (a
+// compliant chain would hang at its rest length, not α·T longer).
+bool takes_tethers(const json& body) {
+  if (!has_pins(body)) return false;
+  const auto stretch = body.find("stretch");
+  if (stretch == body.end() || !stretch->is_object()) return true;
+  const auto compliance = stretch->find("compliance");
+  return compliance == stretch->end() || !compliance->is_number() || compliance->get<double>() == 0.0;
+}
+
 bool has_stretch(const json& body) {
   const std::string type = type_of(body);
   return (type == "cloth" || type == "rope" || type == "mesh") && body.contains("stretch");
@@ -59,7 +70,7 @@ const std::vector<std::string>& variant_names() {
 bool variant_applies(const json& scene, const std::string& variant) {
   check_name(variant);
   const json& bodies = bodies_of(scene);
-  if (wants(variant, "tethers") && std::none_of(bodies.begin(), bodies.end(), has_pins)) return false;
+  if (wants(variant, "tethers") && std::none_of(bodies.begin(), bodies.end(), takes_tethers)) return false;
   if (wants(variant, "hierarchy") && std::none_of(bodies.begin(), bodies.end(), has_stretch)) return false;
   return true;
 }
@@ -70,7 +81,7 @@ json apply_variant(json scene, const std::string& variant) {
                 "\" has no body it applies to");
   if (wants(variant, "tethers"))
     for (json& body : scene["bodies"])
-      if (has_pins(body) && !body.contains("tethers")) body["tethers"] = true;
+      if (takes_tethers(body) && !body.contains("tethers")) body["tethers"] = true;
   if (wants(variant, "hierarchy") && !scene.contains("hierarchy")) scene["hierarchy"] = true;
   return scene;
 }

@@ -14,7 +14,7 @@ namespace pbd::cli {
 const std::vector<std::string>& variant_names();
 
 /// Whether `variant` changes `scene` (a scene's JSON): tethers need a cloth (pin not "none"), rope or mesh body
-/// with pinned particles; hierarchy needs a cloth, rope or mesh body with stretch constraints; plain always applies.
+/// with pinned particles and stretch that is not compliant (XPBD α > 0); hierarchy needs a cloth, rope or mesh body with stretch constraints; plain always applies.
 /// Throws pbd::Error for a name not in variant_names().
 bool variant_applies(const nlohmann::json& scene, const std::string& variant);
 

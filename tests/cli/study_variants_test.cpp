@@ -71,5 +71,17 @@ TEST(StudyVariants, AVariantThatDoesNotApplyIsRefused) {
   EXPECT_THROW(variant_applies(unpinned, "magic"), Error);
 }
 
+TEST(StudyVariants, NoTethersOnCompliantStretch) {
+  // A compliant chain hangs α·T longer than its rest length; a tether at the rest length would stop that.
+  const json rope = {{"type", "rope"}, {"particles", 5}, {"stretch", {{"compliance", 1e-3}}}};
+  const json chain = scene_with({rope});
+  EXPECT_FALSE(variant_applies(chain, "tethers"));
+  EXPECT_TRUE(variant_applies(chain, "hierarchy"));
+  const json mixed = scene_with({rope, cloth("corners")});
+  const json both = apply_variant(mixed, "tethers");
+  EXPECT_FALSE(both["bodies"][0].contains("tethers"));
+  EXPECT_EQ(both["bodies"][1]["tethers"], true);
+}
+
 }  // namespace
 }  // namespace pbd::cli
