@@ -12,6 +12,7 @@
 #include "pbd/io/scene.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
+#include "hanging_chain.hpp"
 
 #include <gtest/gtest.h>
 #include <oneapi/tbb/task_arena.h>
@@ -134,15 +135,8 @@ template <class Real> double chain_error(Solver s, Hierarchy h, int substeps, in
   const double m = 0.01, rest = 0.05, alpha = 1e-3, g = 9.81;
   double closed = 0;
   for (int k = 1; k <= n; ++k) closed += alpha * (n - k + 1) * m * g;
-  World<Real> w;
-  const Index set = w.add_constraint_set(Stiffness::xpbd_compliance(alpha));
-  w.add_particle(Vec3<Real>::Zero(), World<Real>::kPinned);
-  for (int i = 1; i <= n; ++i) {
-    w.add_particle(Vec3<Real>(Real(0), Real(0), Real(-rest * i)), Real(m));
-    w.add_stretch(i - 1, i, set);
-  }
-  StepParams<Real> p;
-  p.solver = s;
+  World<Real> w = test::hanging_chain<Real>(n, m, rest, alpha, s);
+  StepParams<Real> p = w.params();
   p.damping = Real(1);
   p.substeps = substeps;
   p.iterations = iterations;

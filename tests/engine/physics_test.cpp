@@ -15,6 +15,7 @@
 #include "pbd/io/scene.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
+#include "hanging_chain.hpp"
 
 #include <gtest/gtest.h>
 
@@ -47,21 +48,7 @@ std::string fmt(double x) {
   return b;
 }
 
-// A vertical chain: particle 0 pinned at z = 0, particles 1..n of mass m hanging below it, links of rest length
-// `rest` with compliance `alpha` (m/N).
-template <class Real> World<Real> hanging_chain(int n, double m, double rest, double alpha, Solver s) {
-  World<Real> w;
-  const Index set = w.add_constraint_set(Stiffness::xpbd_compliance(alpha));
-  w.add_particle(Vec3<Real>::Zero(), World<Real>::kPinned);
-  for (int i = 1; i <= n; ++i) {
-    w.add_particle(Vec3<Real>(Real(0), Real(0), Real(-rest * i)), Real(m));
-    w.add_stretch(i - 1, i, set);
-  }
-  StepParams<Real> p;
-  p.solver = s;
-  w.set_params(p);
-  return w;
-}
+using test::hanging_chain;
 
 // The hanging chain's extension at rest, α Σ_k T_k with T_k = (n − k + 1) m g, against the run's.
 template <class Real>
