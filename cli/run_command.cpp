@@ -53,12 +53,12 @@ std::string hex(std::uint64_t h) {
 // One CSV row of a step's statistics (the header is kStatsHeader).
 constexpr const char* kStatsHeader =
     "step,time_s,seconds,seconds_integrate,seconds_collisions,seconds_coloring,seconds_solve,seconds_waiting,"
-    "solve_threads,substeps,sweeps,colors,collisions\n";
+    "seconds_hierarchy,solve_threads,substeps,sweeps,colors,collisions\n";
 void stats_row(std::ostringstream& csv, int step, double time, const StepStats& s) {
   char line[320];
-  std::snprintf(line, sizeof line, "%d,%.9g,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%d,%d,%d,%u,%zu\n", step, time, s.seconds,
+  std::snprintf(line, sizeof line, "%d,%.9g,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%d,%d,%d,%u,%zu\n", step, time, s.seconds,
                 s.seconds_integrate, s.seconds_collisions, s.seconds_coloring, s.seconds_solve, s.seconds_waiting,
-                s.solve_threads, s.substeps, s.sweeps, unsigned(s.colors), s.collisions);
+                s.seconds_hierarchy, s.solve_threads, s.substeps, s.sweeps, unsigned(s.colors), s.collisions);
   csv << line;
 }
 

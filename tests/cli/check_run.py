@@ -68,15 +68,24 @@ def check_hash_and_stats(pbd, out):
     with open(csv) as f:
         lines = f.read().splitlines()
     header = lines[0].split(",")
-    for column in ("step", "seconds", "seconds_integrate", "seconds_collisions", "seconds_solve", "sweeps"):
+    for column in ("step", "seconds", "seconds_integrate", "seconds_collisions", "seconds_solve",
+                   "seconds_hierarchy", "sweeps"):
         if column not in header:
             fail(f"--stats: no column {column} in {header}")
     rows = [dict(zip(header, line.split(","))) for line in lines[1:]]
     if [int(r["step"]) for r in rows] != [1, 2, 3, 4]:
         fail(f"--stats: steps {[r['step'] for r in rows]}, expected 1..4")
-    for r in rows:  # cloth.json: 10 substeps of 4 iterations
-        if int(r["substeps"]) != 10 or int(r["sweeps"]) != 40 or float(r["seconds"]) <= 0:
+    for r in rows:  # cloth.json: 10 substeps of 4 iterations, no hierarchy
+        if int(r["substeps"]) != 10 or int(r["sweeps"]) != 40 or float(r["seconds"]) <= 0 \
+                or float(r["seconds_hierarchy"]) != 0:
             fail(f"--stats: row {r}")
+    run(pbd, ["run", "cloth", "--steps", "2", "--hierarchy", "--stats", csv])
+    with open(csv) as f:
+        lines = f.read().splitlines()
+    rows = [dict(zip(lines[0].split(","), line.split(","))) for line in lines[1:]]
+    for r in rows:  # the coarse-to-fine passes are part of the solve
+        if not 0 < float(r["seconds_hierarchy"]) < float(r["seconds_solve"]):
+            fail(f"--stats --hierarchy: row {r}")
     expect_error(pbd, ["run", "cloth", "--stats", "/no/such/folder/s.csv"], ["--stats", "/no/such/folder"])
 
 
