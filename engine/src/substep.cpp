@@ -1,10 +1,11 @@
 // A step's sub-steps (solver.hpp: run_substeps): one sub-step function, steps 1–5, written once over its runner.
 //   ForkRunner  every step: the per-particle passes are parallel loops that fork and join (run_range), contacts are
 //               generated, the solve is solve() (whose sweeps may hold a team of their own, solver.cpp)
-//   TeamRunner  a step that is only predict, sweeps and update (step_on_team): one team of threads (team.hpp) runs
-//               all of its sub-steps, each member calling the same sub-step function; the particle passes are the
-//               team's loops over the same parts of the particles the sweeps use, so a sub-step costs no fork/join
-//               and its particles stay in their thread's cache. When the sweeps keep the positions padded,
+//   TeamRunner  a step that is only predict, the hierarchy's pass, sweeps and update (step_on_team): one team of
+//               threads (team.hpp) runs all of its sub-steps, each member calling the same sub-step function; the
+//               particle passes and the hierarchy's loops are the team's loops (the particle passes over the same
+//               parts of the particles the sweeps use), so a sub-step costs no fork/join and its particles stay in
+//               their thread's cache. When the sweeps keep the positions padded and no hierarchy reads p,
 //               prediction writes the padded copy and the update reads it.
 // Both give the same bits: every pass gives the same bits however its loop is cut (tested).
 #include "substep.hpp"
@@ -47,6 +48,10 @@ template <class Real> struct ForkRunner {
   template <class Body> void particles(int pass, const Body& body) {
     run_range(0, c.model.num_particles(), parallel, c.config, c.scratch.particle_partitioners[pass], body);
   }
+  // A loop of the hierarchy's pass (run_hierarchy), with its own partitioner.
+  template <class Body> void loop(std::size_t id, Index b, Index e, const Body& body) {
+    run_range(b, e, parallel, c.config, c.scratch.hierarchy.partitioners[id], body);
+  }
 };
 
 // The runner of one member of the team that runs a whole step.
@@ -60,6 +65,11 @@ template <class Real> struct TeamRunner {
   bool leader() const { return member.rank == 0; }
   template <class Body> void particles(int, const Body& body) {
     member.loop(0, std::size_t(c.model.num_particles()), share,
+                [&](std::size_t i, std::size_t j) { body(Index(i), Index(j)); });
+  }
+  // A loop of the hierarchy's pass: shared when it is as large as a loop the fork/join runner would not run inline.
+  template <class Body> void loop(std::size_t, Index b, Index e, const Body& body) {
+    member.loop(std::size_t(b), std::size_t(e), std::size_t(e - b) >= c.config.inline_below,
                 [&](std::size_t i, std::size_t j) { body(Index(i), Index(j)); });
   }
 };
@@ -145,6 +155,7 @@ template <class Real, class Runner> void substep(StepContext<Real>& c, Runner& r
   const double t = st.time + double(h) * double(s + 1);
   // Symmetric order: odd sub-steps, numbered from the world's time, sweep backwards.
   const bool reverse = c.params.sweep_order == SweepOrder::symmetric && ((c.first_substep + s) & 1) != 0;
+  const bool hierarchy = c.params.hierarchy.enabled && m.hierarchy;
   const auto t0 = clock::now();
   std::optional<Sweeper<Real>> own;
   Real* q = nullptr;
@@ -157,7 +168,7 @@ template <class Real, class Runner> void substep(StepContext<Real>& c, Runner& r
     }
     run.member.wait();
     own.emplace(*run.shared);
-    if (own->stays_padded()) q = k.padded.data();
+    if (own->stays_padded() && !hierarchy) q = k.padded.data();  // the hierarchy's pass reads and writes p
   }
   const Real* f = Runner::kTeam ? c.forces : substep_forces(c, s, t);
   const auto t1 = clock::now();
@@ -175,12 +186,12 @@ template <class Real, class Runner> void substep(StepContext<Real>& c, Runner& r
   // 3. contacts (a team's step has none)
   if constexpr (!Runner::kTeam) generate_contacts(c, run.parallel);
   const auto t3 = clock::now();
-  // 4. solve: the hierarchy's coarse-to-fine pass (hierarchy.hpp, never on a team: step_on_team), then the sweeps
-  if constexpr (!Runner::kTeam)
-    if (c.params.hierarchy.enabled && m.hierarchy) {
-      run_hierarchy(*m.hierarchy, k.hierarchy, k.p, h, run.parallel, c.config);
-      out.seconds_hierarchy += seconds(t3, clock::now());
-    }
+  // 4. solve: the hierarchy's coarse-to-fine pass (hierarchy.hpp) on the runner's loops, then the sweeps
+  if (hierarchy) {
+    run_hierarchy(*m.hierarchy, k.hierarchy, p, m.num_particles(), h,
+                  [&](std::size_t id, Index b, Index e, const auto& body) { run.loop(id, b, e, body); });
+    if (run.leader()) out.seconds_hierarchy += seconds(t3, clock::now());
+  }
   bool in_q = false;
   if constexpr (Runner::kTeam) {
     in_q = sweep_on_team(run, *own, q, p);
@@ -244,6 +255,8 @@ template <class Real> SubstepsReport run_substeps(StepContext<Real>& c) {
   k.p.resize(3, c.model.num_particles());
   // The one place a step's runner is chosen: one team for the whole step when the step is only predict, sweeps and
   // update, and the sweeps would form a team anyway (Sweeper::team_possible); otherwise sub-step by sub-step.
+  if (c.params.hierarchy.enabled && c.model.hierarchy)
+    prepare_hierarchy(*c.model.hierarchy, k.hierarchy, c.model.num_particles());
   std::optional<Sweeper<Real>> first;
   if (step_on_team(c)) {
     const Schedule schedule = team_schedule(c);
@@ -269,7 +282,7 @@ template <class Real> bool step_on_team(const StepContext<Real>& c) {
   return is_parallel(solver) && solver != Solver::jacobi && !(c.callback && *c.callback) && m.colliders.empty() &&
          m.contact.empty() && m.user.empty() && m.volume.table.empty() && c.scratch.free_bodies.count == 0 &&
          tbb::this_task_arena::max_concurrency() >= 2 && c.scratch.team_skip == 0 &&
-         !(c.params.chebyshev.enabled && c.params.iterations > 1) && !c.params.hierarchy.enabled;
+         !(c.params.chebyshev.enabled && c.params.iterations > 1);
 }
 
 #define PBD_SUBSTEP_INSTANTIATE(Real)                                                              \

@@ -121,6 +121,14 @@ TYPED_TEST(HierarchyTest, SameBitsOnOneToFourThreadsWithAndWithoutContacts) {
       w.set_params(p);
       const std::uint64_t one = run_on(w, 1, 12);
       for (int threads : {2, 3, 4}) EXPECT_EQ(run_on(w, threads, 12), one) << name(solver) << " contacts " << contacts << " threads " << threads;
+      // Every loop cut small, the coarse levels' too: the fork/join runner cuts each into many parts, and without
+      // contacts a step may run on one thread team (when workers join in time), whose members split each loop.
+      ParallelConfig shared;
+      shared.inline_below = 16;
+      shared.min_grain = 16;
+      w.set_parallel_config(shared);
+      for (int threads : {2, 4}) EXPECT_EQ(run_on(w, threads, 12), one) << name(solver) << " contacts " << contacts << " threads " << threads << ", every loop shared";
+      w.set_parallel_config(ParallelConfig{});
       p.hierarchy.enabled = false;
       w.set_params(p);
       EXPECT_NE(run_on(w, 1, 12), one) << name(solver) << ": the hierarchy changed nothing";

@@ -34,16 +34,18 @@
 //                stored color by color.
 // What runs (run_hierarchy, each sub-step after prediction and contact generation, before the sweeps, whatever the
 // solver): p is copied (scratch, `start`); then from the coarsest level L down to level 1:
-//   a. `sweeps` sweeps over the level's constraints, color by color, each color a parallel loop (a color writes no
+//   a. `sweeps` sweeps over the level's constraints, color by color, each color a loop (a color writes no
 //      particle twice, and a pinned particle never), with an XPBD λ per constraint starting at 0 each sub-step;
 //   b. every particle of level l − 1 left out of level l moves by its parents' weighted corrections since `start`
 //      (p_f += Σ w_j (p_j − start_j)): it has not moved before, so it gets every coarser level's correction at once.
-// Each loop's items are independent, so the bits do not depend on the thread count or on how a loop is cut. The
-// pass runs once per sub-step (not per sweep): the sweeps after it keep their own order and padded copy.
+// Each loop's items are independent, so the bits do not depend on the thread count or on how a loop is cut; the
+// loops are the step's runner's (fork/join, or the thread team that runs a whole step: substep.cpp). The pass runs
+// once per sub-step (not per sweep), on p: the sweeps after it keep their own order and padded copy.
 #include "pbd/step_params.hpp"
 #include "pbd/detail/model.hpp"
 #include "scratch.hpp"
 
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -87,9 +89,42 @@ template <class Real> void ensure_hierarchy(Model<Real>& m, const Hierarchy& set
 template <class Real>
 std::string validate_hierarchy(const HierarchyModel<Real>& h, const Model<Real>& m, const Matrix3X<Real>* x = nullptr);
 
-/// The coarse-to-fine pass on p (3 × N) for a sub-step of length `h` (the design note above).
+/// Sizes `scratch` for passes over `hm` on n particles (called before a step's sub-steps: a team's members never
+/// resize it).
+template <class Real> void prepare_hierarchy(const HierarchyModel<Real>& hm, HierarchyScratch<Real>& scratch, Index n);
+
+/// One-sided XPBD projection of constraints [b, e) of one color of `level` on p (3 per particle), their λ at
+/// lambda[b, e): only a pair longer than its rest length is pulled together, and λ never pushes (λ ≤ 0).
 template <class Real>
-void run_hierarchy(const HierarchyModel<Real>& hm, HierarchyScratch<Real>& scratch, Matrix3X<Real>& p, Real h,
-                   bool parallel, const ParallelConfig& config);
+void project_level(const HierarchyLevel<Real>& level, Real inv_h2, Real* p, Real* lambda, Index b, Index e);
+
+/// Particles [b, e) of level.fine move by their parents' corrections since the pass began (p − start).
+template <class Real>
+void interpolate_level(const HierarchyLevel<Real>& level, const Real* start, Real* p, Index b, Index e);
+
+/// The coarse-to-fine pass on p (3 × n) for a sub-step of length `h` (the design note above). `loop(id, begin, end,
+/// body)` runs each of its loops, body(b, e) over parts of [begin, end), and returns when the whole loop is done (or,
+/// on a thread team, when the team's next shared loop will have waited for it): fork/join with partitioner `id`, or a
+/// team's loop (substep.cpp). Every loop's items are independent, so any cut gives the same bits.
+template <class Real, class Loop>
+void run_hierarchy(const HierarchyModel<Real>& hm, HierarchyScratch<Real>& k, Real* p, Index n, Real h,
+                   const Loop& loop) {
+  if (hm.levels.empty()) return;
+  Real* const start = k.start.data();
+  Real* const lambda = k.lambda.data();
+  std::size_t id = 0;
+  loop(id++, Index(0), Index(3 * n), [&](Index b, Index e) { std::copy(p + b, p + e, start + b); });
+  loop(id++, Index(0), Index(k.lambda.size()), [&](Index b, Index e) { std::fill(lambda + b, lambda + e, Real(0)); });
+  const Real inv_h2 = Real(1) / (h * h);
+  for (std::size_t l = hm.levels.size(); l-- > 0;) {
+    const HierarchyLevel<Real>& level = hm.levels[l];
+    Real* const level_lambda = lambda + k.lambda_offsets[l];
+    for (int sweep = 0; sweep < hm.settings.sweeps; ++sweep)
+      for (std::size_t c = 0; c + 1 < level.color_offsets.size(); ++c)
+        loop(id++, level.color_offsets[c], level.color_offsets[c + 1],
+             [&](Index b, Index e) { project_level(level, inv_h2, p, level_lambda, b, e); });
+    loop(id++, Index(0), Index(level.fine.size()), [&](Index b, Index e) { interpolate_level(level, start, p, b, e); });
+  }
+}
 
 }  // namespace pbd::detail

@@ -1,19 +1,15 @@
 // The hierarchy's coarse-to-fine pass and its invariants (hierarchy.hpp's design note).
 #include "hierarchy.hpp"
 
-#include "parallel_range.hpp"
 #include "pbd/detail/message.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace pbd::detail {
-namespace {
 
-// One-sided XPBD projection of coarse constraints [b, e) of `level` on p (3 per particle): only a pair longer than
-// its rest length is pulled together, and its accumulated λ never pushes (λ ≤ 0).
 template <class Real>
-void project(const HierarchyLevel<Real>& level, Real inv_h2, Real* p, Real* lambda, Index b, Index e) {
+void project_level(const HierarchyLevel<Real>& level, Real inv_h2, Real* p, Real* lambda, Index b, Index e) {
   for (Index c = b; c < e; ++c) {
     const auto [i, j] = level.pairs[c];
     Real* pi = p + 3 * std::size_t(i);
@@ -37,8 +33,8 @@ void project(const HierarchyLevel<Real>& level, Real inv_h2, Real* p, Real* lamb
   }
 }
 
-// Particles [b, e) of level.fine move by their parents' corrections since the pass began.
-template <class Real> void interpolate(const HierarchyLevel<Real>& level, const Real* start, Real* p, Index b, Index e) {
+template <class Real>
+void interpolate_level(const HierarchyLevel<Real>& level, const Real* start, Real* p, Index b, Index e) {
   for (Index f = b; f < e; ++f) {
     Real delta[3] = {0, 0, 0};
     for (Index q = level.parent_offsets[f]; q < level.parent_offsets[f + 1]; ++q) {
@@ -51,28 +47,12 @@ template <class Real> void interpolate(const HierarchyLevel<Real>& level, const 
   }
 }
 
-}  // namespace
-
-template <class Real>
-void run_hierarchy(const HierarchyModel<Real>& hm, HierarchyScratch<Real>& k, Matrix3X<Real>& positions, Real h,
-                   bool parallel, const ParallelConfig& config) {
-  if (hm.levels.empty()) return;
-  Real* p = positions.data();
-  const std::size_t n = std::size_t(positions.size());
-  k.start.assign(p, p + n);
-  const Real inv_h2 = Real(1) / (h * h);
-  std::size_t loop = 0;
-  for (std::size_t l = hm.levels.size(); l-- > 0;) {
-    const HierarchyLevel<Real>& level = hm.levels[l];
-    k.lambda.assign(level.pairs.size(), Real(0));
-    Real* lambda = k.lambda.data();
-    for (int sweep = 0; sweep < hm.settings.sweeps; ++sweep)
-      for (std::size_t c = 0; c + 1 < level.color_offsets.size(); ++c)
-        run_range(level.color_offsets[c], level.color_offsets[c + 1], parallel, config, k.partitioners[loop++],
-                  [&](Index b, Index e) { project(level, inv_h2, p, lambda, b, e); });
-    run_range(0, Index(level.fine.size()), parallel, config, k.partitioners[loop++],
-              [&](Index b, Index e) { interpolate(level, k.start.data(), p, b, e); });
-  }
+template <class Real> void prepare_hierarchy(const HierarchyModel<Real>& hm, HierarchyScratch<Real>& k, Index n) {
+  k.start.resize(3 * std::size_t(n));
+  k.lambda_offsets.assign(hm.levels.size() + 1, 0);
+  for (std::size_t l = 0; l < hm.levels.size(); ++l)
+    k.lambda_offsets[l + 1] = k.lambda_offsets[l] + hm.levels[l].pairs.size();
+  k.lambda.resize(k.lambda_offsets.back());
 }
 
 template <class Real>
@@ -131,10 +111,13 @@ std::string validate_hierarchy(const HierarchyModel<Real>& h, const Model<Real>&
   return {};
 }
 
-template void run_hierarchy(const HierarchyModel<float>&, HierarchyScratch<float>&, Matrix3X<float>&, float, bool,
-                            const ParallelConfig&);
-template void run_hierarchy(const HierarchyModel<double>&, HierarchyScratch<double>&, Matrix3X<double>&, double, bool,
-                            const ParallelConfig&);
+#define PBD_HIERARCHY_PASS_INSTANTIATE(Real)                                                                    \
+  template void project_level(const HierarchyLevel<Real>&, Real, Real*, Real*, Index, Index);                     \
+  template void interpolate_level(const HierarchyLevel<Real>&, const Real*, Real*, Index, Index);                 \
+  template void prepare_hierarchy(const HierarchyModel<Real>&, HierarchyScratch<Real>&, Index);
+PBD_HIERARCHY_PASS_INSTANTIATE(float)
+PBD_HIERARCHY_PASS_INSTANTIATE(double)
+#undef PBD_HIERARCHY_PASS_INSTANTIATE
 template std::string validate_hierarchy(const HierarchyModel<float>&, const Model<float>&, const Matrix3X<float>*);
 template std::string validate_hierarchy(const HierarchyModel<double>&, const Model<double>&, const Matrix3X<double>*);
 

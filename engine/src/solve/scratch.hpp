@@ -76,7 +76,8 @@ template <class C> struct FirstFitScratch {
 /// The hierarchy's per-sub-step buffers (hierarchy.hpp: run_hierarchy).
 template <class Real> struct HierarchyScratch {
   std::vector<Real> start;           // p at the start of the pass, 3 per particle
-  std::vector<Real> lambda;          // λ of one level's constraints
+  std::vector<Real> lambda;          // λ of every level's constraints, level l's from lambda_offsets[l]
+  std::vector<std::size_t> lambda_offsets;
   PartitionerPool partitioners;      // one per loop of the pass
 };
 
