@@ -223,5 +223,21 @@ TEST(HierarchyParams, SceneKeyRoundTripsAndBadSettingsAreErrors) {
   }
 }
 
+// A known defect, disabled until it is fixed (docs/performance.md, "What does not work yet"): with tethers and 4
+// levels, a cloth damped to rest ends the more stretched the more sub-steps it takes (this 20² cloth: 1.4% RMS at
+// 128 × 1; 16 × 1 and 2 or 3 levels stay within 0.1%). Run it with --gtest_also_run_disabled_tests.
+TEST(HierarchyDefect, DISABLED_ClothAtRestWithTethersStaysUnstretchedAtManySubsteps) {
+  for (int substeps : {16, 128}) {
+    const std::string scene =
+        R"({"name": "rest", "dt": 0.016666666666666666, "substeps": )" + std::to_string(substeps) +
+        R"(, "iterations": 1, "damping": 6.0, "hierarchy": {"levels": 4}, "bodies": [{"type": "cloth",
+        "resolution": 20, "pin": "corners", "stretch": {"stiffness": 1.0}, "bending": {"compliance": 1000.0},
+        "tethers": true}]})";
+    World<double> w = build_world<double>(parse_scene(scene, "rest.json").world);
+    for (int step = 0; step < 240; ++step) w.step();  // 4 s, damped to rest
+    EXPECT_LT(stretch_violation(w).rms, 1e-3) << substeps << " sub-steps";
+  }
+}
+
 }  // namespace
 }  // namespace pbd
