@@ -67,10 +67,10 @@ template <class Real> struct TeamRunner {
     member.loop(0, std::size_t(c.model.num_particles()), share,
                 [&](std::size_t i, std::size_t j) { body(Index(i), Index(j)); });
   }
-  // A loop of the hierarchy's pass: shared when it is as large as a loop the fork/join runner would not run inline.
+  // A loop of the hierarchy's pass, shared by the rule of the sweeps' team loops (Sweeper::team_loop_share_below).
   template <class Body> void loop(std::size_t, Index b, Index e, const Body& body) {
-    member.loop(std::size_t(b), std::size_t(e), std::size_t(e - b) >= c.config.inline_below,
-                [&](std::size_t i, std::size_t j) { body(Index(i), Index(j)); });
+    const bool shared = std::size_t(e - b) >= Sweeper<Real>::team_loop_share_below(c.config, member.size());
+    member.loop(std::size_t(b), std::size_t(e), shared, [&](std::size_t i, std::size_t j) { body(Index(i), Index(j)); });
   }
 };
 
