@@ -49,17 +49,20 @@ void bind_params(py::module_& m) {
 
   py::class_<Hierarchy>(m, "Hierarchy", "Hierarchical PBD (Mueller 2008): a coarse-to-fine pass over the stretch "
                                         "constraints before each sub-step's sweeps.")
-      .def(py::init<>(), "the defaults: off, 4 levels, 2 parents, 1 sweep per level, rigid stretch only")
+      .def(py::init<>(), "the defaults: off, 4 levels, 2 parents, 1 sweep per level, slack 0.001, rigid stretch only")
       .def_readwrite("enabled", &Hierarchy::enabled, "run the coarse-to-fine pass")
       .def_readwrite("levels", &Hierarchy::levels, "coarse levels, in [1, 16]")
       .def_readwrite("parents", &Hierarchy::parents, "k: neighbours in the coarser level of every particle left out, in [1, 8]")
       .def_readwrite("sweeps", &Hierarchy::sweeps, "sweeps of each coarse level per pass, in [1, 64]")
+      .def_readwrite("slack", &Hierarchy::slack,
+                     "strain left to the sweeps, in [0, 0.1]: a coarse constraint pulls only past (1 + slack) x its rest")
       .def_readwrite("compliant", &Hierarchy::compliant,
                      "also coarsen compliant (XPBD alpha > 0) stretch; it then settles shorter than alpha*T")
       .def("__repr__", [](const Hierarchy& h) {
         std::ostringstream o;
         o << "pbd.Hierarchy(enabled=" << (h.enabled ? "True" : "False") << ", levels=" << h.levels
-          << ", parents=" << h.parents << ", sweeps=" << h.sweeps << ", compliant=" << (h.compliant ? "True" : "False") << ")";
+          << ", parents=" << h.parents << ", sweeps=" << h.sweeps << ", slack=" << h.slack
+          << ", compliant=" << (h.compliant ? "True" : "False") << ")";
         return o.str();
       });
 

@@ -5,7 +5,8 @@
 // share of it).
 //   hierarchy_bench SCENE.json [--threads T] [--steps N] [--solver S] [--precision float|double] CONFIG...
 // CONFIG is SUBSTEPSxITERATIONS, with "+h" for the hierarchy, then optionally its levels L and options: sK sweeps per
-// coarse level, pK parents, c compliant stretch too (e.g. 8x1 8x1+h 16x1+h3 8x1+h6s2p1 1x20+hc).
+// coarse level, pK parents, eE slack (Hierarchy::slack), c compliant stretch too (e.g. 8x1 8x1+h 16x1+h3 8x1+h6s2p1
+// 16x1+he0 1x20+hc).
 #include "pbd/io/build_world.hpp"
 #include "pbd/io/scene.hpp"
 #include "pbd/metrics.hpp"
@@ -27,6 +28,7 @@ struct Config {
   std::string label;
   int substeps = 1, iterations = 1, levels = 0, sweeps = 1, parents = 2;  // levels 0: no hierarchy
   bool compliant = false;
+  double slack = pbd::Hierarchy{}.slack;
 };
 
 Config parse_config(const std::string& s) {
@@ -38,7 +40,7 @@ Config parse_config(const std::string& s) {
   c.iterations = std::stoi(s.substr(x + 1, plus == std::string::npos ? std::string::npos : plus - x - 1));
   if (plus != std::string::npos) {
     const std::string h = s.substr(plus + 1);
-    if (h.empty() || h[0] != 'h') throw std::runtime_error("config " + s + ": expected +h[L][sK][pK][c]");
+    if (h.empty() || h[0] != 'h') throw std::runtime_error("config " + s + ": expected +h[L][sK][pK][eSLACK][c]");
     c.levels = pbd::Hierarchy{}.levels;
     std::size_t i = 1;
     auto number = [&] {
@@ -53,6 +55,11 @@ Config parse_config(const std::string& s) {
       if (key == 's') c.sweeps = number();
       else if (key == 'p') c.parents = number();
       else if (key == 'c') c.compliant = true;
+      else if (key == 'e') {
+        std::size_t used = 0;
+        c.slack = std::stod(h.substr(i), &used);
+        i += used;
+      }
       else throw std::runtime_error("config " + s + ": unknown hierarchy option " + key);
     }
   }
@@ -74,6 +81,7 @@ int run(const pbd::Scene& scene, const std::vector<Config>& configs, pbd::Solver
     p.hierarchy.sweeps = c.sweeps;
     p.hierarchy.parents = c.parents;
     p.hierarchy.compliant = c.compliant;
+    p.hierarchy.slack = c.slack;
     w.set_params(p);
     worlds.push_back(std::move(w));
   }

@@ -68,6 +68,8 @@ void check_hierarchy(const Hierarchy& h) {
     throw Error(detail::message("set_params: hierarchy.parents must be in [1, 8], got ", h.parents));
   if (h.sweeps < 1 || h.sweeps > 64)
     throw Error(detail::message("set_params: hierarchy.sweeps must be in [1, 64], got ", h.sweeps));
+  if (!(h.slack >= 0.0 && h.slack <= 0.1))
+    throw Error(detail::message("set_params: hierarchy.slack must be in [0, 0.1], got ", h.slack));
 }
 
 template <class Real>

@@ -411,7 +411,8 @@ std::vector<std::string> error_measures() {
 }
 
 // The top-level "hierarchy": true or false, an integer (0: off, L > 0: on with L levels), or an object {"levels": L,
-// "parents": k, "sweeps": s, "compliant": false, "enabled": true} (every key optional; StepParams::hierarchy's
+// "parents": k, "sweeps": s, "slack": ε, "compliant": false,
+// "enabled": true} (every key optional; StepParams::hierarchy's
 // defaults).
 Hierarchy read_hierarchy(const JsonObject& o) {
   const nlohmann::json& v = o.value("hierarchy");
@@ -428,6 +429,7 @@ Hierarchy read_hierarchy(const JsonObject& o) {
     h.levels = int(j.integer("levels", 1, 16, h.levels));
     h.parents = int(j.integer("parents", 1, 8, h.parents));
     h.sweeps = int(j.integer("sweeps", 1, 64, h.sweeps));
+    h.slack = j.number("slack", 0.0, 0.1, h.slack);
     h.compliant = j.boolean("compliant", h.compliant);
     j.reject_unknown_keys();
   } else {

@@ -43,6 +43,13 @@ def test_params_attribute_round_trips_and_checks(world_type):
     p.hierarchy.levels = 3
     w.params = p
     assert w.params.hierarchy.enabled and w.params.hierarchy.levels == 3
+    p.hierarchy.slack = 0.002
+    w.params = p
+    assert w.params.hierarchy.slack == 0.002
+    p.hierarchy.slack = -1.0
+    with pytest.raises(pbd.Error, match="hierarchy.slack"):
+        w.params = p
+    p.hierarchy.slack = 0.001
     p.hierarchy.levels = 0
     with pytest.raises(pbd.Error, match="hierarchy.levels"):
         w.params = p

@@ -35,6 +35,10 @@ struct Hierarchy {
   int levels = 4;        ///< coarse levels above the stretch constraints, in [1, 16] (fewer where a level stops shrinking)
   int parents = 2;       ///< k: every particle left out of a coarser level has >= k neighbours in it, in [1, 8]
   int sweeps = 1;        ///< sweeps of each coarse level's constraints per pass, in [1, 64]
+  /// Strain a coarse constraint leaves to the sweeps, in [0, 0.1]: it pulls only a pair stretched more than
+  /// (1 + slack) × its path's rest length. At 0 the pass corrects the sweeps' own small residual every sub-step,
+  /// which a resting cloth at many sub-steps turns into motion that crumples it (solve/hierarchy.hpp).
+  double slack = 1e-3;
   /// Also coarsen stretch constraints of compliant sets (XPBD α > 0; a coarse constraint gets its path's summed α).
   /// Off by default: a position-only coarse pass moves XPBD's fixed point (the sweeps start from λ = 0 at positions
   /// the pass moved), so a compliant body settles shorter than α·T (solve/hierarchy.hpp).

@@ -175,9 +175,10 @@ template <class Real> void interpolate(const Graph& g, const std::vector<std::ui
   }
 }
 
-// The level's constraints, colored (graph_coloring) and stored color by color.
+// The level's constraints, colored (graph_coloring) and stored color by color, each with its path's rest length
+// stretched by the slack.
 template <class Real> void store_constraints(const Model<Real>& m, const Graph& g, const std::vector<std::uint8_t>& fixed,
-                                             HierarchyLevel<Real>& level) {
+                                             double slack, HierarchyLevel<Real>& level) {
   std::vector<std::uint32_t> offsets{0}, nodes;
   for (const Candidate& c : g.pairs) {
     nodes.push_back(std::uint32_t(c.a));
@@ -201,7 +202,7 @@ template <class Real> void store_constraints(const Model<Real>& m, const Graph& 
     const Candidate& c = g.pairs[item];
     level.pairs.push_back({c.a, c.b});
     level.w.push_back({inverse(c.a), inverse(c.b)});
-    level.rest.push_back(Real(c.rest));
+    level.rest.push_back(Real(c.rest * (1.0 + slack)));
     level.compliance.push_back(Real(c.alpha));
   }
 }
@@ -224,7 +225,7 @@ template <class Real> HierarchyModel<Real> build_hierarchy(const Model<Real>& m,
     Graph next = coarse_graph(g, coarse, local);
     HierarchyLevel<Real> level;
     interpolate(g, coarse, next, level);
-    store_constraints(m, next, fixed, level);
+    store_constraints(m, next, fixed, settings.slack, level);
     h.levels.push_back(std::move(level));
     g = std::move(next);
   }
