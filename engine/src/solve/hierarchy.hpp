@@ -31,10 +31,9 @@
 //                residual too, every sub-step, is not harmless: the interpolation (b. below) is not a projection
 //                of the fine constraints, so its correction distorts fine edges, the sweeps turn the distortion into
 //                velocity, and the next pass corrects again. On a resting cloth at many sub-steps (h small, so
-//                little damping per sub-step) with deep levels that loop gains energy and crumples the cloth (20²,
-//                4 levels, tethers, 128 × 1: 1.2% RMS stretch and a kinetic energy of 80 J in a 1 kg cloth at slack
-//                0; 0.006% at 0.001, as without the hierarchy). Its compliance is the sum of the path's compliances
-//                (XPBD α; a PBD set's edge counts as α = 0): springs in series.
+//                little damping per sub-step) with deep levels that loop gains energy and crumples the cloth
+//                (docs/performance.md). Its compliance is the sum of the path's compliances (XPBD α; a PBD set's
+//                edge counts as α = 0): springs in series.
 //                Masses (Müller 2008 §4): each coarse particle keeps its own mass and gains w·m of every particle
 //                left out that names it a parent with weight w, so a level carries the body's whole mass.
 //                Levels stop at StepParams::hierarchy.levels or when one keeps more than 90% of the particles.
