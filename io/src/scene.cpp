@@ -411,9 +411,8 @@ std::vector<std::string> error_measures() {
 }
 
 // The top-level "hierarchy": true or false, an integer (0: off, L > 0: on with L levels), or an object {"levels": L,
-// "parents": k, "sweeps": s, "slack": ε, "compliant": false,
-// "enabled": true} (every key optional; StepParams::hierarchy's
-// defaults).
+// "parents": k, "sweeps": s, "slack": ε, "compliant": false, "enabled": true} (every key optional; StepParams::
+// hierarchy's defaults).
 Hierarchy read_hierarchy(const JsonObject& o) {
   const nlohmann::json& v = o.value("hierarchy");
   Hierarchy h;
