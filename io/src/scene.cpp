@@ -11,6 +11,7 @@
 #include "pbd/io/mesh_body.hpp"
 #include "pbd/io/mesh_generators.hpp"
 #include "pbd/io/obj_loader.hpp"
+#include "pbd/io/tet_body.hpp"
 
 #include <algorithm>
 #include <array>
@@ -197,6 +198,73 @@ Body read_mesh(const JsonObject& o, DescriptionBuilder& world) {
     return add_mesh(world, mesh, opts, sets);
   } catch (const Error& e) {  // e.g. a volume on a flat or inside-out mesh: named with the OBJ file it came from
     o.fail(o.has("obj") ? "obj" : "generator", o.has("obj") ? message(obj_file, ": ", e.what()) : e.what());
+  }
+}
+
+// A tet body's "generator": {"type": "box", "cells": [nx, ny, nz], "size": [x, y, z]}; its vertex count is checked
+// against the particles the scene has left before the mesh is made.
+TetMesh read_tet_generator(const JsonObject& g, const DescriptionBuilder& world) {
+  const std::string type = g.string("type");
+  if (type != "box") g.fail("type", message("unknown tet generator ", detail::quoted(type), " (expected \"box\")"));
+  const auto cells = g.array("cells");
+  if (cells.size() != 3) g.fail("cells", message("expected [nx, ny, nz] (3 integers), got ", cells.size(), " values"));
+  std::array<int, 3> n{};
+  std::uint64_t vertices = 1;
+  for (int a = 0; a < 3; ++a) {
+    n[a] = int(detail::json_integer(*cells[a].first, g.file(), cells[a].second, 1, kMaxParticles));
+    vertices = std::min<std::uint64_t>(vertices * std::uint64_t(n[a] + 1), std::uint64_t(kMaxParticles) + 1);
+  }
+  check_particle_budget(g, "cells", world, vertices);
+  const std::array<double, 3> size = g.vec3("size", {1.0, 1.0, 1.0});
+  for (int a = 0; a < 3; ++a)
+    if (!(size[a] > 0.0) || !std::isfinite(size[a])) g.fail("size", message("component ", a, " must be > 0"));
+  g.reject_unknown_keys();
+  return tet_box_mesh(n, size);
+}
+
+// "clamped": "x_min" | "x_max" | "y_min" | "y_max" | "z_min" | "z_max": pins the vertices on that face of the
+// mesh's bounding box (tet_mesh_face_vertices).
+std::vector<Index> read_clamped(const JsonObject& o, const TetMesh& mesh) {
+  const std::string face = o.string("clamped");
+  static constexpr const char* kFacesNames[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+  for (int f = 0; f < 6; ++f)
+    if (face == kFacesNames[f]) return tet_mesh_face_vertices(mesh, f / 2, f % 2 == 1);
+  o.fail("clamped", message("expected \"x_min\", \"x_max\", \"y_min\", \"y_max\", \"z_min\" or \"z_max\", got ",
+                            detail::quoted(face)));
+}
+
+// A volumetric body: {"type": "tets", "generator": {...}, "origin", "scale", "density", "pinned": [...],
+// "clamped": face, "tet_volume": stiffness, "neo_hookean": {"young": E, "poisson": nu}}.
+Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
+  const TetMesh mesh = read_tet_generator(o.object("generator"), world);
+  TetBodyOptions opts;
+  opts.scale = o.number("scale", 1e-9, 1e9, 1.0);
+  opts.origin = o.vec3("origin", opts.origin);
+  opts.density = o.number("density", 1e-9, 1e9, opts.density);
+  if (o.has("pinned"))
+    for (const auto& [v, path] : o.array("pinned")) opts.pinned.push_back(local_index(*v, o.file(), path, mesh.num_vertices()));
+  if (o.has("clamped")) {
+    const std::vector<Index> clamped = read_clamped(o, mesh);
+    opts.pinned.insert(opts.pinned.end(), clamped.begin(), clamped.end());
+  }
+  TetConstraintSets sets;
+  sets.volume = read_set(o, TetVolumeConstraint<double>::kSceneKey, world);
+  if (o.has(NeoHookeanConstraint<double>::kSceneKey)) {
+    const JsonObject m = o.object(NeoHookeanConstraint<double>::kSceneKey);
+    const double young = m.number("young", 1e-9, 1e15);
+    const double poisson = m.number("poisson", -1.0, 0.5);
+    if (!(poisson > -1.0 && poisson < 0.5)) m.fail("poisson", message("must be in (-1, 0.5), got ", poisson));
+    const NeoHookeanMaterial material = young_poisson(young, poisson);
+    sets.neo_hookean = world.add_constraint_set(Stiffness::xpbd_compliance(material.compliance()));
+    sets.ratio = material.ratio();
+    m.reject_unknown_keys();
+  }
+  if (!sets.volume && !sets.neo_hookean)
+    o.fail("generator", "a tet body needs \"neo_hookean\" or \"tet_volume\" (or both): without them nothing holds it");
+  try {
+    return add_tet_body(world, mesh, opts, sets);
+  } catch (const Error& e) {
+    o.fail("generator", e.what());
   }
 }
 
@@ -492,8 +560,9 @@ Scene parse_scene(const std::string& text, const std::string& source) {
       else if (type == "particles") body = read_particles(b, world);
       else if (type == "mesh") body = read_mesh(b, world);
       else if (type == "grains") body = read_grains(b, world);
+      else if (type == "tets") body = read_tets(b, world);
       else b.fail("type", message("unknown body type ", detail::quoted(type),
-                                  " (expected \"cloth\", \"rope\", \"particles\", \"mesh\" or \"grains\")"));
+                                  " (expected \"cloth\", \"rope\", \"particles\", \"mesh\", \"grains\" or \"tets\")"));
       read_listed_types(b, world, body);
       read_tethers(b, type, world, body);
       detail::read_contact_body(b, body, world);

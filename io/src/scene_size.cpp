@@ -102,6 +102,22 @@ Size body_size(const nlohmann::json& b) {
     }
     return {n, 0, "count"};
   }
+  if (t == "tets") {  // a box: (nx + 1)(ny + 1)(nz + 1) vertices, 6 tets per cell, one constraint per key per tet
+    const auto g = b.find("generator");
+    if (g == b.end() || !g->is_object()) return {};
+    const auto c = g->find("cells");
+    if (c == g->end() || !c->is_array() || c->size() != 3) return {};
+    double v = 1, cells = 1;
+    for (const auto& x : *c) {
+      const double k = x.is_number_integer() ? x.get<double>() : 0.0;
+      const double ok = k >= 1 && k <= double(kMaxSceneParticles) ? k : 0.0;
+      v *= ok + 1;
+      cells *= ok;
+    }
+    const double per_tet = double(has(b, TetVolumeConstraint<double>::kSceneKey)) +
+                           double(has(b, NeoHookeanConstraint<double>::kSceneKey));
+    return {v, 6 * cells * per_tet, "generator/cells"};
+  }
   if (t == "particles") {
     const auto s = b.find(StretchConstraint<double>::kSceneKey);
     return {elements(b, "positions"), s != b.end() && s->is_object() ? elements(*s, "pairs") : 0, "positions"};

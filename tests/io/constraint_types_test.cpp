@@ -70,7 +70,7 @@ TEST(ConstraintTypes, EachTypeGoesThroughEveryPass) {
       World<float> w = four_particles();
       C c = blank_constraint<C>();
       for (int i = 0; i < C::kArity; ++i) c.particles[i] = Index(i);
-      EXPECT_EQ(w.add(c, 0), 0u);
+      EXPECT_EQ(w.add(c, required_fields<C>()), 0u);  // blank values for what has no default
       ASSERT_EQ(w.template constraints<C>().size(), 1u);
       auto p = w.params();
       p.solver = solver;

@@ -117,14 +117,14 @@ private:
   // λ reset where some may be non-zero (or the arrays do not match the stores); the contacts' every sub-step.
   void reset_lambda() {
     bool sized = s_.volume_lambda.size() == m_.volume.table.size() && s_.lambda.size() == m_.num_types();
-    for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) { sized = sized && s_.lambda[t].size() == type.size(); });
+    for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) { sized = sized && s_.lambda[t].size() == type.num_lambdas(); });
 #ifndef NDEBUG
     if (!s_.lambda_dirty && sized)  // debug builds: λ is zero wherever no sweep had α̃ ≠ 0 since the last reset
       for (const auto& l : s_.lambda) assert(std::ranges::all_of(l, [](Real x) { return x == Real(0); }));
 #endif
     if (s_.lambda_dirty || !sized) {
       s_.lambda.resize(m_.num_types());
-      for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) { s_.lambda[t].assign(type.size(), Real(0)); });
+      for_each_type(m_, [&](const TypeStore<Real>& type, std::size_t t) { s_.lambda[t].assign(type.num_lambdas(), Real(0)); });
       s_.volume_lambda.assign(m_.volume.table.size(), Real(0));
     }
     // Contacts' λ count the projections that moved them (collision.hpp, particle_contact.hpp): reset every sub-step.

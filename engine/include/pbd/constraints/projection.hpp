@@ -1,6 +1,7 @@
 #pragma once
 /// \file projection.hpp
 /// The one projection every solver calls: PBD/XPBD correction of a single fixed-arity constraint.
+#include "pbd/constraints/traits.hpp"
 #include "pbd/stiffness.hpp"
 #include "pbd/types.hpp"
 
@@ -51,9 +52,17 @@ template <class Constraint, class Real>
     wi[i] = w[c.particles[i]];
   }
   Vec3<Real> dp[n];
-  Real dlambda;
-  if (!correction(c, q, wi, coeff, lambda, dp, dlambda)) return;
-  if (coeff.alpha_tilde != Real(0)) lambda += relax * dlambda;
+  if constexpr (multipliers<Constraint>() > 1) {  // its own coupled correction: `lambda` is the first of its λ
+    Real dlambda[multipliers<Constraint>()];
+    Real* lam = &lambda;
+    if (!correction(c, q, wi, coeff, static_cast<const Real*>(lam), dp, dlambda)) return;
+    if (coeff.alpha_tilde != Real(0))
+      for (int k = 0; k < multipliers<Constraint>(); ++k) lam[k] += relax * dlambda[k];
+  } else {
+    Real dlambda;
+    if (!correction(c, q, wi, coeff, lambda, dp, dlambda)) return;
+    if (coeff.alpha_tilde != Real(0)) lambda += relax * dlambda;
+  }
   for (int i = 0; i < n; ++i)
     if (wi[i] != Real(0)) Eigen::Map<Vec3<Real>>(out + 3 * std::size_t(c.particles[i])) += dp[i];
 }

@@ -12,7 +12,8 @@
 ///   kSceneKey      its key in a scene body ("stretch", "anchors"), read as kSceneForm says
 ///   kTiesToWorld   its constraints hold particles to fixed points (a body they hold is not free: free_bodies.cpp)
 ///   kMeasure       how its violation is reported: the study's error key, label, unit and scale ("stretch_pct", %)
-///   fields()       its rest values (members), each with its name, its noun in messages and whether a scene gives it
+///   fields()       its rest values (members), each with its name, its noun in messages, whether a scene gives it
+///                  and whether it has no default (required)
 /// and three free functions found by argument-dependent lookup:
 ///   violation(c, x)          the normalized violation at positions x, in double (negative: not measurable)
 ///   measure_rest(c, x, given) fills the rest values not in `given` from positions x (a world's current ones);
@@ -46,7 +47,9 @@ template <class C, class T> struct Field {
   const char* noun;         ///< what messages call it ("rest length", "target")
   T C::*member;             ///< the member
   bool in_scene = false;    ///< a scene may give it (one value for all the key's entries); else measured
+  bool required = false;    ///< it has no default: measure_rest refuses a constraint that does not give it
 };
+template <class C, class T> Field(const char*, const char*, T C::*, bool, bool) -> Field<C, T>;
 template <class C, class T> Field(const char*, const char*, T C::*, bool) -> Field<C, T>;
 template <class C, class T> Field(const char*, const char*, T C::*) -> Field<C, T>;
 
@@ -55,6 +58,13 @@ template <class C, class T> Field(const char*, const char*, T C::*) -> Field<C, 
 template <class C> constexpr bool ties_to_world() {
   if constexpr (requires { C::kTiesToWorld; }) return C::kTiesToWorld;
   else return false;
+}
+
+/// Multipliers (λ values) per constraint of C: its kMultipliers (a type whose own `correction` solves several
+/// coupled constraints at once, neo_hookean.hpp), else 1.
+template <class C> constexpr int multipliers() {
+  if constexpr (requires { C::kMultipliers; }) return C::kMultipliers;
+  else return 1;
 }
 
 /// Number of rest values of C.
@@ -66,6 +76,15 @@ template <class C, class F> constexpr void for_each_field(F&& f) {
   [&]<std::size_t... I>(std::index_sequence<I...>) {
     (f(std::get<I>(fields), std::integral_constant<std::size_t, I>{}), ...);
   }(std::make_index_sequence<kNumFields<C>>{});
+}
+
+/// The mask of C's rest values that have no default (Field::required): what a caller must give.
+template <class C> constexpr FieldMask required_fields() {
+  FieldMask mask = 0;
+  for_each_field<C>([&](const auto& field, auto i) {
+    if (field.required) mask |= FieldMask(1) << decltype(i)::value;
+  });
+  return mask;
 }
 
 /// A constraint of type C with no particles named yet (all 0), set 0 and every rest value zero (a vector's too).

@@ -24,6 +24,9 @@
 
 namespace pbd::detail {
 
+/// λ values per constraint of type C (multipliers(), traits.hpp): its λ are lam[kMul<C>·i ...].
+template <class C> inline constexpr Index kMul = Index(multipliers<C>());
+
 /// The coefficients of constraint c: its set's, or those of a hard constraint when C has no set (collisions).
 template <class C, class Real>
 [[gnu::always_inline]] inline SolveCoefficients<Real> coefficients_of(const C& c, const SolveCoefficients<Real>* coeff) {
@@ -41,7 +44,7 @@ template <bool kInPlace, bool kReverse, class C, class Real>
     relax = Real(1);
   }
   const Index n = Index(st.size());
-  auto one = [&](Index i) { project_into(st.items[i], p, w, coefficients_of(st.items[i], coeff), lam[i], out, relax); };
+  auto one = [&](Index i) { project_into(st.items[i], p, w, coefficients_of(st.items[i], coeff), lam[kMul<C> * i], out, relax); };
   if (st.slot.empty()) {  // never colored: stored order is insertion order
     if constexpr (kReverse) {
       for (Index i = n; i-- > 0;) one(i);
@@ -66,7 +69,8 @@ template <bool kInPlace, class C, class Real>
     out = p;
     relax = Real(1);
   }
-  for (Index i = b; i < e; ++i) project_into(st.items[i], p, w, coefficients_of(st.items[i], coeff), lam[i], out, relax);
+  for (Index i = b; i < e; ++i)
+    project_into(st.items[i], p, w, coefficients_of(st.items[i], coeff), lam[kMul<C> * i], out, relax);
 }
 
 /// Blocks handled by one task of the block schedule's scalar interiors: they are projected interleaved, the k-th
@@ -89,7 +93,7 @@ template <bool kReverse, class C, class Real>
     len[j] = st.offsets[first + j + 1] - begin[j];
     common = std::min(common, len[j]);
   }
-  auto one = [&](Index i) { project_into(items[i], p, w, coeff[items[i].set], lam[i], p, Real(1)); };
+  auto one = [&](Index i) { project_into(items[i], p, w, coeff[items[i].set], lam[kMul<C> * i], p, Real(1)); };
   if constexpr (kReverse) {  // each block backwards: its tail beyond the common length first, then interleaved
     for (Index j = 0; j < m; ++j)
       for (Index k = len[j]; k-- > common;) one(begin[j] + k);
@@ -115,6 +119,7 @@ public:
   virtual std::type_index type() const = 0;              ///< the constraint type C
   virtual const char* name() const = 0;                  ///< C::kName
   virtual std::size_t size() const = 0;                  ///< number of constraints
+  virtual std::size_t num_lambdas() const = 0;           ///< λ values: size() × the type's multipliers()
   bool empty() const { return size() == 0; }             ///< true when there are none
   virtual bool up_to_date() const = 0;                   ///< every constraint has a group
   virtual Index first_uncolored() const = 0;             ///< user index of the first constraint without a group
@@ -181,6 +186,7 @@ public:
   std::type_index type() const override { return typeid(C); }
   const char* name() const override { return C::kName; }
   std::size_t size() const override { return store.size(); }
+  std::size_t num_lambdas() const override { return std::size_t(kMul<C>) * store.size(); }
   bool up_to_date() const override { return store.up_to_date(); }
   Index first_uncolored() const override { return Index(store.color.size()); }
 
