@@ -1,8 +1,9 @@
 #pragma once
 /// \file tet_mesh_reader.hpp
-/// Tetrahedral meshes from Gmsh (.msh) files, read and checked in one call: the reader returns a TetMesh that
-/// check_tet_mesh accepts, or throws a pbd::Error naming the file and where in it what is wrong. It keeps only the
-/// nodes some tet names (a node no tet names would be a free particle), in their order in the file, numbered from 0.
+/// Tetrahedral meshes from Gmsh (.msh) and TetGen (.node and .ele) files, read and checked in one call: a reader
+/// returns a TetMesh that check_tet_mesh accepts, or throws a pbd::Error naming the file and where in it what is
+/// wrong. Both readers keep only the nodes some tet names (a node no tet names would be a free particle), in their
+/// order in the file, numbered from 0.
 #include "pbd/io/tet_mesh.hpp"
 
 #include <cstdint>
@@ -12,7 +13,7 @@
 
 namespace pbd {
 
-/// Largest file the tet mesh reader reads.
+/// Largest file the tet mesh readers read (each of TetGen's two).
 inline constexpr std::uintmax_t kMaxTetMeshBytes = 512u << 20;
 
 /// Loads the 4-node tetrahedra (element type 4) of a Gmsh MSH file, ASCII or binary (either byte order): versions
@@ -35,5 +36,26 @@ TetMesh load_gmsh(const std::filesystem::path& file);
 
 /// Parses the bytes of an MSH file as load_gmsh does (at most kMaxTetMeshBytes); `source` names it in messages.
 TetMesh parse_gmsh(std::string_view bytes, const std::string& source);
+
+/// Loads a TetGen mesh: `file` is x.node, x.ele or their stem x (x.1 for tetgen's x.1.node), and both x.node and
+/// x.ele are read. '#' starts a comment; blank lines are skipped. x.node: a header "<points> [3 [<attributes>
+/// [<boundary marker 0 or 1>]]]", then one line per point "<number> <x> <y> <z> [attributes] [marker]", numbered
+/// consecutively from 0 or from 1 (the first point says which; the .ele file numbers nodes the same way). x.ele: a
+/// header "<tets> [4 [<attributes>]]", then one line per tet "<number> <n0> <n1> <n2> <n3> [attributes]".
+/// Attributes and markers are counted but not read. TetGen writes every tet positively oriented in TetGen's own
+/// sense, which is this library's (see tetgen_reader.cpp), so corners are kept in their order. Throws pbd::Error
+/// naming the file and the line ("x.ele:3: tet 2 names node 99, which x.node does not have ..."): a missing, empty,
+/// non-regular or oversize file (either one); a header or line with a missing, extra, non-numeric or non-finite
+/// value; a dimension other than 3; points not numbered consecutively from 0 or 1; an .ele of 10-node tets (tetgen
+/// -o2) or any node count but 4; no points or no tets, or a count of them the file does not hold (checked against its
+/// size before anything is allocated); a tet naming a node the .node
+/// file does not have; an inverted or degenerate tet (check_tet_mesh names it by its index from 0, then the message
+/// gives its number and line in the .ele file).
+TetMesh load_tetgen(const std::filesystem::path& file);
+
+/// Parses the texts of a TetGen .node and .ele file as load_tetgen does (each at most kMaxTetMeshBytes); the
+/// sources name them in messages.
+TetMesh parse_tetgen(std::string_view node_text, const std::string& node_source, std::string_view ele_text,
+                     const std::string& ele_source);
 
 }  // namespace pbd
