@@ -339,6 +339,7 @@ TEST(TetReadGmsh, EveryVersionAndEncodingReadsBackTheMesh) {
     SCOPED_TRACE(name);
     write(dir / name, msh(bar(), format));
     expect_bar(load_gmsh(dir / name));
+    expect_bar(load_tet_mesh(dir / name));
   }
   // Version 2 as Gmsh 2.x wrote it before 2.2 ("2 0 8"): the same layout.
   expect_bar(parse_gmsh(replaced(msh(bar(), kV22), "2.2 0 8", "2 0 8"), "v2.msh"));
@@ -359,6 +360,7 @@ TEST(TetReadTetgen, ZeroAndOneBasedFilesReadBackTheMesh) {
     expect_bar(load_tetgen(dir / "bar.1.node"));
     expect_bar(load_tetgen(dir / "bar.1.ele"));
     expect_bar(load_tetgen(dir / "bar.1"));  // the stem
+    expect_bar(load_tet_mesh(dir / "bar.1.ele"));
   }
 }
 
@@ -475,6 +477,17 @@ TEST(TetReadTetgen, FilesTetgenWroteReadAsTheirMesh) {
   const TetMesh region = parse_tetgen(kBoxRegionNode, "boxr.1.node", kBoxRegionEle, "boxr.1.ele");
   EXPECT_TRUE(region.positions == box.positions);
   EXPECT_EQ(region.tets, box.tets);
+}
+
+TEST(TetReadFiles, DispatchByExtension) {
+  const test::TempDir dir("pbd_tet_read");
+  write(dir / "bar.msh", msh(bar(), kV41));
+  expect_bar(load_tet_mesh(dir / "bar.msh"));
+  write(dir / "bar.node", tetgen_node(bar(), {}));
+  write(dir / "bar.ele", tetgen_ele(bar(), {}));
+  expect_bar(load_tet_mesh(dir / "bar.node"));
+  for (const char* name : {"bar.obj", "bar", "bar.vtu", "bar.MSH"})
+    expect_words(error_of([&] { load_tet_mesh(dir / name); }), {name, ".msh (Gmsh)", ".node or .ele (TetGen)"});
 }
 
 // --- unreadable files -------------------------------------------------------------------------------------------

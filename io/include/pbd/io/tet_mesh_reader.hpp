@@ -58,4 +58,9 @@ TetMesh load_tetgen(const std::filesystem::path& file);
 TetMesh parse_tetgen(std::string_view node_text, const std::string& node_source, std::string_view ele_text,
                      const std::string& ele_source);
 
+/// Loads a tet mesh by the extension of `file`, in lower case as Gmsh and TetGen write it: .msh with load_gmsh, .node
+/// or .ele with load_tetgen. Throws pbd::Error naming the file and the extensions accepted for any other extension,
+/// or what the reader throws.
+TetMesh load_tet_mesh(const std::filesystem::path& file);
+
 }  // namespace pbd
