@@ -1,4 +1,5 @@
 #include "pbd/io/tetrahedralize.hpp"
+#include "pbd/io/tet_mesh_reader.hpp"
 
 #include "pbd/closed_mesh.hpp"
 #include "pbd/constraints/degenerate.hpp"
@@ -215,124 +216,14 @@ std::optional<std::string> intersections(const std::filesystem::path& dir, const
   return message(source, ": cannot fill with tets: the surface intersects itself (tetgen -d: ", reason, ")");
 }
 
-// The data lines of a TetGen text file, split into words: '#' starts a comment, blank lines are skipped.
-class TetgenLines {
-public:
-  TetgenLines(const std::filesystem::path& file, const std::string& source)
-      : name_(message(source, ": tetgen's ", file.filename().string())) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw Error(name_ + ": cannot open it");
-    std::ostringstream s;
-    s << in.rdbuf();
-    text_ = s.str();
-  }
-
-  // The next data line's words; throws at the end of the file.
-  const std::vector<std::string_view>& next() {
-    words_.clear();
-    while (words_.empty()) {
-      if (pos_ >= text_.size()) throw Error(message(name_, ": ends after line ", line_, ", more was expected"));
-      const auto end = std::min(text_.find('\n', pos_), text_.size());
-      std::string_view line(text_.data() + pos_, end - pos_);
-      pos_ = end + 1;
-      ++line_;
-      line = line.substr(0, line.find('#'));
-      for (std::size_t at = 0; at < line.size();) {
-        at = line.find_first_not_of(" \t\r", at);
-        if (at == std::string_view::npos) break;
-        const auto stop = std::min(line.find_first_of(" \t\r", at), line.size());
-        words_.push_back(line.substr(at, stop - at));
-        at = stop;
-      }
-    }
-    return words_;
-  }
-
-  // Throws unless only comments and blank lines are left.
-  void expect_end() {
-    const std::size_t counted = line_;
-    try {
-      next();
-    } catch (const Error&) {
-      return;
-    }
-    throw Error(message(name_, ":", line_, ": more data than the ", counted, " lines its counts announce"));
-  }
-
-  long long integer(std::string_view word, long long lo, long long hi) const {
-    long long x = 0;
-    const auto r = std::from_chars(word.data(), word.data() + word.size(), x);
-    if (r.ec != std::errc() || r.ptr != word.data() + word.size() || x < lo || x > hi)
-      fail(message("\"", word.substr(0, 40), "\" is not an integer from ", lo, " to ", hi));
-    return x;
-  }
-
-  double real(std::string_view word) const {
-    double x = 0.0;
-    const auto r = std::from_chars(word.data(), word.data() + word.size(), x);
-    if (r.ec != std::errc() || r.ptr != word.data() + word.size() || !std::isfinite(x))
-      fail(message("\"", word.substr(0, 40), "\" is not a finite number"));
-    return x;
-  }
-
-  // Throws unless the current line has `n` words.
-  void expect_words(std::size_t n) const {
-    if (words_.size() != n) fail(message("expected ", n, " numbers, found ", words_.size()));
-  }
-
-  [[noreturn]] void fail(const std::string& what) const { throw Error(message(name_, ":", line_, ": ", what)); }
-
-private:
-  std::string name_;
-  std::string text_;
-  std::size_t pos_ = 0;
-  std::size_t line_ = 0;
-  std::vector<std::string_view> words_;
-};
-
-// Reads the mesh tetgen wrote to `stem`.node and `stem`.ele: only what tetgen -z itself writes (counts, then one line
-// per item numbered from 0; attributes and boundary markers skipped). The full TetGen reader (load_tetgen, being
-// written on another branch) should replace this once it lands.
-// Orientation: TetGen 1.5 writes each tet's corners in the order it stores them (the -R switch, never passed here,
-// would swap the first two), which puts p3 on the side the normal (p1 − p0) × (p2 − p0) points to (Shewchuk's
-// orient3d(p0, p1, p2, p3) < 0): det[p1 − p0, p2 − p0, p3 − p0] > 0, our orientation (tet_mesh.hpp), so corners are
-// taken as they are. Found on real output: every tet of the pig (with and without -q, -a, -Y) and of a cube has a
-// positive signed volume; check_tet_mesh checks it again on every mesh, and the tests on every surface they fill.
+// The mesh tetgen wrote to `stem`.node and `stem`.ele, read by load_tetgen (which keeps the corners' order: TetGen
+// writes each tet positively oriented in our sense, tetgen_reader.cpp), its errors prefixed by `source`.
 TetMesh read_tetgen_output(const std::filesystem::path& stem, const std::string& source) {
-  constexpr long long kMaxItems = std::numeric_limits<int>::max();  // tetgen counts in int
-  TetMesh mesh;
-  TetgenLines node(stem.string() + ".node", source);
-  {
-    const auto& h = node.next();
-    if (h.size() != 4) node.fail("expected the header \"<points> 3 <attributes> <markers>\"");
-    const long long n = node.integer(h[0], 1, kMaxItems);
-    node.integer(h[1], 3, 3);
-    const long long attributes = node.integer(h[2], 0, 1000);
-    const long long markers = node.integer(h[3], 0, 1);
-    mesh.positions.resize(3, n);
-    for (long long v = 0; v < n; ++v) {
-      const auto& w = node.next();
-      node.expect_words(std::size_t(4 + attributes + markers));
-      node.integer(w[0], v, v);
-      for (int d = 0; d < 3; ++d) mesh.positions(d, v) = node.real(w[1 + d]);
-    }
-    node.expect_end();
+  try {
+    return load_tetgen(stem);
+  } catch (const Error& e) {
+    throw Error(message(source, ": tetgen's output: ", e.what()));
   }
-  TetgenLines ele(stem.string() + ".ele", source);
-  const auto& h = ele.next();
-  if (h.size() != 3) ele.fail("expected the header \"<tets> 4 <attributes>\"");
-  const long long m = ele.integer(h[0], 0, kMaxItems);
-  ele.integer(h[1], 4, 4);
-  const long long attributes = ele.integer(h[2], 0, 1000);
-  mesh.tets.resize(std::size_t(m));
-  for (long long t = 0; t < m; ++t) {
-    const auto& w = ele.next();
-    ele.expect_words(std::size_t(5 + attributes));
-    ele.integer(w[0], t, t);
-    for (int k = 0; k < 4; ++k) mesh.tets[std::size_t(t)][k] = Index(ele.integer(w[1 + k], 0, mesh.num_vertices() - 1));
-  }
-  ele.expect_end();
-  return mesh;
 }
 
 // Six times the enclosed volume; throws unless the surface is closed, manifold, outward oriented, uses every vertex,
