@@ -12,6 +12,8 @@
 #include "pbd/io/mesh_generators.hpp"
 #include "pbd/io/obj_loader.hpp"
 #include "pbd/io/tet_body.hpp"
+#include "pbd/io/tet_mesh_reader.hpp"
+#include "pbd/io/tetrahedralize.hpp"
 
 #include <algorithm>
 #include <array>
@@ -201,11 +203,25 @@ Body read_mesh(const JsonObject& o, DescriptionBuilder& world) {
   }
 }
 
-// A tet body's "generator": {"type": "box", "cells": [nx, ny, nz], "size": [x, y, z]}; its vertex count is checked
-// against the particles the scene has left before the mesh is made.
+// A tet body's "generator": {"type": "box", "cells": [nx, ny, nz], "size": [x, y, z]} (its vertex count checked
+// against the particles the scene has left before the mesh is made) or {"type": "ball", "level", "radius",
+// "max_volume"} (an icosphere of that level, at most 10242 vertices, filled with tets by tetgen).
 TetMesh read_tet_generator(const JsonObject& g, const DescriptionBuilder& world) {
   const std::string type = g.string("type");
-  if (type != "box") g.fail("type", message("unknown tet generator ", detail::quoted(type), " (expected \"box\")"));
+  if (type == "ball") {  // an icosphere's surface (read_generator's) filled by tetgen
+    const int level = int(g.integer("level", 0, 5, 2));
+    const double radius = g.number("radius", 1e-6, 1e6, 1.0);
+    TetrahedralizeOptions t;
+    t.max_volume = g.number("max_volume", 0.0, 1e9, t.max_volume);
+    g.reject_unknown_keys();
+    try {
+      return tetrahedralize(icosphere_mesh(level, radius), t, "ball");
+    } catch (const Error& e) {
+      g.fail("type", e.what());
+    }
+  }
+  if (type != "box")
+    g.fail("type", message("unknown tet generator ", detail::quoted(type), " (expected \"box\" or \"ball\")"));
   const auto cells = g.array("cells");
   if (cells.size() != 3) g.fail("cells", message("expected [nx, ny, nz] (3 integers), got ", cells.size(), " values"));
   std::array<int, 3> n{};
@@ -233,10 +249,43 @@ std::vector<Index> read_clamped(const JsonObject& o, const TetMesh& mesh) {
                             detail::quoted(face)));
 }
 
-// A volumetric body: {"type": "tets", "generator": {...}, "origin", "scale", "density", "pinned": [...],
+// A file name relative to the scene file, from key `key`; empty or with a NUL byte refused.
+std::filesystem::path scene_relative_file(const JsonObject& o, const std::string& key) {
+  const std::string name = o.string(key);
+  if (name.empty()) o.fail(key, "the file name is empty");
+  if (name.find('\0') != std::string::npos) o.fail(key, "the file name contains a NUL character");
+  return std::filesystem::path(o.file()).parent_path() / name;
+}
+
+// A tet body's mesh: exactly one of "generator" (a box), "file" (Gmsh .msh or TetGen .node/.ele) and "obj" (a
+// closed surface filled with tets by tetgen, with "max_volume" (m³, 0: no limit) and "max_radius_edge_ratio").
+TetMesh read_tet_mesh(const JsonObject& o, const DescriptionBuilder& world) {
+  const int given = int(o.has("generator")) + int(o.has("file")) + int(o.has("obj"));
+  if (given != 1) o.fail("generator", "give exactly one of \"generator\", \"file\" and \"obj\"");
+  if (o.has("generator")) return read_tet_generator(o.object("generator"), world);
+  const std::string key = o.has("file") ? "file" : "obj";
+  const std::filesystem::path file = scene_relative_file(o, key);
+  TetMesh mesh;
+  try {
+    if (key == "file") {
+      mesh = load_tet_mesh(file);
+    } else {
+      TetrahedralizeOptions t;
+      t.max_volume = o.number("max_volume", 0.0, 1e9, t.max_volume);
+      t.max_radius_edge_ratio = o.number("max_radius_edge_ratio", 1.0, 100.0, t.max_radius_edge_ratio);
+      mesh = tetrahedralize(load_obj(file), t, file.string());
+    }
+  } catch (const Error& e) {
+    o.fail(key, e.what());
+  }
+  check_particle_budget(o, key, world, mesh.num_vertices());
+  return mesh;
+}
+
+// A volumetric body: {"type": "tets", mesh (read_tet_mesh), "origin", "scale", "density", "pinned": [...],
 // "clamped": face, "tet_volume": stiffness, "neo_hookean": {"young": E, "poisson": nu}}.
 Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
-  const TetMesh mesh = read_tet_generator(o.object("generator"), world);
+  const TetMesh mesh = read_tet_mesh(o, world);
   TetBodyOptions opts;
   opts.scale = o.number("scale", 1e-9, 1e9, 1.0);
   opts.origin = o.vec3("origin", opts.origin);
@@ -264,7 +313,7 @@ Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
   try {
     return add_tet_body(world, mesh, opts, sets);
   } catch (const Error& e) {
-    o.fail("generator", e.what());
+    o.fail(o.has("generator") ? "generator" : o.has("file") ? "file" : "obj", e.what());
   }
 }
 

@@ -1,0 +1,100 @@
+// Tet bodies in scenes: a box, a ball and an OBJ filled by tetgen, and a TetGen file, each built with the constraints
+// its keys ask for; every malformed key is an error naming the body's key path.
+#include "error_checks.hpp"
+#include "temp_dir.hpp"
+#include "pbd/io/build_world.hpp"
+#include "pbd/io/scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+namespace pbd {
+namespace {
+
+using test::error_of;
+using test::expect_words;
+using test::replaced;
+
+const std::string kBar = R"({"name": "bar", "dt": 0.01,
+  "bodies": [{"type": "tets", "generator": {"type": "box", "cells": [4, 1, 1], "size": [0.4, 0.1, 0.1]},
+              "density": 500, "clamped": "x_min", "neo_hookean": {"young": 1e6, "poisson": 0.3},
+              "tet_volume": {"compliance": 1e-9}}]
+})";
+
+TEST(TetScene, ABoxBarIsBuiltWithItsTetsClampedFaceAndMasses) {
+  const Scene s = parse_scene(kBar, "bar.json");
+  const World<double> w = build_world<double>(s.world);
+  ASSERT_EQ(w.num_particles(), 5u * 2 * 2);
+  EXPECT_EQ(w.constraints<NeoHookeanConstraint<double>>().size(), 24u);
+  EXPECT_EQ(w.constraints<TetVolumeConstraint<double>>().size(), 24u);
+  double mass = 0;
+  int pinned = 0;
+  for (Index i = 0; i < w.num_particles(); ++i) {
+    if (w.inverse_masses()[i] == 0) {
+      ++pinned;
+      EXPECT_EQ(w.positions()(0, i), 0.0);
+    } else {
+      mass += 1 / w.inverse_masses()[i];
+    }
+  }
+  EXPECT_EQ(pinned, 4);
+  EXPECT_NEAR(mass, 500 * 0.4 * 0.01 * (1.0 - 0.25 * 0.5), 1e-12);  // the pinned corners' lumped share is gone
+  ASSERT_EQ(s.bodies.size(), 1u);
+  EXPECT_EQ(s.bodies[0].triangles.size(), std::size_t(4 * (4 + 4 + 1)));  // the boundary: 2 per cell face
+  // μ/λ and the compliance 1/μ from E and ν (neo_hookean.hpp): μ = E / 2.6, λ = E / (2.6 · 0.4).
+  const auto& c = w.constraints<NeoHookeanConstraint<double>>()[0];
+  EXPECT_NEAR(c.ratio, 0.4, 1e-12);
+  EXPECT_NEAR(w.constraint_sets()[c.set].compliance, 2.6 / 1e6, 1e-18);
+}
+
+TEST(TetScene, BallsFilesAndObjSurfacesAreFilled) {
+  test::TempDir dir("tet_scene");
+  {
+    std::ofstream(dir.path() / "cube.node") << "8 3 0 0\n0 0 0 0\n1 1 0 0\n2 1 1 0\n3 0 1 0\n4 0 0 1\n5 1 0 1\n6 1 1 1\n7 0 1 1\n";
+    std::ofstream(dir.path() / "cube.ele") << "5 4 0\n0 0 1 3 4\n1 1 2 3 6\n2 1 3 4 6\n3 1 4 5 6\n4 3 4 6 7\n";
+    std::ofstream(dir.path() / "tetra.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    std::ofstream(dir.path() / "s.json") << R"({"name": "s", "dt": 0.01, "bodies": [
+      {"type": "tets", "file": "cube.node", "tet_volume": {}},
+      {"type": "tets", "obj": "tetra.obj", "neo_hookean": {"young": 1e5, "poisson": 0.45}},
+      {"type": "tets", "generator": {"type": "ball", "level": 1, "radius": 0.1}, "neo_hookean": {"young": 1e5, "poisson": 0}}]})";
+  }
+  const Scene s = load_scene(dir.path() / "s.json");
+  const World<double> w = build_world<double>(s.world);
+  ASSERT_EQ(s.bodies.size(), 3u);
+  EXPECT_EQ(s.bodies[0].num_particles, 8u);
+  EXPECT_EQ(w.constraints<TetVolumeConstraint<double>>().size(), 5u);
+  EXPECT_EQ(s.bodies[1].num_particles, 4u);  // one tet: tetgen adds no point to a tetrahedron
+  EXPECT_EQ(s.bodies[2].triangles.size(), 80u);  // the level-1 icosphere kept as the ball's surface
+  EXPECT_GT(w.constraints<NeoHookeanConstraint<double>>().size(), 1u + 20u);
+}
+
+TEST(TetScene, MalformedTetBodiesNameTheirKey) {
+  auto expect = [](const std::string& from, const std::string& to, std::initializer_list<std::string> words) {
+    const std::string text = replaced(kBar, from, to);
+    ASSERT_NE(text, kBar) << from;
+    expect_words(error_of([&] { parse_scene(text, "bar.json"); }), words);
+  };
+  expect("\"type\": \"box\"", "\"type\": \"sphere\"", {"bar.json", "/bodies/0/generator/type", "unknown tet generator"});
+  expect("[4, 1, 1]", "[4, 0, 1]", {"/bodies/0/generator/cells/1"});
+  expect("[4, 1, 1]", "[4, 1]", {"/bodies/0/generator/cells", "3 integers"});
+  expect("[0.4, 0.1, 0.1]", "[0.4, -0.1, 0.1]", {"/bodies/0/generator/size"});
+  expect("\"x_min\"", "\"x_low\"", {"/bodies/0/clamped", "x_min"});
+  expect("\"poisson\": 0.3", "\"poisson\": 0.5", {"/bodies/0/neo_hookean/poisson", "(-1, 0.5)"});
+  expect("\"young\": 1e6", "\"young\": -1", {"/bodies/0/neo_hookean/young"});
+  expect("\"young\": 1e6, ", "", {"/bodies/0/neo_hookean", "young"});
+  expect("\"density\": 500", "\"density\": 0", {"/bodies/0/density"});
+  expect("\"poisson\": 0.3}", "\"poisson\": 0.3, \"shear\": 1}", {"/bodies/0/neo_hookean", "shear"});
+  expect(R"("neo_hookean": {"young": 1e6, "poisson": 0.3},
+              "tet_volume": {"compliance": 1e-9})", R"("scale": 1)", {"/bodies/0", "neo_hookean"});
+  expect("\"generator\": {\"type\": \"box\", \"cells\": [4, 1, 1], \"size\": [0.4, 0.1, 0.1]}",
+         "\"file\": \"missing.msh\"", {"/bodies/0/file", "missing.msh"});
+  expect("\"generator\": {\"type\": \"box\", \"cells\": [4, 1, 1], \"size\": [0.4, 0.1, 0.1]}",
+         "\"file\": \"bar.stl\"", {"/bodies/0/file", ".msh"});
+  expect("\"density\": 500", "\"file\": \"x.msh\", \"density\": 500", {"/bodies/0", "exactly one of"});
+  expect("\"cells\": [4, 1, 1]", "\"cells\": [100000, 100000, 100000]", {"/bodies/0/generator/cells", "limit"});
+}
+
+}  // namespace
+}  // namespace pbd
