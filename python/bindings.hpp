@@ -11,5 +11,6 @@ void bind_params(py::module_& m);        // params_bindings.cpp: Stiffness, Solv
 void bind_scene(py::module_& m);         // scene_bindings.cpp: Scene, load_scene, parse_scene
 void bind_world_float(py::module_& m);   // world_float.cpp: World, build_world and the metrics on World
 void bind_world_double(py::module_& m);  // world_double.cpp: WorldDouble, build_world_double, the metrics on it
+void bind_tets(py::module_& m);          // tet_bindings.cpp: TetMesh, NeoHookeanMaterial, Body, add_tet_body (after the worlds)
 
 }  // namespace pbd::python

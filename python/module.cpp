@@ -7,6 +7,8 @@
 // - Parameters and results: Stiffness, Solver, SweepOrder, StepParams, StepStats, ContactMaterial,
 //   PressureSchedule, Violation, NamedViolation, Energy (params_bindings.cpp).
 // - Scenes: load_scene(path), parse_scene(text, source) → Scene (scene_bindings.cpp).
+// - Soft bodies (tet_bindings.cpp): TetMesh, tet_box_mesh, load_tet_mesh, tetrahedralize, check_tet_mesh,
+//   tet_mesh_surface, NeoHookeanMaterial, young_poisson, Body, and World.add_tet_body / WorldDouble.add_tet_body.
 // - Metrics, as in metrics.hpp: <name>_violation for each built-in constraint type (stretch_violation, ...),
 //   constraint_violations (each NamedViolation with its measure, unit and scale), energy, position_hash.
 // - The constraint calls add_<name>(particles..., set, rest values=None) and <name>_violation are generated from the
@@ -36,4 +38,5 @@ PYBIND11_MODULE(pbd, m) {
   pbd::python::bind_scene(m);
   pbd::python::bind_world_float(m);
   pbd::python::bind_world_double(m);
+  pbd::python::bind_tets(m);  // adds add_tet_body to World and WorldDouble
 }
