@@ -2,23 +2,30 @@
 
 #include "pbd/detail/message.hpp"
 
+#include <algorithm>
 #include <cstdint>
+#include <set>
 
 namespace pbd {
 namespace {
 
 using detail::message;
 
+// Per world particle, the index of the body holding it (the bodies checked to hold every particle once).
+std::vector<Index> particle_bodies(const FrameTopology& t, Index num_particles) {
+  std::vector<Index> body(num_particles, 0);
+  for (std::size_t b = 0; b < t.bodies.size(); ++b)
+    for (Index i = 0; i < t.bodies[b].num_particles; ++i) body[t.bodies[b].first_particle + i] = Index(b);
+  return body;
+}
+
 // Adds to each body, as lines, the stretch constraints with both particles in that body and neither on a triangle.
 template <class Real> void add_lines(const World<Real>& world, FrameTopology& t) {
   std::vector<std::uint8_t> on_surface(world.num_particles(), 0);
-  std::vector<Index> body_of(world.num_particles(), 0);
-  for (std::size_t b = 0; b < t.bodies.size(); ++b) {
-    const FrameBody& body = t.bodies[b];
-    for (Index i = 0; i < body.num_particles; ++i) body_of[body.first_particle + i] = Index(b);
+  const std::vector<Index> body_of = particle_bodies(t, world.num_particles());
+  for (const FrameBody& body : t.bodies)
     for (const auto& tri : body.triangles)
       for (Index i : tri) on_surface[i] = 1;
-  }
   const auto stretch = world.template constraints<StretchConstraint<Real>>();
   for (std::size_t k = 0; k < stretch.size(); ++k) {
     const auto [a, b] = stretch[k].particles;
@@ -28,14 +35,41 @@ template <class Real> void add_lines(const World<Real>& world, FrameTopology& t)
   }
 }
 
+// Adds to each body the tets of the tet constraints with all four corners in it, each once (frame_topology.hpp):
+// the Neo-Hookean constraints first, since they carry the rest shape the strain needs, and a tet volume constraint
+// only when no constraint before it named the same four particles.
+template <class Real> void add_tets(const World<Real>& world, FrameTopology& t) {
+  const std::vector<Index> body_of = particle_bodies(t, world.num_particles());
+  std::set<std::array<Index, 4>> drawn;  // each drawn tet's corners, sorted
+  auto add = [&](const std::array<Index, 4>& corners, FrameTetRest rest) {
+    const Index b = body_of[corners[0]];
+    for (Index p : corners)
+      if (body_of[p] != b) return;  // joins two bodies: in neither's cells
+    std::array<Index, 4> key = corners;
+    std::sort(key.begin(), key.end());
+    if (!drawn.insert(key).second) return;
+    t.bodies[b].tets.push_back(corners);
+    t.bodies[b].tet_rest.push_back(std::move(rest));
+  };
+  for (const auto& c : world.template constraints<NeoHookeanConstraint<Real>>()) {
+    Eigen::Matrix3d inverse_rest;
+    inverse_rest << c.inv_rest0.template cast<double>(), c.inv_rest1.template cast<double>(),
+        c.inv_rest2.template cast<double>();
+    add(c.particles, {double(c.volume), inverse_rest});
+  }
+  for (const auto& c : world.template constraints<TetVolumeConstraint<Real>>()) add(c.particles, {double(c.rest), {}});
+}
+
 }  // namespace
 
 template <class Real>
 FrameTopology frame_topology(const World<Real>& world, const std::vector<SceneBody>& bodies) {
   FrameTopology t;
-  for (const SceneBody& b : bodies) t.bodies.push_back({b.name, b.first_particle, b.num_particles, b.triangles, {}, {}});
+  for (const SceneBody& b : bodies)
+    t.bodies.push_back({b.name, b.first_particle, b.num_particles, b.triangles, {}, {}, {}, {}});
   check_frame_topology(t, world.num_particles(), "frame_topology");
   add_lines(world, t);
+  add_tets(world, t);
   return t;
 }
 
@@ -47,8 +81,9 @@ FrameTopology frame_topology(const World<Real>& world, const std::vector<std::ar
         throw Error(message("frame_topology: triangle ", i, ": particle index ", p, " out of range (the world has ",
                             world.num_particles(), " particles)"));
   FrameTopology t;
-  t.bodies.push_back({"world", 0, world.num_particles(), triangles, {}, {}});
+  t.bodies.push_back({"world", 0, world.num_particles(), triangles, {}, {}, {}, {}});
   add_lines(world, t);
+  add_tets(world, t);
   return t;
 }
 
@@ -71,9 +106,13 @@ void check_frame_topology(const FrameTopology& topology, Index num_particles, co
     };
     check(b.triangles, "triangle");
     check(b.lines, "line");
+    check(b.tets, "tet");
     if (b.line_stretch.size() != b.lines.size())
       throw Error(message(what, ": body ", b.name, " has ", b.lines.size(), " lines but ", b.line_stretch.size(),
                           " line_stretch entries"));
+    if (b.tet_rest.size() != b.tets.size())
+      throw Error(message(what, ": body ", b.name, " has ", b.tets.size(), " tets but ", b.tet_rest.size(),
+                          " tet_rest entries"));
   }
   if (next != num_particles)
     throw Error(message(what, ": the bodies hold ", next, " particles but the world has ", num_particles));

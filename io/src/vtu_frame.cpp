@@ -63,6 +63,55 @@ template <class Key> void append_matches(const Lookup<Key>& lookup, const Key& k
   for (; it != lookup.end() && it->first == key; ++it) out.push_back(it->second);
 }
 
+// The faces of a body's tets, each with the index of its tet in b.tets, sorted: which tet a triangle lies on.
+Lookup<std::array<Index, 3>> tet_faces(const FrameBody& b) {
+  Lookup<std::array<Index, 3>> faces;
+  faces.reserve(4 * b.tets.size());
+  constexpr int kFaces[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};  // corners, any order: keys are sorted
+  for (std::size_t k = 0; k < b.tets.size(); ++k)
+    for (const auto& f : kFaces)
+      faces.push_back({sorted<3>({b.tets[k][f[0]], b.tets[k][f[1]], b.tets[k][f[2]]}), Index(k)});
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+// V/V0 of a tet (signed: negative once it is turned inside out) and its Green strain |½(FᵀF − I)| (Frobenius) with
+// F = Ds·Dm⁻¹, NaN without Dm⁻¹; both in double whatever Real is, the strain as violation() of its Neo-Hookean
+// constraint computes it.
+template <class Real>
+std::pair<double, double> tet_measures(const std::array<Index, 4>& q, const FrameTetRest& rest,
+                                       const PositionsView<Real>& x) {
+  const Eigen::Vector3d p[4] = {detail::position_of<Real>(x, q[0]), detail::position_of<Real>(x, q[1]),
+                                detail::position_of<Real>(x, q[2]), detail::position_of<Real>(x, q[3])};
+  const double ratio = tet_volume<double>(p[0], p[1], p[2], p[3]) / rest.volume;
+  if (!rest.inverse_rest) return {ratio, kNaN};
+  Eigen::Matrix3d ds;
+  ds << p[1] - p[0], p[2] - p[0], p[3] - p[0];
+  const Eigen::Matrix3d F = ds * *rest.inverse_rest;
+  return {ratio, 0.5 * (F.transpose() * F - Eigen::Matrix3d::Identity()).norm()};
+}
+
+// One piece's cells and their cell data (NaN where a cell has no such measure), in the order they are written.
+struct PieceCells {
+  std::vector<std::int64_t> connectivity, offsets;
+  std::vector<std::uint8_t> types;
+  std::vector<double> stretch, area, volume_ratio, strain;
+
+  // Adds a cell of VTK type `type` on world particles `corners` (numbered in the piece from its body's first particle
+  // `first`) with its data.
+  template <std::size_t K>
+  void add(const std::array<Index, K>& corners, Index first, std::uint8_t type, double s, double a, double v,
+           double e) {
+    for (Index p : corners) connectivity.push_back(std::int64_t(p - first));
+    offsets.push_back(std::int64_t(connectivity.size()));
+    types.push_back(type);
+    stretch.push_back(s);
+    area.push_back(a);
+    volume_ratio.push_back(v);
+    strain.push_back(e);
+  }
+};
+
 }  // namespace
 
 template <class Real> VtuCellConstraints vtu_cell_constraints(const World<Real>& world, const FrameTopology& topology) {
@@ -81,40 +130,139 @@ template <class Real> VtuCellConstraints vtu_cell_constraints(const World<Real>&
   c.num_area = area.size();
   c.stretch_begin.push_back(0);
   c.area_begin.push_back(0);
-  for (const FrameBody& b : topology.bodies)
+  for (const FrameBody& b : topology.bodies) {
+    const Lookup<std::array<Index, 3>> tet_face = tet_faces(b);
     for (const auto& t : b.triangles) {
       for (int e = 0; e < 3; ++e) append_matches(edges, sorted<2>({t[e], t[(e + 1) % 3]}), c.stretch);
       append_matches(faces, sorted(t), c.area);
       c.stretch_begin.push_back(c.stretch.size());
       c.area_begin.push_back(c.area.size());
+      const auto key = std::pair{sorted(t), Index(0)};  // the first tet with this face: the lowest index
+      const auto on = std::lower_bound(tet_face.begin(), tet_face.end(), key);
+      c.triangle_tet.push_back(on != tet_face.end() && on->first == key.first ? std::size_t(on->second)
+                                                                               : VtuCellConstraints::kNoTet);
     }
+  }
   return c;
 }
 
+namespace {
+
+// Throws pbd::Error naming `what` unless `cells` was found for this topology and the world's constraints as they are
+// now, and every line's stretch constraint is one of the world's.
 template <class Real>
-std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, const VtuCellConstraints& cells,
-                      const std::string& what) {
-  check_frame_topology(topology, world.num_particles(), what);
+void check_cell_constraints(const World<Real>& world, const FrameTopology& topology, const VtuCellConstraints& cells,
+                            const std::string& what) {
   const auto stretch = world.template constraints<StretchConstraint<Real>>();
   const auto area = world.template constraints<AreaConstraint<Real>>();
   std::size_t num_triangles = 0;
   for (const FrameBody& b : topology.bodies) num_triangles += b.triangles.size();
   if (cells.num_stretch != stretch.size() || cells.num_area != area.size() ||
-      cells.stretch_begin.size() != num_triangles + 1 || cells.area_begin.size() != num_triangles + 1)
+      cells.stretch_begin.size() != num_triangles + 1 || cells.area_begin.size() != num_triangles + 1 ||
+      cells.triangle_tet.size() != num_triangles)
     throw Error(message(what, ": the cell constraints were found for another world or topology (",
                         cells.num_stretch, " stretch and ", cells.num_area, " area constraints, ",
                         cells.stretch_begin.size() - 1, " triangles; now ", stretch.size(), ", ", area.size(), ", ",
                         num_triangles, ")"));
-  for (const FrameBody& b : topology.bodies)
+  std::size_t triangle = 0;
+  for (const FrameBody& b : topology.bodies) {
     for (std::size_t k = 0; k < b.line_stretch.size(); ++k)
       if (b.line_stretch[k] >= stretch.size())
         throw Error(message(what, ": body ", b.name, ": line ", k, " draws stretch constraint ", b.line_stretch[k],
                             " but the world has ", stretch.size()));
+    for (std::size_t k = 0; k < b.triangles.size(); ++k, ++triangle) {
+      const std::size_t tet = cells.triangle_tet[triangle];
+      if (tet != VtuCellConstraints::kNoTet && tet >= b.tets.size())
+        throw Error(message(what, ": the cell constraints were found for another topology (body ", b.name,
+                            ": triangle ", k, " on tet ", tet, " of ", b.tets.size(), ")"));
+    }
+  }
+}
+
+// The largest violation of triangle k's constraints cs[index[i]], i in [begin[k], begin[k + 1]); NaN if it has none.
+template <class Real, class View>
+double largest(const View& cs, const std::vector<Index>& index, const std::vector<std::size_t>& begin, std::size_t k,
+               const PositionsView<Real>& x) {
+  double s = kNaN;
+  for (std::size_t i = begin[k]; i < begin[k + 1]; ++i)
+    s = std::isnan(s) ? violation(cs[index[i]], x) : std::max(s, violation(cs[index[i]], x));
+  return s;
+}
+
+// The cells of body b's piece with their data: its triangles (the first is triangle `triangle` of `cells`), its
+// lines, its tets, and for a body with none of these one vertex per particle, so that ParaView draws it.
+template <class Real>
+PieceCells piece_cells(const World<Real>& world, const FrameBody& b, const VtuCellConstraints& cells,
+                       std::size_t triangle) {
+  const auto stretch = world.template constraints<StretchConstraint<Real>>();
+  const auto area = world.template constraints<AreaConstraint<Real>>();
+  const auto positions = world.positions();
+  const PositionsView<Real> x(positions);
+  std::vector<std::pair<double, double>> tet(b.tets.size());  // first: a triangle on a tet's face shows its tet's
+  for (std::size_t k = 0; k < b.tets.size(); ++k) tet[k] = tet_measures<Real>(b.tets[k], b.tet_rest[k], x);
+  PieceCells c;
+  const Index first = b.first_particle;
+  for (const auto& t : b.triangles) {
+    const double stretched = largest<Real>(stretch, cells.stretch, cells.stretch_begin, triangle, x);
+    const double area_error = largest<Real>(area, cells.area, cells.area_begin, triangle, x);
+    const std::size_t on = cells.triangle_tet[triangle++];
+    const auto [v, e] = on == VtuCellConstraints::kNoTet ? std::pair{kNaN, kNaN} : tet[on];
+    c.add(t, first, 5, stretched, area_error, v, e);  // VTK_TRIANGLE
+  }
+  for (std::size_t k = 0; k < b.lines.size(); ++k)
+    c.add(b.lines[k], first, 3, violation(stretch[b.line_stretch[k]], x), kNaN, kNaN, kNaN);  // VTK_LINE
+  for (std::size_t k = 0; k < b.tets.size(); ++k)
+    c.add(b.tets[k], first, 10, kNaN, kNaN, tet[k].first, tet[k].second);  // VTK_TETRA
+  if (c.types.empty())
+    for (Index i = 0; i < b.num_particles; ++i)
+      c.add(std::array<Index, 1>{first + i}, first, 1, kNaN, kNaN, kNaN, kNaN);  // VTK_VERTEX
+  return c;
+}
+
+// Appends body b's <Piece>: its particles with their point data, and `c` with its cell data (volume_ratio and strain
+// only `with_tets`).
+template <class Real>
+void append_piece(std::string& out, const World<Real>& world, const FrameBody& b, const PieceCells& c,
+                  bool with_tets) {
   const auto x = world.positions();
   const auto v = world.velocities();
   const auto w = world.inverse_masses();
-  const PositionsView<Real> positions(x);
+  const Index first = b.first_particle, n = b.num_particles;
+  std::vector<std::uint8_t> pinned(n, 0);
+  for (Index i = 0; i < n; ++i) pinned[i] = w[first + i] == Real(0) ? 1 : 0;
+  out += message("    <Piece NumberOfPoints=\"", n, "\" NumberOfCells=\"", c.types.size(), "\">\n");
+  out += "      <PointData Scalars=\"inverse_mass\" Vectors=\"velocity\">\n";
+  const std::size_t from = std::size_t(first) * 3, count = std::size_t(n) * 3;
+  append_array(out, "        ", "velocity", 3, std::span<const Real>(v.data() + from, count));
+  append_array(out, "        ", "inverse_mass", 1, std::span<const Real>(w.data() + first, n));
+  append_array(out, "        ", "pinned", 1, std::span<const std::uint8_t>(pinned));
+  out += "      </PointData>\n      <CellData Scalars=\"stretch\">\n";
+  append_array(out, "        ", "stretch", 1, std::span<const double>(c.stretch));
+  append_array(out, "        ", "area", 1, std::span<const double>(c.area));
+  if (with_tets) {
+    append_array(out, "        ", "volume_ratio", 1, std::span<const double>(c.volume_ratio));
+    append_array(out, "        ", "strain", 1, std::span<const double>(c.strain));
+  }
+  out += "      </CellData>\n      <Points>\n";
+  append_array(out, "        ", "positions", 3, std::span<const Real>(x.data() + from, count));
+  out += "      </Points>\n      <Cells>\n";
+  append_array(out, "        ", "connectivity", 1, std::span<const std::int64_t>(c.connectivity));
+  append_array(out, "        ", "offsets", 1, std::span<const std::int64_t>(c.offsets));
+  append_array(out, "        ", "types", 1, std::span<const std::uint8_t>(c.types));
+  out += "      </Cells>\n    </Piece>\n";
+}
 
+}  // namespace
+
+template <class Real>
+std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, const VtuCellConstraints& cells,
+                      const std::string& what) {
+  check_frame_topology(topology, world.num_particles(), what);
+  check_cell_constraints(world, topology, cells, what);
+  // The tet arrays only in frames with tets, so that frames without them stay as they were; then in every piece,
+  // since a reader takes the arrays of a multi-piece grid to be the same in each.
+  const bool with_tets = std::any_of(topology.bodies.begin(), topology.bodies.end(),
+                                     [](const FrameBody& b) { return !b.tets.empty(); });
   std::string out = "<?xml version=\"1.0\"?>\n";
   out += message("<!-- pbd frame: t = ", world.time(), " s, ", world.num_particles(), " particles; bodies: ",
                  topology.bodies.size(), " -->\n");
@@ -131,67 +279,10 @@ std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, c
     detail::append_base64(out, raw);
   }
   out += "</DataArray>\n    </FieldData>\n";
-
-  std::size_t triangle = 0;  // over all bodies, as in `cells`
-  std::vector<std::int64_t> connectivity, offsets;
-  std::vector<std::uint8_t> types, pinned;
-  std::vector<double> cell_stretch, cell_area;
+  std::size_t triangle = 0;  // the body's first triangle, numbered over all bodies as in `cells`
   for (const FrameBody& b : topology.bodies) {
-    const Index first = b.first_particle, n = b.num_particles;
-    connectivity.clear();
-    offsets.clear();
-    types.clear();
-    cell_stretch.clear();
-    cell_area.clear();
-    for (const auto& t : b.triangles) {
-      for (Index p : t) connectivity.push_back(std::int64_t(p - first));
-      offsets.push_back(std::int64_t(connectivity.size()));
-      types.push_back(5);  // VTK_TRIANGLE
-      double s = kNaN, a = kNaN;
-      for (std::size_t k = cells.stretch_begin[triangle]; k < cells.stretch_begin[triangle + 1]; ++k)
-        s = std::isnan(s) ? violation(stretch[cells.stretch[k]], positions)
-                          : std::max(s, violation(stretch[cells.stretch[k]], positions));
-      for (std::size_t k = cells.area_begin[triangle]; k < cells.area_begin[triangle + 1]; ++k)
-        a = std::isnan(a) ? violation(area[cells.area[k]], positions)
-                          : std::max(a, violation(area[cells.area[k]], positions));
-      cell_stretch.push_back(s);
-      cell_area.push_back(a);
-      ++triangle;
-    }
-    for (std::size_t k = 0; k < b.lines.size(); ++k) {
-      for (Index p : b.lines[k]) connectivity.push_back(std::int64_t(p - first));
-      offsets.push_back(std::int64_t(connectivity.size()));
-      types.push_back(3);  // VTK_LINE
-      cell_stretch.push_back(violation(stretch[b.line_stretch[k]], positions));
-      cell_area.push_back(kNaN);
-    }
-    if (b.triangles.empty() && b.lines.empty())
-      for (Index i = 0; i < n; ++i) {
-        connectivity.push_back(std::int64_t(i));
-        offsets.push_back(std::int64_t(connectivity.size()));
-        types.push_back(1);  // VTK_VERTEX
-        cell_stretch.push_back(kNaN);
-        cell_area.push_back(kNaN);
-      }
-    pinned.assign(n, 0);
-    for (Index i = 0; i < n; ++i) pinned[i] = w[first + i] == Real(0) ? 1 : 0;
-
-    out += message("    <Piece NumberOfPoints=\"", n, "\" NumberOfCells=\"", types.size(), "\">\n");
-    out += "      <PointData Scalars=\"inverse_mass\" Vectors=\"velocity\">\n";
-    const std::size_t from = std::size_t(first) * 3, count = std::size_t(n) * 3;
-    append_array(out, "        ", "velocity", 3, std::span<const Real>(v.data() + from, count));
-    append_array(out, "        ", "inverse_mass", 1, std::span<const Real>(w.data() + first, n));
-    append_array(out, "        ", "pinned", 1, std::span<const std::uint8_t>(pinned));
-    out += "      </PointData>\n      <CellData Scalars=\"stretch\">\n";
-    append_array(out, "        ", "stretch", 1, std::span<const double>(cell_stretch));
-    append_array(out, "        ", "area", 1, std::span<const double>(cell_area));
-    out += "      </CellData>\n      <Points>\n";
-    append_array(out, "        ", "positions", 3, std::span<const Real>(x.data() + from, count));
-    out += "      </Points>\n      <Cells>\n";
-    append_array(out, "        ", "connectivity", 1, std::span<const std::int64_t>(connectivity));
-    append_array(out, "        ", "offsets", 1, std::span<const std::int64_t>(offsets));
-    append_array(out, "        ", "types", 1, std::span<const std::uint8_t>(types));
-    out += "      </Cells>\n    </Piece>\n";
+    append_piece(out, world, b, piece_cells(world, b, cells, triangle), with_tets);
+    triangle += b.triangles.size();
   }
   out += "  </UnstructuredGrid>\n</VTKFile>\n";
   return out;

@@ -1,13 +1,15 @@
 #!/usr/bin/python3
 """Reads back the frames `pbd run --frames DIR --format vtu` writes, with meshio (Debian's python3-meshio) and numpy.
 
-    /usr/bin/python3 check_frames.py PBD SCENE_DIR TEST_SCENE WORK_DIR
+    /usr/bin/python3 check_frames.py PBD SCENE_DIR TEST_SCENE TET_SCENE WORK_DIR
 
 Runs `pbd run` for 3 steps on scenes/rope.json, scenes/cloth.json and TEST_SCENE (a cloth and a rope: two bodies),
 once with --format vtu and once with the default OBJ, and checks every .vtu frame: its point count and positions
 against the OBJ frame of the same step (%.7g there), velocity, inverse_mass and pinned, the rope's line cells and the
 cloth's triangles, the stretch of every line and triangle cell recomputed with numpy, the area array, and the .pvd's
-timesteps (xml.etree) against step × dt. meshio 7.0 (Debian 12) reads every piece's points and point data of a
+timesteps (xml.etree) against step × dt. Then TET_SCENE (one tet body of a box generator with Neo-Hookean and tet
+volume constraints): meshio reads each frame's surface triangles (the OBJ frame's faces) and one tetra cell per tet,
+and its volume_ratio and strain recomputed with numpy from the step-0 frame as the rest shape. meshio 7.0 (Debian 12) reads every piece's points and point data of a
 multi-piece .vtu but only the last piece's cells and cell data (the loop that collects the cell blocks of
 _organize_cells sits outside its loop over pieces); so the cells and cell data are read with xml.etree here, and
 meshio's cells are checked against the last piece's. Exits non-zero on the first failed check.
@@ -218,13 +220,68 @@ def check_scene(pbd, scene_file, work):
     return vtu_dir
 
 
+def edge_matrices(x, tets):
+    """Per tet, [p1 − p0, p2 − p0, p3 − p0] as the columns of a 3×3 matrix."""
+    return np.stack([x[tets[:, k]] - x[tets[:, 0]] for k in (1, 2, 3)], axis=2)
+
+
+def check_tet_scene(pbd, scene_file, work):
+    """A one-body tet scene: meshio reads every frame's triangles and tets with volume_ratio and strain."""
+    with open(scene_file) as f:
+        scene = json.load(f)
+    name, (body,) = scene["name"], scene["bodies"]
+    vtu_dir, obj_dir = os.path.join(work, name + "_vtu"), os.path.join(work, name + "_obj")
+    run(pbd, scene_file, vtu_dir, "vtu")
+    run(pbd, scene_file, obj_dir, None)
+    cells = body["generator"]["cells"]
+    num_tets = 6 * cells[0] * cells[1] * cells[2]  # a box cell is 6 tets; one cell per tet, not per constraint
+    rest = None
+    for s in range(STEPS + 1):
+        path = os.path.join(vtu_dir, f"{name}_{s:05d}.vtu")
+        mesh = meshio.read(path)
+        x_obj, (obj,) = read_obj(os.path.join(obj_dir, f"{name}_{s:05d}.obj"))
+        check(sorted(c.type for c in mesh.cells) == ["tetra", "triangle"], f"{path}: meshio's cells {mesh.cells}")
+        triangles, tets = mesh.cells_dict["triangle"], mesh.cells_dict["tetra"]
+        check(np.array_equal(triangles, np.array(obj["f"])), f"{path}: the triangles are not the OBJ frame's faces")
+        check(tets.shape == (num_tets, 4), f"{path}: {tets.shape[0]} tets, expected {num_tets}")
+        check(len(np.unique(np.sort(tets, axis=1), axis=0)) == num_tets, f"{path}: a tet is drawn twice")
+        x = mesh.points.astype(np.float64)
+        check(np.allclose(x, x_obj, rtol=1e-6, atol=1e-6), f"{path}: positions differ from the OBJ frame")
+        if rest is None:
+            rest = x
+        ds, dm = edge_matrices(x, tets), edge_matrices(rest, tets)
+        check(np.all(np.linalg.det(dm) > 0), f"{path}: a tet is not positively oriented (VTK_TETRA wants it so)")
+        ratio, strain = mesh.cell_data_dict["volume_ratio"]["tetra"], mesh.cell_data_dict["strain"]["tetra"]
+        expected = np.linalg.det(ds) / np.linalg.det(dm)
+        check(np.allclose(ratio, expected, rtol=0, atol=1e-5), f"{path}: volume_ratio, largest difference "
+              f"{np.max(np.abs(ratio - expected))}")
+        F = ds @ np.linalg.inv(dm)
+        green = np.linalg.norm(0.5 * (np.transpose(F, (0, 2, 1)) @ F - np.eye(3)), axis=(1, 2))
+        check(np.allclose(strain, green, rtol=0, atol=1e-5), f"{path}: strain, largest difference "
+              f"{np.max(np.abs(strain - green))}")
+        for key in ("stretch", "area"):
+            check(np.all(np.isnan(mesh.cell_data_dict[key]["tetra"])), f"{path}: {key} on a tet must be NaN")
+        # A surface triangle shows the values of the tet it is a face of (the first such tet).
+        face_tet = {}
+        for k, t in enumerate(tets):
+            for face in ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)):
+                face_tet.setdefault(tuple(sorted(t[list(face)])), k)
+        on = [face_tet[tuple(sorted(t))] for t in triangles]
+        for key, values in (("volume_ratio", ratio), ("strain", strain)):
+            check(np.array_equal(mesh.cell_data_dict[key]["triangle"], values[on]),
+                  f"{path}: a triangle's {key} is not its tet's")
+    print(f"check_frames: {name}: {STEPS + 1} frames of {len(triangles)} triangles and {num_tets} tets OK "
+          f"(largest strain {np.max(strain):.3g}, volume ratio in [{np.min(ratio):.6f}, {np.max(ratio):.6f}])")
+
+
 def main():
-    if len(sys.argv) != 5:
+    if len(sys.argv) != 6:
         fail(__doc__)
-    pbd, scene_dir, test_scene, work = sys.argv[1:]
+    pbd, scene_dir, test_scene, tet_scene, work = sys.argv[1:]
     os.makedirs(work, exist_ok=True)
     for scene in (os.path.join(scene_dir, "rope.json"), os.path.join(scene_dir, "cloth.json"), test_scene):
         check_scene(pbd, scene, work)
+    check_tet_scene(pbd, tet_scene, work)
     # --every 2: steps 0 and 2 only, and the .pvd lists those two.
     out = os.path.join(work, "every")
     run(pbd, test_scene, out, "vtu", ["--every", "2"])

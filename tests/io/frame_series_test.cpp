@@ -8,6 +8,7 @@
 #include "pbd/metrics.hpp"
 #include "file_size_limit.hpp"
 #include "temp_dir.hpp"
+#include "vtu_text.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,6 +23,10 @@
 namespace pbd {
 namespace {
 
+using test::count_of;
+using test::data_array;
+using test::text_of;
+
 // A 3×3 cloth with stretch and area (particles 0-8) and a 4-particle rope with stretch (9-12), as a scene.
 const char* kScene = R"({"name": "two", "dt": 0.01, "bodies": [
     {"type": "cloth", "resolution": 3, "stretch": {}, "area": {}},
@@ -33,57 +38,8 @@ template <class Real> struct TwoBodies {
   FrameTopology topology = frame_topology(world, scene.bodies);
 };
 
-std::string text_of(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::size_t count_of(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
 std::size_t files_in(const std::filesystem::path& dir) {
   return std::size_t(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()));
-}
-
-// The bytes of base64 text (no checks: the writer's own output).
-std::string decode_base64(const std::string& text) {
-  auto value = [](char c) -> int {
-    if (c >= 'A' && c <= 'Z') return c - 'A';
-    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
-    if (c >= '0' && c <= '9') return c - '0' + 52;
-    return c == '+' ? 62 : 63;
-  };
-  std::string out;
-  std::uint32_t bits = 0;
-  int have = 0;
-  for (char c : text) {
-    if (c == '=') break;
-    bits = bits << 6 | std::uint32_t(value(c));
-    if ((have += 6) >= 8) out += char((bits >> (have -= 8)) & 0xff);
-  }
-  return out;
-}
-
-// The values of the `index`-th DataArray named `name` in a .vtu text (its UInt64 byte count checked and dropped).
-template <class T> std::vector<T> data_array(const std::string& vtu, const std::string& name, int index) {
-  std::size_t at = 0;
-  for (int i = 0; i <= index; ++i) {
-    at = vtu.find("Name=\"" + name + "\"", at + 1);
-    if (at == std::string::npos) return {};
-  }
-  const std::size_t begin = vtu.find('>', at) + 1, end = vtu.find("</DataArray>", begin);
-  const std::string bytes = decode_base64(vtu.substr(begin, end - begin));
-  std::uint64_t n = 0;
-  std::memcpy(&n, bytes.data(), 8);
-  EXPECT_EQ(n, bytes.size() - 8) << name;
-  std::vector<T> values((bytes.size() - 8) / sizeof(T));
-  std::memcpy(values.data(), bytes.data() + 8, values.size() * sizeof(T));
-  return values;
 }
 
 TEST(FrameSeries, TheStemMustBeAPlainFileName) {

@@ -1,16 +1,28 @@
 #pragma once
 /// \file frame_topology.hpp
-/// What a frame draws, body by body: each body's run of particles, its surface triangles and its line segments.
+/// What a frame draws, body by body: each body's run of particles, its surface triangles, its line segments and its
+/// tets.
 #include "pbd/io/scene.hpp"
 #include "pbd/world.hpp"
 
+#include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace pbd {
 
-/// One body of a frame: consecutive particles with the triangles and lines between them (world particle indices).
+/// The rest shape of a drawn tet, copied from its constraints: what a frame measures the tet's deformation against.
+struct FrameTetRest {
+  double volume = 0.0;  ///< rest volume V0 > 0, m³: its Neo-Hookean constraint's, else its tet volume constraint's
+  /// Dm⁻¹ (1/m), the inverse of its rest edge matrix [p1 − p0, p2 − p0, p3 − p0], from its Neo-Hookean constraint;
+  /// none for a tet with only a volume constraint (which has no rest shape, only a rest volume).
+  std::optional<Eigen::Matrix3d> inverse_rest;
+};
+
+/// One body of a frame: consecutive particles with the triangles, lines and tets between them (world particle
+/// indices).
 struct FrameBody {
   std::string name;                             ///< its name: the OBJ object name (e.g. "rope_0")
   Index first_particle = 0;                     ///< world index of its first particle
@@ -19,28 +31,37 @@ struct FrameBody {
   std::vector<std::array<Index, 2>> lines;      ///< segments of ropes and particle chains, both ends in the body
   /// Per line, the stretch constraint it draws: an index into world.constraints<StretchConstraint<Real>>().
   std::vector<Index> line_stretch;
+  std::vector<std::array<Index, 4>> tets;  ///< tets (corners p0..p3 of their constraint), all four in the body
+  std::vector<FrameTetRest> tet_rest;      ///< per tet, its rest shape
 };
 
 /// What a frame draws: bodies in particle order that together hold every particle of the world once (body k starts
-/// where body k − 1 ends), each with its triangles and lines.
+/// where body k − 1 ends), each with its triangles, lines and tets.
 struct FrameTopology {
   std::vector<FrameBody> bodies;  ///< the bodies, in particle order
 };
 
-/// The bodies of a scene (scene.bodies) with their triangles, and as lines every stretch constraint whose two
-/// particles are on no triangle and in the same body (a constraint joining two bodies is not drawn). Throws
-/// pbd::Error unless the bodies hold every particle of `world` once, in order, and every triangle lies in its body.
+/// The bodies of a scene (scene.bodies) with their triangles, as lines every stretch constraint whose two particles
+/// are on no triangle and in the same body (a constraint joining two bodies is not drawn), and as tets every tet
+/// constraint's four particles when they are in the same body. Throws pbd::Error unless the bodies hold every
+/// particle of `world` once, in order, and every triangle lies in its body.
+///
+/// Tets come from tet constraints the way lines come from stretch constraints: first each Neo-Hookean constraint's
+/// corners (with its rest volume and Dm⁻¹), then each tet volume constraint's (its rest volume, no Dm⁻¹) whose four
+/// particles no tet before it has. So a tet is drawn once however many constraints it has (the same four particles in
+/// any order), in the order of its first constraint, with the corner order of that constraint.
 template <class Real>
 FrameTopology frame_topology(const World<Real>& world, const std::vector<SceneBody>& bodies);
 
-/// One body named "world" holding every particle, with `triangles` and as lines every stretch constraint whose two
-/// particles are both on no triangle (a world built without a scene). Throws pbd::Error naming the triangle whose
-/// particle index is out of range.
+/// One body named "world" holding every particle, with `triangles`, as lines every stretch constraint whose two
+/// particles are both on no triangle, and the tets of every tet constraint (as above): a world built without a
+/// scene. Throws pbd::Error naming the triangle whose particle index is out of range.
 template <class Real>
 FrameTopology frame_topology(const World<Real>& world, const std::vector<std::array<Index, 3>>& triangles);
 
 /// Throws pbd::Error naming `what` unless `topology` fits a world of `num_particles` particles: its bodies hold every
-/// particle once, in order, each triangle and line lies in its body, and there is one line_stretch per line.
+/// particle once, in order, each triangle, line and tet lies in its body, and there is one line_stretch per line and
+/// one tet_rest per tet.
 void check_frame_topology(const FrameTopology& topology, Index num_particles, const std::string& what);
 
 }  // namespace pbd

@@ -11,7 +11,9 @@ namespace pbd {
 
 /// The text of an OBJ frame: a header line ("# pbd frame: t = <time> s, <N> particles"), then per body an object
 /// line "o <name>" (bytes up to the space replaced by '_'), its particles as vertices ("v x y z", %.7g, in m), its
-/// triangles ("f") and its lines ("l"). Indices are 1-based over the whole file, so vertex i + 1 is particle i.
+/// triangles ("f") and its lines ("l"), but not its tets: OBJ has no volume cells, so a tet body is its boundary
+/// triangles, its interior particles vertices no face uses. Indices are 1-based over the whole file, so vertex i + 1
+/// is particle i.
 /// Throws pbd::Error naming `what` if the topology does not fit the world (check_frame_topology).
 template <class Real> std::string obj_frame(const World<Real>& world, const FrameTopology& topology, const std::string& what);
 

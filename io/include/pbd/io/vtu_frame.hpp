@@ -8,13 +8,21 @@
 ///   velocity      3 components, m/s
 ///   inverse_mass  1/kg (0 for a pinned particle)
 ///   pinned        UInt8: 1 where the inverse mass is 0, else 0
-/// Cells of a body, in this order: its triangles (VTK_TRIANGLE, 5), its lines (VTK_LINE, 3), and, for a body with
-/// neither, one VTK_VERTEX (1) per particle so that ParaView draws it. Per cell (Float64, dimensionless,
-/// pbd::violation of metrics.hpp at the frame's positions; NaN where the cell has no such constraint):
-///   stretch  on a line: the relative stretch |(|x_a − x_b| − d)| / d of the stretch constraint it draws; on a
-///            triangle: the largest relative stretch of the stretch constraints joining two of its corners
-///   area     on a triangle: the largest relative area error |A − A0| / A0 of the area constraints on its three
-///            corners; NaN on lines and vertices
+/// Cells of a body, in this order: its triangles (VTK_TRIANGLE, 5), its lines (VTK_LINE, 3), its tets (VTK_TETRA, 10,
+/// corners p0..p3 of their constraint: positively oriented, as VTK wants), and, for a body with none of these, one
+/// VTK_VERTEX (1) per particle so that ParaView draws it. Per cell (Float64, dimensionless, NaN where the cell has no
+/// such constraint; stretch and area are pbd::violation of metrics.hpp at the frame's positions):
+///   stretch       on a line: the relative stretch |(|x_a − x_b| − d)| / d of the stretch constraint it draws; on a
+///                 triangle: the largest relative stretch of the stretch constraints joining two of its corners
+///   area          on a triangle: the largest relative area error |A − A0| / A0 of the area constraints on its three
+///                 corners; NaN on lines, tets and vertices
+/// and, only in frames where some body has tets (so that a frame without them is as it always was), in every piece:
+///   volume_ratio  on a tet: V / V0, its signed volume over its rest volume (< 0 once it is turned inside out); on a
+///                 triangle that is a face of one of its body's tets: that tet's (so the surface ParaView draws over
+///                 the tets shows the same colours); NaN elsewhere
+///   strain        on a tet with a Neo-Hookean constraint: the Green strain |½(FᵀF − I)| (Frobenius) of
+///                 F = Ds·Dm⁻¹, as that constraint's violation; on a triangle on a tet's face: that tet's; NaN on a
+///                 tet with only a volume constraint (no rest shape) and elsewhere
 /// The grid's FieldData holds TimeValue (Float64, 1 tuple): the world's simulated time in s.
 #include "pbd/io/frame_topology.hpp"
 #include "pbd/world.hpp"
@@ -26,18 +34,22 @@
 
 namespace pbd {
 
-/// Which constraints each triangle of a topology measures, found once: triangles are numbered over all bodies in
-/// order (body 0's first, then body 1's, ...).
+/// Which constraints each triangle of a topology measures, and which tet it lies on, found once: triangles are
+/// numbered over all bodies in order (body 0's first, then body 1's, ...).
 struct VtuCellConstraints {
+  static constexpr std::size_t kNoTet = std::size_t(-1);  ///< triangle_tet of a triangle on no tet's face
   std::vector<std::size_t> stretch_begin;  ///< triangle k's stretch constraints: stretch[stretch_begin[k], stretch_begin[k + 1])
   std::vector<Index> stretch;              ///< indices into world.constraints<StretchConstraint<Real>>()
   std::vector<std::size_t> area_begin;     ///< triangle k's area constraints: area[area_begin[k], area_begin[k + 1])
   std::vector<Index> area;                 ///< indices into world.constraints<AreaConstraint<Real>>()
   std::size_t num_stretch = 0;             ///< the world's number of stretch constraints when found
   std::size_t num_area = 0;                ///< the world's number of area constraints when found
+  /// Per triangle, the first of its body's tets (an index into FrameBody::tets) with the triangle as a face, or kNoTet.
+  std::vector<std::size_t> triangle_tet;
 };
 
-/// Finds the stretch constraints along each triangle's edges and the area constraints on its corners.
+/// Finds the stretch constraints along each triangle's edges, the area constraints on its corners and the tet of its
+/// body it is a face of.
 template <class Real> VtuCellConstraints vtu_cell_constraints(const World<Real>& world, const FrameTopology& topology);
 
 /// The text of a .vtu frame of `world`. Throws pbd::Error naming `what` if the topology does not fit the world, or if
