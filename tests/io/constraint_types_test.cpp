@@ -48,14 +48,19 @@ TEST(ConstraintTypes, EachTypeDeclaresWhatThePassesNeedWithUniqueNamesAndKeys) {
   });
 }
 
-// Four particles in general position: every built-in type's constraint on the first kArity of them has a defined
-// rest value (no degenerate triangle).
-World<float> four_particles() {
+// Eight particles in general position (no three on a line, no four in a plane), as many as the largest arity (a
+// shape-matching cluster): every built-in type's constraint on the first kArity of them has a defined rest value
+// (no degenerate triangle, a tet of positive volume, a cluster that spans space).
+World<float> eight_particles() {
   World<float> w;
   w.add_particle({0, 0, 0}, 1.0f);
   w.add_particle({1, 0, 0}, 1.0f);
   w.add_particle({0.2f, 1, 0.1f}, 1.0f);
   w.add_particle({0.3f, -1, 0.4f}, 1.0f);
+  w.add_particle({-0.6f, 0.4f, 0.9f}, 1.0f);
+  w.add_particle({0.8f, 0.7f, -0.5f}, 1.0f);
+  w.add_particle({-0.3f, -0.8f, -0.7f}, 1.0f);
+  w.add_particle({1.1f, -0.4f, 1.2f}, 1.0f);
   w.add_constraint_set(Stiffness::pbd_k(1.0));
   return w;
 }
@@ -67,7 +72,7 @@ TEST(ConstraintTypes, EachTypeGoesThroughEveryPass) {
     using C = typename decltype(type)::type;
     SCOPED_TRACE(C::kName);
     for (Solver solver : kSolvers) {
-      World<float> w = four_particles();
+      World<float> w = eight_particles();
       C c = blank_constraint<C>();
       for (int i = 0; i < C::kArity; ++i) c.particles[i] = Index(i);
       EXPECT_EQ(w.add(c, required_fields<C>()), 0u);  // blank values for what has no default

@@ -49,3 +49,21 @@ def test_a_given_rest_value_is_kept_and_checked():
     assert math.isclose(pbd.anchor_violation(w).max, 1.0)  # 1 m from its target
     with pytest.raises(pbd.Error, match="add_anchor: anchor 1: target is not finite"):
         w.add_anchor(2, s, target=(math.nan, 0, 0))
+
+
+def test_shape_match_takes_eight_particles_and_reports_mm():
+    """add_shape_match: eight particles, rest offsets q0..q7 measured, beta given or 0; its violation in mm."""
+    w = pbd.WorldDouble()
+    for x in ((0, 0, 0), (1, 0, 0), (0.2, 1, 0.1), (0.3, -1, 0.4), (-0.6, 0.4, 0.9), (0.8, 0.7, -0.5),
+              (-0.3, -0.8, -0.7), (1.1, -0.4, 1.2)):
+        w.add_particle(x, 1.0)
+    s = w.add_constraint_set(pbd.Stiffness.pbd_k(1.0))
+    assert w.add_shape_match(*range(8), s) == 0
+    assert w.add_shape_match(*range(8), s, beta=0.5) == 1
+    assert all(f"q{i}" in w.add_shape_match.__doc__ for i in range(8)) and "beta" in w.add_shape_match.__doc__
+    v = pbd.shape_match_violation(w)
+    assert v.count == 2 and v.max < 1e-12
+    (named,) = pbd.constraint_violations(w)
+    assert (named.type, named.measure, named.unit, named.scale) == ("shape_match", "shape_mm", "mm", 1000.0)
+    with pytest.raises(pbd.Error, match=r"add_shape_match: shape-matching cluster 2: beta must be in \[0, 1\], got 2"):
+        w.add_shape_match(*range(8), s, beta=2.0)

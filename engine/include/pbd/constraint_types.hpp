@@ -13,6 +13,7 @@
 #include "pbd/constraints/area.hpp"
 #include "pbd/constraints/bending.hpp"
 #include "pbd/constraints/neo_hookean.hpp"
+#include "pbd/constraints/shape_match.hpp"
 #include "pbd/constraints/stretch.hpp"
 #include "pbd/constraints/tet_volume.hpp"
 #include "pbd/constraints/tether.hpp"
@@ -28,7 +29,8 @@ namespace pbd {
 template <class Real>
 using BuiltinConstraintTypes =
     std::tuple<StretchConstraint<Real>, AnchorConstraint<Real>, BendingConstraint<Real>, AreaConstraint<Real>,
-               TetherConstraint<Real>, TetVolumeConstraint<Real>, NeoHookeanConstraint<Real>>;
+               TetherConstraint<Real>, TetVolumeConstraint<Real>, NeoHookeanConstraint<Real>,
+               ShapeMatchConstraint<Real>>;
 
 /// Number of built-in fixed-arity types.
 inline constexpr std::size_t kNumBuiltinTypes = std::tuple_size_v<BuiltinConstraintTypes<float>>;
