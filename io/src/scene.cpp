@@ -283,7 +283,8 @@ TetMesh read_tet_mesh(const JsonObject& o, const DescriptionBuilder& world) {
 }
 
 // A volumetric body: {"type": "tets", mesh (read_tet_mesh), "origin", "scale", "density", "pinned": [...],
-// "clamped": face, "tet_volume": stiffness, "neo_hookean": {"young": E, "poisson": nu}}.
+// "clamped": face, "tet_volume": stiffness, "neo_hookean": {"young": E, "poisson": nu},
+// "shape_matching": {stiffness..., "beta": β}}.
 Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
   const TetMesh mesh = read_tet_mesh(o, world);
   TetBodyOptions opts;
@@ -308,8 +309,15 @@ Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
     sets.ratio = material.ratio();
     m.reject_unknown_keys();
   }
-  if (!sets.volume && !sets.neo_hookean)
-    o.fail("generator", "a tet body needs \"neo_hookean\" or \"tet_volume\" (or both): without them nothing holds it");
+  if (o.has(ShapeMatchConstraint<double>::kSceneKey)) {  // a stiffness object and "beta"
+    const JsonObject m = o.object(ShapeMatchConstraint<double>::kSceneKey);
+    sets.beta = m.number("beta", 0.0, 1.0, 0.0);
+    sets.shape_match = world.add_constraint_set(read_stiffness(m));
+    m.reject_unknown_keys();
+  }
+  if (!sets.volume && !sets.neo_hookean && !sets.shape_match)
+    o.fail("generator", "a tet body needs \"neo_hookean\", \"tet_volume\" or \"shape_matching\": without one "
+                        "nothing holds it");
   try {
     return add_tet_body(world, mesh, opts, sets);
   } catch (const Error& e) {

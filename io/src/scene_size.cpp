@@ -116,7 +116,8 @@ Size body_size(const nlohmann::json& b) {
     }
     const double per_tet = double(has(b, TetVolumeConstraint<double>::kSceneKey)) +
                            double(has(b, NeoHookeanConstraint<double>::kSceneKey));
-    return {v, 6 * cells * per_tet, "generator/cells"};
+    const double clusters = has(b, ShapeMatchConstraint<double>::kSceneKey) ? v : 0;  // one per vertex
+    return {v, 6 * cells * per_tet + clusters, "generator/cells"};
   }
   if (t == "particles") {
     const auto s = b.find(StretchConstraint<double>::kSceneKey);

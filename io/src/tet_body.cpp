@@ -2,6 +2,7 @@
 
 #include "pbd/detail/message.hpp"
 #include "pbd/io/description_builder.hpp"
+#include "pbd/io/shape_match_clusters.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -28,6 +29,10 @@ Body add_tet_body(Target& world, const TetMesh& mesh, const TetBodyOptions& o, c
   if (!(o.density > 0.0) || !std::isfinite(o.density)) throw Error("add_tet_body: density must be finite and > 0");
   for (double c : o.origin)
     if (!std::isfinite(c)) throw Error("add_tet_body: origin must be finite");
+  if (sets.shape_match && !(sets.beta >= 0.0 && sets.beta <= 1.0))
+    throw Error(detail::message("add_tet_body: beta must be in [0, 1], got ", sets.beta));
+  const std::vector<std::array<Index, 8>> clusters =
+      sets.shape_match ? shape_match_clusters(mesh) : std::vector<std::array<Index, 8>>{};  // before anything is added
   if (sets.neo_hookean && (!std::isfinite(sets.ratio) || sets.ratio < 0.0))
     throw Error(detail::message("add_tet_body: ratio mu/lambda must be finite and >= 0, got ", sets.ratio));
   for (Index i : o.pinned)
@@ -71,6 +76,16 @@ Body add_tet_body(Target& world, const TetMesh& mesh, const TetBodyOptions& o, c
       c.set = *sets.neo_hookean;
       c.ratio = Real(sets.ratio);
       world.add(c, required_fields<NeoHookeanConstraint<Real>>());
+    }
+  }
+  if (sets.shape_match) {
+    constexpr FieldMask kBeta = FieldMask(1) << 8;  // rest offsets measured, β given
+    for (const auto& k : clusters) {
+      ShapeMatchConstraint<Real> c = blank_constraint<ShapeMatchConstraint<Real>>();
+      for (int i = 0; i < 8; ++i) c.particles[i] = k[i] + body.first_particle;
+      c.set = *sets.shape_match;
+      c.beta = Real(sets.beta);
+      world.add(c, kBeta);
     }
   }
   return body;

@@ -70,6 +70,20 @@ TEST(TetScene, BallsFilesAndObjSurfacesAreFilled) {
   EXPECT_GT(w.constraints<NeoHookeanConstraint<double>>().size(), 1u + 20u);
 }
 
+TEST(TetScene, ShapeMatchingMakesOneClusterPerVertex) {
+  const std::string text = replaced(kBar, R"("tet_volume": {"compliance": 1e-9})",
+                                    R"("shape_matching": {"stiffness": 0.5, "beta": 0.25})");
+  const World<double> w = build_world<double>(parse_scene(text, "bar.json").world);
+  const auto& clusters = w.constraints<ShapeMatchConstraint<double>>();
+  ASSERT_EQ(clusters.size(), w.num_particles());
+  EXPECT_EQ(clusters[3].beta, 0.25);
+  EXPECT_EQ(w.constraint_sets()[clusters[3].set].k, 0.5);
+  expect_words(error_of([&] { parse_scene(replaced(text, "0.25", "1.5"), "bar.json"); }),
+               {"/bodies/0/shape_matching/beta"});
+  expect_words(error_of([&] { parse_scene(replaced(text, "\"beta\"", "\"alpha\""), "bar.json"); }),
+               {"/bodies/0/shape_matching", "alpha"});
+}
+
 TEST(TetScene, MalformedTetBodiesNameTheirKey) {
   auto expect = [](const std::string& from, const std::string& to, std::initializer_list<std::string> words) {
     const std::string text = replaced(kBar, from, to);

@@ -16,6 +16,8 @@ struct TetConstraintSets {
   std::optional<Index> volume;       ///< a tet volume constraint (constraints/tet_volume.hpp)
   std::optional<Index> neo_hookean;  ///< a Neo-Hookean tet (constraints/neo_hookean.hpp); the set's compliance is 1/μ
   double ratio = 0.0;                ///< μ/λ of the Neo-Hookean tets (NeoHookeanMaterial::ratio)
+  std::optional<Index> shape_match;  ///< shape matching on every vertex's cluster (shape_match_clusters.hpp)
+  double beta = 0.0;                 ///< its mode: 0 rigid, up to 1 linear (constraints/shape_match.hpp)
 };
 
 /// Where the body goes and how heavy it is.
@@ -31,7 +33,7 @@ struct TetBodyOptions {
 std::vector<Index> tet_mesh_face_vertices(const TetMesh& mesh, int axis, bool max);
 
 /// Adds the mesh's vertices as particles and a constraint of each requested kind on every tet (volume first, then
-/// Neo-Hookean, each in tet order). Checks first (check_tet_mesh with source "add_tet_body", every vertex on some
+/// Neo-Hookean, each in tet order), then a shape-matching cluster per vertex if asked. Checks first (check_tet_mesh with source "add_tet_body", every vertex on some
 /// tet, options, pinned indices), so a bad mesh adds nothing. Returns the body with its boundary triangles
 /// (tet_mesh_surface) in world indices.
 template <class Target>
