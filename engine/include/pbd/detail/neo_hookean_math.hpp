@@ -5,11 +5,14 @@
 /// kernels_avx2.cpp), which then give the scalar bits. Guards are masks, so the lanes run straight through.
 /// Written out in coordinates, with no matrix temporaries: with e_k = p_k − p0 and r_j the columns of Dm⁻¹,
 ///   F_j = e1 r_j.x + e2 r_j.y + e3 r_j.z          (the columns of F = Ds·Dm⁻¹)
-///   K = [F1 × F2, F2 × F0, F0 × F1]               (cof F = ∂det F/∂F, and det F = F0·K0)
-///   f_i = F·m_i, h_i = K·m_i for i = 1..3         (m_i: row i of Dm⁻¹), f0 = −Σ f_i, h0 = −Σ h_i
-/// so the position gradients are ∇_i C_D = f_i/|F| and ∇_i C_H = h_i. The 2 × 2 system of the coupled step is
-/// solved by Cramer's rule with one division by its determinant; |F| enters as one reciprocal. In all: one square
-/// root and three divisions (α̃/V0, 1/|F|, 1/det) per tet.
+///   f_i = F·m_i for i = 1..3                      (m_i: row i of Dm⁻¹), f0 = −Σ f_i
+///   h_i = s·(e_{i+1} × e_{i+2}), s = det Dm⁻¹     (indices mod 3 over 1..3), h0 = −Σ h_i
+///   det F = s·(e1·(e2 × e3))
+/// so the position gradients are ∇_i C_D = f_i/|F| and ∇_i C_H = h_i: ∇_i det F = cof F·m_i, and cof F =
+/// cof Ds·cof Dm⁻¹ = s·cof Ds·Dmᵀ, whose columns times m_i leave s times the columns of cof Ds, the edges' cross
+/// products (fewer operations than cof F itself, and the same for any Dm⁻¹ given). The 2 × 2 system of the
+/// coupled step is solved by Cramer's rule with one division by its determinant; |F| enters as one reciprocal. In
+/// all: one square root and three divisions (α̃/V0, 1/|F|, 1/det) per tet.
 #include "pbd/detail/lane_math.hpp"
 #include "pbd/types.hpp"
 
@@ -45,7 +48,7 @@ template <class T> [[gnu::always_inline]] inline V3<T> times(const V3<T> (&c)[3]
 }
 
 /// The corners' gradient directions of the matrix with columns c: c·m_i for p_i, i = 1..3 (m_i the rows of Dm⁻¹
-/// inv), and 0 minus their sum for p0.
+/// inv), and 0 minus their sum for p0 (f of the file comment, from c = F).
 template <class T> [[gnu::always_inline]] inline void corner_gradients(const V3<T> (&c)[3], const V3<T> (&inv)[3],
                                                                       T zero, V3<T> (&g)[4]) {
   for (int i = 1; i < 4; ++i) g[i] = times(c, row(inv, i - 1));
@@ -67,12 +70,16 @@ template <class Real, class T>
   const T one = L::of(1.0), zero = L::of(0.0);
   const V3<T> e[3] = {p[1] - p[0], p[2] - p[0], p[3] - p[0]};
   const V3<T> F[3] = {times(e, rest.inv[0]), times(e, rest.inv[1]), times(e, rest.inv[2])};
-  const V3<T> K[3] = {cross(F[1], F[2]), cross(F[2], F[0]), cross(F[0], F[1])};
   const T n2 = norm2(F[0]) + norm2(F[1]) + norm2(F[2]);
-  const T J = dot(F[0], K[0]);
   V3<T> f[4], h[4];
   corner_gradients(F, rest.inv, zero, f);
-  corner_gradients(K, rest.inv, zero, h);
+  const T s_rest = dot(rest.inv[0], cross(rest.inv[1], rest.inv[2]));  // det Dm⁻¹
+  h[1] = cross(e[1], e[2]);
+  const T J = dot(e[0], h[1]) * s_rest;
+  h[1] = h[1] * s_rest;
+  h[2] = cross(e[2], e[0]) * s_rest;
+  h[3] = cross(e[0], e[1]) * s_rest;
+  h[0] = V3<T>{zero, zero, zero} - h[1] - h[2] - h[3];
   const T norm = sqrt(n2), inv_norm = one / norm;
   const T alpha_d = alpha / rest.volume, alpha_h = rest.ratio * alpha_d;
   const T a = weighted_dot(w, f, f) * (inv_norm * inv_norm) + alpha_d;
