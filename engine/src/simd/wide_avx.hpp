@@ -135,6 +135,17 @@ template <> struct Lanes<FloatW8> {
     __m256 r[4];
     for (int j = 0; j < 4; ++j)  // lane j holds point j in its low half and point j + 4 in its high half
       r[j] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(at[j])), _mm_load_ps(at[j + 4]), 1);
+    transpose(r, xyzw);
+  }
+  /// Four floats at each of at[0..8) (any alignment) → the first, second, third and fourth across the lanes.
+  PBD_W8 static void gather_unaligned(const float* const (&at)[8], FloatW8 (&out)[4]) {
+    __m256 r[4];
+    for (int j = 0; j < 4; ++j)
+      r[j] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at[j])), _mm_loadu_ps(at[j + 4]), 1);
+    transpose(r, out);
+  }
+  /// r[j]: four floats of item j in its low half and of item j + 4 in its high half → each float across the lanes.
+  PBD_W8 static void transpose(const __m256 (&r)[4], FloatW8 (&xyzw)[4]) {
     const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpacklo_ps(r[2], r[3]);  // x0 x1 y0 y1 | ...
     const __m256 t2 = _mm256_unpackhi_ps(r[0], r[1]), t3 = _mm256_unpackhi_ps(r[2], r[3]);  // z0 z1 w0 w1 | ...
     xyzw[0] = {_mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(1, 0, 1, 0))};
