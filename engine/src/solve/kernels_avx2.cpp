@@ -150,7 +150,7 @@ template <class W, class Real>
 
 // Eight float tets' rest values by three transposes: a tet is 64 bytes, its floats 4..15 are its set (not read),
 // V0, Dm⁻¹'s columns r0, r1, r2 and μ/λ (the static_asserts), so four floats at a time from each of eight tets give
-// four of those values across the lanes (36 instructions where one lane at a time takes some 130).
+// four of those values across the lanes (some 50 instructions where one lane at a time takes some 130).
 [[gnu::always_inline]] inline neo_hookean::TetRest<wide8::FloatW8> tet_rest_transposed(const NeoHookeanConstraint<float>* c) {
   using N = NeoHookeanConstraint<float>;
   static_assert(std::is_standard_layout_v<N> && sizeof(N) == 16 * sizeof(float));

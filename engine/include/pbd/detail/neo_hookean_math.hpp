@@ -47,8 +47,8 @@ template <class T> [[gnu::always_inline]] inline V3<T> times(const V3<T> (&c)[3]
   return c[0] * m.x + c[1] * m.y + c[2] * m.z;
 }
 
-/// The corners' gradient directions of the matrix with columns c: c·m_i for p_i, i = 1..3 (m_i the rows of Dm⁻¹
-/// inv), and 0 minus their sum for p0 (f of the file comment, from c = F).
+/// The file comment's f from the matrix with columns c = F: c·m_i for p_i, i = 1..3 (m_i the rows of Dm⁻¹ inv),
+/// and 0 minus their sum for p0.
 template <class T> [[gnu::always_inline]] inline void corner_gradients(const V3<T> (&c)[3], const V3<T> (&inv)[3],
                                                                       T zero, V3<T> (&g)[4]) {
   for (int i = 1; i < 4; ++i) g[i] = times(c, row(inv, i - 1));
