@@ -3,6 +3,8 @@
 #include "pbd/io/generators.hpp"
 #include "pbd/io/mesh_body.hpp"
 #include "pbd/io/mesh_generators.hpp"
+#include "pbd/io/tet_body.hpp"
+#include "pbd/io/tet_mesh.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
 
@@ -87,6 +89,23 @@ template <class Real> World<Real> mesh_world() {
   return w;
 }
 
+// A Neo-Hookean block (E = 0.1 MPa, ν = 0.45) with two corners of its base pinned, dropped onto a plane: some hundred
+// tets in some thirty colors, with XPBD λ (two per tet).
+template <class Real> World<Real> tet_world() {
+  World<Real> w;
+  const TetMesh mesh = tet_box_mesh({5, 3, 3}, {0.5, 0.3, 0.3});
+  const NeoHookeanMaterial m = young_poisson(1e5, 0.45);
+  TetConstraintSets sets;
+  sets.neo_hookean = w.add_constraint_set(Stiffness::xpbd_compliance(m.compliance()));
+  sets.ratio = m.ratio();
+  TetBodyOptions o;
+  o.origin = {0.0, 0.0, 0.4};
+  o.pinned = {0, 5};
+  add_tet_body(w, mesh, o, sets);
+  w.add_plane(Vec3<Real>(0, 0, 1), Real(0.2));
+  return w;
+}
+
 template <class Real>
 std::vector<Real> run(World<Real> w, Solver solver, int threads, int steps, SweepOrder order = SweepOrder::forward) {
   StepParams<Real> p = w.params();
@@ -117,7 +136,7 @@ TYPED_TEST(SolverTest, ColoredIsBitwiseIdenticalForAnyThreadCountAndToSerialColo
   using Real = TypeParam;
   const std::vector<std::pair<const char*, World<Real>>> scenes = {
       {"cloth", cloth_world<Real>(16)}, {"rope", rope_world<Real>()}, {"random 1", random_world<Real>(1)},
-      {"random 2", random_world<Real>(2)}, {"meshes", mesh_world<Real>()}};
+      {"random 2", random_world<Real>(2)}, {"meshes", mesh_world<Real>()}, {"tets", tet_world<Real>()}};
   for (const auto& [name, world] : scenes) {
     const auto reference = run(world, Solver::serial_colored, 1, 30);
     for (Real v : reference) ASSERT_TRUE(std::isfinite(v)) << name;
@@ -318,6 +337,50 @@ TYPED_TEST(SolverTest, AreaKernelMatchesTheScalarProjectionBitForBit) {
       t.expect_colored_is_serial(testing::Message() << count << " constraints, " << (with_xpbd ? "with" : "without")
                                                    << " XPBD");
     }
+}
+
+// Neo-Hookean tets that share no movable particle, likewise: the colored solver (with AVX2: eight float or four
+// double lanes on padded positions, neo_hookean_math.hpp) must give the serial reference's bits. The tets cover what
+// the lanes mask or mix in one block: PBD sets (α̃ = 0: the tet does not move) beside XPBD sets of two compliances,
+// corners made coincident (F = 0), flat or inverted after their rest values were measured, pinned corners shared
+// between tets, all four corners pinned (nothing moves; λ moves where μ/λ > 0, and the system is singular where it is
+// 0), ratios μ/λ from 0 to 1, and counts that leave a scalar remainder, which must find the tet's two λ (2i, 2i + 1).
+TYPED_TEST(SolverTest, NeoHookeanKernelMatchesTheScalarProjectionBitForBit) {
+  using Real = TypeParam;
+  for (int count : {1, 3, 4, 5, 8, 9, 13, 17, 61, 250}) {
+    KernelCase<Real> t(unsigned(count) + 23u, true);
+    const Index xpbd[2] = {t.w.add_constraint_set(Stiffness::xpbd_compliance(1e-6)),
+                           t.w.add_constraint_set(Stiffness::xpbd_compliance(1e-4))};
+    std::array<Index, 4> pinned;  // a pinned tet whose corners all-pinned tets share
+    for (int i = 0; i < 4; ++i)
+      pinned[i] = t.w.add_particle(Vec3<Real>(Real(i == 1), Real(i == 2), Real(1 + (i == 3))), World<Real>::kPinned);
+    std::vector<std::pair<int, std::array<Index, 4>>> reshape;  // tets deformed once their rest values are measured
+    for (int k = 0; k < count; ++k) {
+      NeoHookeanConstraint<Real> c = blank_constraint<NeoHookeanConstraint<Real>>();
+      c.set = k % 5 == 4 ? t.any_set() : xpbd[k % 2];
+      c.ratio = Real(std::array{0.0, 0.02, 0.3, 1.0}[k % 4]);
+      auto& q = c.particles;
+      q = {t.movable(), t.movable(), t.movable(), t.movable()};
+      if (k % 7 == 3) q[0] = t.pin[0], q[1] = t.pin[1];  // a pinned edge, shared
+      if (k % 7 == 4) q = pinned;                        // all pinned
+      const auto x = t.w.positions();  // a view, taken once the particles are added
+      const Vec3<Real> e1 = x.col(q[1]) - x.col(q[0]), e2 = x.col(q[2]) - x.col(q[0]), e3 = x.col(q[3]) - x.col(q[0]);
+      if (e1.cross(e2).dot(e3) < 0) std::swap(q[2], q[3]);  // positively oriented where it starts
+      t.w.add(c, required_fields<NeoHookeanConstraint<Real>>());
+      if (k % 7 <= 2) reshape.emplace_back(k % 7, q);
+    }
+    auto x = t.w.positions();
+    for (const auto& [how, q] : reshape) {
+      if (how == 0) {  // coincident corners: F = 0
+        for (int i = 1; i < 4; ++i) x.col(q[i]) = x.col(q[0]);
+      } else if (how == 1) {  // flat
+        x.col(q[3]) = x.col(q[0]) + Real(0.3) * (x.col(q[1]) - x.col(q[0])) + Real(0.5) * (x.col(q[2]) - x.col(q[0]));
+      } else {  // inverted
+        x.col(q[2]).swap(x.col(q[3]));
+      }
+    }
+    t.expect_colored_is_serial(testing::Message() << count << " constraints");
+  }
 }
 
 // The colored solver reads k and α̃ once for a stretch color whose constraints all share one set. What it knows of

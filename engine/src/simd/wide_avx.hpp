@@ -116,11 +116,36 @@ template <> struct Lanes<FloatW8> {
   }
   PBD_W8 static FloatW8 loadu(const float* p) { return {_mm256_loadu_ps(p)}; }
   PBD_W8 static void storeu(float* p, FloatW8 a) { _mm256_storeu_ps(p, a.v); }
+  /// p[0..16) as eight pairs: the first of each pair → first, the second → second.
+  PBD_W8 static void load_pairs(const float* p, FloatW8& first, FloatW8& second) {
+    const __m256 a = _mm256_loadu_ps(p), b = _mm256_loadu_ps(p + 8);  // pairs 0..3 | pairs 4..7
+    const __m256d x = _mm256_castps_pd(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)));  // 0 1 4 5 | 2 3 6 7
+    const __m256d y = _mm256_castps_pd(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(3, 1, 3, 1)));
+    first = {_mm256_castpd_ps(_mm256_permute4x64_pd(x, _MM_SHUFFLE(3, 1, 2, 0)))};
+    second = {_mm256_castpd_ps(_mm256_permute4x64_pd(y, _MM_SHUFFLE(3, 1, 2, 0)))};
+  }
+  /// The inverse of load_pairs: p[2j] = first[j], p[2j + 1] = second[j].
+  PBD_W8 static void store_pairs(float* p, FloatW8 first, FloatW8 second) {
+    const __m256 lo = _mm256_unpacklo_ps(first.v, second.v), hi = _mm256_unpackhi_ps(first.v, second.v);  // 0 1 | 4 5, 2 3 | 6 7
+    _mm256_storeu_ps(p, _mm256_permute2f128_ps(lo, hi, 0x20));
+    _mm256_storeu_ps(p + 8, _mm256_permute2f128_ps(lo, hi, 0x31));
+  }
   /// Points at[0..8) (x y z w, 16-byte aligned; P: float* or const float*) → x, y, z, w across the lanes.
   template <class P> PBD_W8 static void gather(P const (&at)[8], FloatW8 (&xyzw)[4]) {
     __m256 r[4];
     for (int j = 0; j < 4; ++j)  // lane j holds point j in its low half and point j + 4 in its high half
       r[j] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(at[j])), _mm_load_ps(at[j + 4]), 1);
+    transpose(r, xyzw);
+  }
+  /// Four floats at each of at[0..8) (any alignment) → the first, second, third and fourth across the lanes.
+  PBD_W8 static void gather_unaligned(const float* const (&at)[8], FloatW8 (&out)[4]) {
+    __m256 r[4];
+    for (int j = 0; j < 4; ++j)
+      r[j] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at[j])), _mm_loadu_ps(at[j + 4]), 1);
+    transpose(r, out);
+  }
+  /// r[j]: four floats of item j in its low half and of item j + 4 in its high half → each float across the lanes.
+  PBD_W8 static void transpose(const __m256 (&r)[4], FloatW8 (&xyzw)[4]) {
     const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpacklo_ps(r[2], r[3]);  // x0 x1 y0 y1 | ...
     const __m256 t2 = _mm256_unpackhi_ps(r[0], r[1]), t3 = _mm256_unpackhi_ps(r[2], r[3]);  // z0 z1 w0 w1 | ...
     xyzw[0] = {_mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(1, 0, 1, 0))};
@@ -150,6 +175,18 @@ template <> struct Lanes<DoubleW4> {
   template <class F> PBD_W8 static DoubleW4 of(const F& f) { return {_mm256_setr_pd(f(0), f(1), f(2), f(3))}; }
   PBD_W8 static DoubleW4 loadu(const double* p) { return {_mm256_loadu_pd(p)}; }
   PBD_W8 static void storeu(double* p, DoubleW4 a) { _mm256_storeu_pd(p, a.v); }
+  /// p[0..8) as four pairs: the first of each pair → first, the second → second.
+  PBD_W8 static void load_pairs(const double* p, DoubleW4& first, DoubleW4& second) {
+    const __m256d a = _mm256_loadu_pd(p), b = _mm256_loadu_pd(p + 4);  // pairs 0, 1 | pairs 2, 3
+    first = {_mm256_permute4x64_pd(_mm256_unpacklo_pd(a, b), _MM_SHUFFLE(3, 1, 2, 0))};   // from 0 2 1 3
+    second = {_mm256_permute4x64_pd(_mm256_unpackhi_pd(a, b), _MM_SHUFFLE(3, 1, 2, 0))};
+  }
+  /// The inverse of load_pairs: p[2j] = first[j], p[2j + 1] = second[j].
+  PBD_W8 static void store_pairs(double* p, DoubleW4 first, DoubleW4 second) {
+    const __m256d lo = _mm256_unpacklo_pd(first.v, second.v), hi = _mm256_unpackhi_pd(first.v, second.v);  // 0 | 2, 1 | 3
+    _mm256_storeu_pd(p, _mm256_permute2f128_pd(lo, hi, 0x20));
+    _mm256_storeu_pd(p + 4, _mm256_permute2f128_pd(lo, hi, 0x31));
+  }
   /// Points at[0..4) (x y z w, 32-byte aligned) → x, y, z, w across the lanes.
   PBD_W8 static void gather(double* const (&at)[4], DoubleW4 (&xyzw)[4]) {
     const __m256d r0 = _mm256_load_pd(at[0]), r1 = _mm256_load_pd(at[1]), r2 = _mm256_load_pd(at[2]),

@@ -19,9 +19,9 @@ namespace pbd::detail {
 
 namespace {
 
-// One constraint on padded positions: project()'s correction and writes.
+// One constraint on padded positions: project()'s correction and writes (lambda: its first λ, of multipliers<C>()).
 template <class C, class Real>
-[[gnu::always_inline]] inline void project_one(const C& c, Real* q, SolveCoefficients<Real> coeff, Real& lambda) {
+[[gnu::always_inline]] inline void project_one(const C& c, Real* q, SolveCoefficients<Real> coeff, Real* lambda) {
   constexpr int n = C::kArity;
   Vec3<Real> pos[n];
   Real w[n];
@@ -31,9 +31,16 @@ template <class C, class Real>
     w[i] = at[3];
   }
   Vec3<Real> dp[n];
-  Real dlambda;
-  if (!correction(c, pos, w, coeff, lambda, dp, dlambda)) return;
-  if (coeff.alpha_tilde != Real(0)) lambda += dlambda;  // λ is kept only where it enters (projection.hpp)
+  if constexpr (multipliers<C>() > 1) {  // its own coupled correction (projection.hpp)
+    Real dlambda[multipliers<C>()];
+    if (!correction(c, pos, w, coeff, static_cast<const Real*>(lambda), dp, dlambda)) return;
+    if (coeff.alpha_tilde != Real(0))
+      for (int k = 0; k < multipliers<C>(); ++k) lambda[k] += dlambda[k];
+  } else {
+    Real dlambda;
+    if (!correction(c, pos, w, coeff, *lambda, dp, dlambda)) return;
+    if (coeff.alpha_tilde != Real(0)) *lambda += dlambda;  // λ is kept only where it enters (projection.hpp)
+  }
   for (int i = 0; i < n; ++i)
     if (w[i] != Real(0)) Eigen::Map<Vec3<Real>>(q + 4 * std::size_t(c.particles[i])) += dp[i];
 }
@@ -97,7 +104,7 @@ template <bool kLambda>
 #if defined(__SSE2__)
   for (; b + 4 <= e; b += 4) block4<kLambda>(c + b, q, coeff, lambda + b);
 #endif
-  for (; b < e; ++b) project_one(c[b], q, coeff[c[b].set], lambda[b]);
+  for (; b < e; ++b) project_one(c[b], q, coeff[c[b].set], lambda + b);
 }
 
 void range_default(const BendingConstraint<float>* c, Index b, Index e, float* q,
@@ -109,20 +116,28 @@ void range_default(const BendingConstraint<float>* c, Index b, Index e, float* q
 }  // namespace
 
 void project_padded_one(const BendingConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda) {
-  project_one(c, q, coeff, lambda);
+  project_one(c, q, coeff, &lambda);
 }
 void project_padded_one(const BendingConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
                         double& lambda) {
-  project_one(c, q, coeff, lambda);
+  project_one(c, q, coeff, &lambda);
 }
 void project_padded_one(const StretchConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
                         double& lambda) {
-  project_one(c, q, coeff, lambda);
+  project_one(c, q, coeff, &lambda);
 }
 void project_padded_one(const AreaConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda) {
-  project_one(c, q, coeff, lambda);
+  project_one(c, q, coeff, &lambda);
 }
 void project_padded_one(const AreaConstraint<double>& c, double* q, SolveCoefficients<double> coeff, double& lambda) {
+  project_one(c, q, coeff, &lambda);
+}
+
+void project_padded_one(const NeoHookeanConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float* lambda) {
+  project_one(c, q, coeff, lambda);
+}
+void project_padded_one(const NeoHookeanConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
+                        double* lambda) {
   project_one(c, q, coeff, lambda);
 }
 

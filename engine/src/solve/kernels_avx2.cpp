@@ -1,4 +1,5 @@
-// AVX2 builds of the bending and area kernels (float and double) and of the double stretch kernel (kernels_avx2.hpp).
+// AVX2 builds of the bending, area and Neo-Hookean kernels (float and double) and of the double stretch kernel
+// (kernels_avx2.hpp).
 // This file alone is compiled with -mavx2 -mno-fma (engine/CMakeLists.txt). It instantiates no inline function the
 // rest of the engine also instantiates (the scalar remainders are called out of line), so the linker never keeps an
 // AVX2 copy of a function other files call on machines without AVX2.
@@ -6,8 +7,10 @@
 
 #include "simd/wide_avx.hpp"
 
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <type_traits>
 
 #if defined(__AVX2__)
 namespace pbd::detail::lane {
@@ -44,6 +47,19 @@ template <class W, bool kLambda, class C, class Real>
   }
 }
 
+// The corners of L::kCount constraints: their addresses in q ([corner][lane]), positions and inverse masses.
+template <class W, class C, class Real, int kCorners, int kLanes>
+[[gnu::always_inline]] inline void gather_corners(const C* c, Real* q, Real* (&at)[kCorners][kLanes],
+                                                  lane::V3<W> (&p)[kCorners], W (&w)[kCorners]) {
+  for (int i = 0; i < kCorners; ++i) {
+    for (int j = 0; j < kLanes; ++j) at[i][j] = q + 4 * std::size_t(c[j].particles[i]);
+    W xyzw[4];
+    Lanes<W>::gather(at[i], xyzw);
+    p[i] = {xyzw[0], xyzw[1], xyzw[2]};
+    w[i] = xyzw[3];
+  }
+}
+
 // The shared arithmetic of a constraint type written over lanes (bending_math.hpp, area_math.hpp).
 template <class Real, class W>
 [[gnu::always_inline]] inline auto lane_step(const BendingConstraint<Real>*, const lane::V3<W> (&p)[4],
@@ -67,13 +83,7 @@ template <class W, bool kLambda, class C, class Real>
   Real* at[corners][n];  // [corner][lane]
   lane::V3<W> p[corners];
   W w[corners];
-  for (int i = 0; i < corners; ++i) {
-    for (int j = 0; j < n; ++j) at[i][j] = q + 4 * std::size_t(c[j].particles[i]);
-    W xyzw[4];
-    L::gather(at[i], xyzw);
-    p[i] = {xyzw[0], xyzw[1], xyzw[2]};
-    w[i] = xyzw[3];
-  }
+  gather_corners(c, q, at, p, w);
   W k, alpha;
   lane_coefficients<W, kLambda>(c, coeff, k, alpha);
   const W lam = kLambda ? L::loadu(lambda) : L::zero();
@@ -122,6 +132,76 @@ template <class W, bool kLambda, class Real>
   const W sa = pa[3] * s, sb = -pb[3] * s;
   if (const int moves = active & ~bits(pa[3] == L::zero())) L::add(a, dx * sa, dy * sa, dz * sa, moves);
   if (const int moves = active & ~bits(pb[3] == L::zero())) L::add(b, dx * sb, dy * sb, dz * sb, moves);
+}
+
+// The rest values of L::kCount Neo-Hookean tets across the lanes, one lane at a time.
+template <class W, class Real>
+[[gnu::always_inline]] inline neo_hookean::TetRest<W> tet_rest_by_lane(const NeoHookeanConstraint<Real>* c) {
+  using L = Lanes<W>;
+  auto column = [&](Vec3<Real> NeoHookeanConstraint<Real>::*m) {
+    return lane::V3<W>{L::of([&](int j) { return (c[j].*m).x(); }), L::of([&](int j) { return (c[j].*m).y(); }),
+                       L::of([&](int j) { return (c[j].*m).z(); })};
+  };
+  using N = NeoHookeanConstraint<Real>;
+  return {{column(&N::inv_rest0), column(&N::inv_rest1), column(&N::inv_rest2)},
+          L::of([&](int j) { return c[j].volume; }),
+          L::of([&](int j) { return c[j].ratio; })};
+}
+
+// Eight float tets' rest values by three transposes: a tet is 64 bytes, its floats 4..15 are its set (not read),
+// V0, Dm⁻¹'s columns r0, r1, r2 and μ/λ (the static_asserts), so four floats at a time from each of eight tets give
+// four of those values across the lanes (some 50 instructions where one lane at a time takes some 130).
+[[gnu::always_inline]] inline neo_hookean::TetRest<wide8::FloatW8> tet_rest_transposed(const NeoHookeanConstraint<float>* c) {
+  using N = NeoHookeanConstraint<float>;
+  static_assert(std::is_standard_layout_v<N> && sizeof(N) == 16 * sizeof(float));
+  static_assert(offsetof(N, volume) == 5 * sizeof(float) && offsetof(N, inv_rest0) == 6 * sizeof(float) &&
+                offsetof(N, inv_rest1) == 9 * sizeof(float) && offsetof(N, inv_rest2) == 12 * sizeof(float) &&
+                offsetof(N, ratio) == 15 * sizeof(float));
+  const float* at[8];
+  wide8::FloatW8 f[3][4];  // floats 4..7, 8..11, 12..15
+  for (int k = 0; k < 3; ++k) {
+    for (int j = 0; j < 8; ++j) at[j] = reinterpret_cast<const float*>(c + j) + 4 * (k + 1);
+    Lanes<wide8::FloatW8>::gather_unaligned(at, f[k]);
+  }
+  return {{{f[0][2], f[0][3], f[1][0]}, {f[1][1], f[1][2], f[1][3]}, {f[2][0], f[2][1], f[2][2]}}, f[0][1], f[2][3]};
+}
+
+// The rest values of L::kCount Neo-Hookean tets across the lanes.
+template <class W, class Real>
+[[gnu::always_inline]] inline neo_hookean::TetRest<W> tet_rest(const NeoHookeanConstraint<Real>* c) {
+  if constexpr (std::is_same_v<W, wide8::FloatW8>) return tet_rest_transposed(c);
+  else return tet_rest_by_lane<W>(c);
+}
+
+// L::kCount Neo-Hookean tets of one color in the lanes: neo_hookean.hpp's correction() and project()'s writes
+// (movable corners of the lanes that project, and their two λ: a lane projects only where α̃ > 0).
+template <class W, class Real>
+[[gnu::always_inline]] inline void neo_hookean_block(const NeoHookeanConstraint<Real>* c, Real* q,
+                                                     const SolveCoefficients<Real>* coeff, Real* lambda) {
+  using L = Lanes<W>;
+  constexpr int n = L::kCount;
+  Real* at[4][n];  // [corner][lane]
+  lane::V3<W> p[4];
+  W w[4];
+  gather_corners(c, q, at, p, w);
+  W k, alpha;
+  lane_coefficients<W, true>(c, coeff, k, alpha);
+  W lam_d, lam_h;
+  L::load_pairs(lambda, lam_d, lam_h);
+  const auto r = neo_hookean::neo_hookean_step<Real>(p, w, tet_rest<W, Real>(c), alpha, lam_d, lam_h);
+  const int active = bits(r.ok);
+  if (active == 0) return;
+  L::store_pairs(lambda, select(r.ok, lam_d + r.dlambda[0], lam_d), select(r.ok, lam_h + r.dlambda[1], lam_h));
+  for (int i = 0; i < 4; ++i)
+    if (const int moves = active & ~bits(w[i] == L::zero())) L::add(at[i], r.dp[i].x, r.dp[i].y, r.dp[i].z, moves);
+}
+
+template <class W, class Real>
+void neo_hookean_range(const NeoHookeanConstraint<Real>* c, Index b, Index e, Real* q,
+                       const SolveCoefficients<Real>* coeff, Real* lambda) {
+  constexpr Index n = Lanes<W>::kCount;
+  for (; b + n <= e; b += n) neo_hookean_block<W>(c + b, q, coeff, lambda + 2 * std::size_t(b));
+  for (; b < e; ++b) project_padded_one(c[b], q, coeff[c[b].set], lambda + 2 * std::size_t(b));
 }
 
 template <class W, bool kLambda, class C, class Real>
@@ -173,6 +253,14 @@ void project_area_range_avx2(const AreaConstraint<double>* c, Index b, Index e, 
   if (any_xpbd) lanes_range<wide8::DoubleW4, true>(c, b, e, q, coeff, lambda);
   else lanes_range<wide8::DoubleW4, false>(c, b, e, q, coeff, lambda);
 }
+void project_neo_hookean_range_avx2(const NeoHookeanConstraint<float>* c, Index b, Index e, float* q,
+                                    const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+  if (any_xpbd) neo_hookean_range<wide8::FloatW8>(c, b, e, q, coeff, lambda);
+}
+void project_neo_hookean_range_avx2(const NeoHookeanConstraint<double>* c, Index b, Index e, double* q,
+                                    const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
+  if (any_xpbd) neo_hookean_range<wide8::DoubleW4>(c, b, e, q, coeff, lambda);
+}
 void project_stretch_range_avx2(const StretchConstraint<double>* c, Index b, Index e, double* q,
                                 const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd, Index set) {
   if (any_xpbd) stretch_range<wide8::DoubleW4, true>(c, b, e, q, coeff, lambda, set);
@@ -198,6 +286,14 @@ void project_area_range_avx2(const AreaConstraint<float>*, Index, Index, float*,
 }
 void project_area_range_avx2(const AreaConstraint<double>*, Index, Index, double*, const SolveCoefficients<double>*,
                              double*, bool) {
+  std::abort();
+}
+void project_neo_hookean_range_avx2(const NeoHookeanConstraint<float>*, Index, Index, float*,
+                                    const SolveCoefficients<float>*, float*, bool) {
+  std::abort();
+}
+void project_neo_hookean_range_avx2(const NeoHookeanConstraint<double>*, Index, Index, double*,
+                                    const SolveCoefficients<double>*, double*, bool) {
   std::abort();
 }
 #endif

@@ -18,10 +18,10 @@
 /// λ = λ_Lamé + μ: a small-strain bar then bends and stretches as Young's modulus E and Poisson's ratio ν say.
 #include "pbd/constraints/traits.hpp"
 #include "pbd/detail/message.hpp"
+#include "pbd/detail/neo_hookean_math.hpp"
 #include "pbd/error.hpp"
 #include "pbd/stiffness.hpp"
 
-#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <array>
 #include <cmath>
@@ -96,37 +96,24 @@ template <class Real> Eigen::Matrix<Real, 3, 3> deformation_gradient(const NeoHo
 /// solves [g_D·W·g_D + α̃_D, g_D·W·g_H; g_H·W·g_D, g_H·W·g_H + α̃_H]·Δλ = −[C_D + α̃_D λ_D, C_H + α̃_H λ_H] and moves
 /// p_i by w_i(g_Di Δλ_D + g_Hi Δλ_H). False (nothing moves) when the set has no compliance (α̃ = 0: the two
 /// constraints cannot both hold), F = 0 (no direction), or the system is singular (all corners pinned).
+/// The arithmetic is detail/neo_hookean_math.hpp's, which the AVX2 kernel shares (so it gives these bits).
 template <class Real>
 inline bool correction(const NeoHookeanConstraint<Real>& c, const Vec3<Real> (&p)[4], const Real (&w)[4],
                        SolveCoefficients<Real> coeff, const Real* lambda, Vec3<Real> (&dp)[4], Real (&dlambda)[2]) {
-  if (!(coeff.alpha_tilde > Real(0))) return false;
-  using M3 = Eigen::Matrix<Real, 3, 3>;
-  const M3 F = detail::deformation_gradient(c, p);
-  const Real norm = F.norm();
-  if (!(norm * norm > tiny_squared<Real>())) return false;
-  M3 inv;
-  inv << c.inv_rest0, c.inv_rest1, c.inv_rest2;
-  M3 cof;
-  cof << F.col(1).cross(F.col(2)), F.col(2).cross(F.col(0)), F.col(0).cross(F.col(1));
-  const M3 gd = (F / norm) * inv.transpose(), gh = cof * inv.transpose();  // columns: the gradients of p1..p3
-  const Vec3<Real> gd0 = -gd.rowwise().sum(), gh0 = -gh.rowwise().sum();
-  Real a = w[0] * gd0.squaredNorm(), b = w[0] * gd0.dot(gh0), d = w[0] * gh0.squaredNorm();
-  for (int i = 1; i < 4; ++i) {
-    a += w[i] * gd.col(i - 1).squaredNorm();
-    b += w[i] * gd.col(i - 1).dot(gh.col(i - 1));
-    d += w[i] * gh.col(i - 1).squaredNorm();
-  }
-  const Real alpha_d = coeff.alpha_tilde / c.volume, alpha_h = c.ratio * alpha_d;
-  a += alpha_d;
-  d += alpha_h;
-  const Real det = a * d - b * b;
-  if (!(det > Real(0))) return false;
-  const Real rd = -norm - alpha_d * lambda[0];
-  const Real rh = -(F.determinant() - (Real(1) + c.ratio)) - alpha_h * lambda[1];
-  dlambda[0] = (d * rd - b * rh) / det;
-  dlambda[1] = (a * rh - b * rd) / det;
-  dp[0] = w[0] * (gd0 * dlambda[0] + gh0 * dlambda[1]);
-  for (int i = 1; i < 4; ++i) dp[i] = w[i] * (gd.col(i - 1) * dlambda[0] + gh.col(i - 1) * dlambda[1]);
+  if (!(coeff.alpha_tilde > Real(0))) return false;  // the step's own guard too: skips its arithmetic
+  using V = detail::lane::V3<Real>;
+  const V q[4] = {{p[0].x(), p[0].y(), p[0].z()}, {p[1].x(), p[1].y(), p[1].z()},
+                  {p[2].x(), p[2].y(), p[2].z()}, {p[3].x(), p[3].y(), p[3].z()}};
+  const detail::neo_hookean::TetRest<Real> rest{{{c.inv_rest0.x(), c.inv_rest0.y(), c.inv_rest0.z()},
+                                                 {c.inv_rest1.x(), c.inv_rest1.y(), c.inv_rest1.z()},
+                                                 {c.inv_rest2.x(), c.inv_rest2.y(), c.inv_rest2.z()}},
+                                                c.volume,
+                                                c.ratio};
+  const auto r = detail::neo_hookean::neo_hookean_step<Real>(q, w, rest, coeff.alpha_tilde, lambda[0], lambda[1]);
+  if (!r.ok) return false;
+  dlambda[0] = r.dlambda[0];
+  dlambda[1] = r.dlambda[1];
+  for (int i = 0; i < 4; ++i) dp[i] = Vec3<Real>(r.dp[i].x, r.dp[i].y, r.dp[i].z);
   return true;
 }
 
