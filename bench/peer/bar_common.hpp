@@ -29,26 +29,11 @@ struct Bar {
 };
 
 inline Bar read_bar(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  std::stringstream text;
-  for (std::string line; std::getline(in, line);)
-    if (line.empty() || line[0] != '#') text << line << '\n';
-  auto expect = [&](const char* word) {
-    std::string w;
-    if (!(text >> w) || w != word) throw std::runtime_error(path + ": expected '" + word + "', found '" + w + "'");
-  };
-  auto count = [&](const char* word) {
-    expect(word);
-    long long k = -1;
-    if (!(text >> k) || k < 0) throw std::runtime_error(path + ": bad count after '" + word + "'");
-    return std::size_t(k);
-  };
+  KeywordFile f(path, "pbd_peer_bar");
+  std::stringstream& text = f.text;
+  auto expect = [&](const char* word) { f.expect(word); };
+  auto count = [&](const char* word) { return f.count(word); };
   Bar b;
-  int version = 0;
-  expect("pbd_peer_bar");
-  text >> version;
-  if (version != 1) throw std::runtime_error(path + ": unknown version");
   expect("width");
   text >> b.width;
   expect("height");
@@ -213,20 +198,10 @@ inline void write_trajectory(const std::string& path, const Trajectory& t) {
 }
 
 inline Trajectory read_trajectory(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  std::stringstream text;
-  for (std::string line; std::getline(in, line);)
-    if (line.empty() || line[0] != '#') text << line << '\n';
-  auto expect = [&](const char* word) {
-    std::string w;
-    if (!(text >> w) || w != word) throw std::runtime_error(path + ": expected '" + word + "', found '" + w + "'");
-  };
+  KeywordFile f(path, "pbd_peer_bar_tip");
+  std::stringstream& text = f.text;
+  auto expect = [&](const char* word) { f.expect(word); };
   Trajectory t;
-  int version = 0;
-  expect("pbd_peer_bar_tip");
-  text >> version;
-  if (version != 1) throw std::runtime_error(path + ": unknown version");
   expect("dt");
   text >> t.dt;
   expect("start");

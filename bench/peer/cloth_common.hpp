@@ -29,27 +29,42 @@ struct Cloth {
   std::vector<std::array<unsigned, 4>> quads;   ///< dihedral constraints (opposite p0, opposite p1, edge e0, e1)
 };
 
-inline Cloth read_cloth(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  std::stringstream text;
-  for (std::string line; std::getline(in, line);)
-    if (line.empty() || line[0] != '#') text << line << '\n';
-  auto expect = [&](const char* word) {
+/// A keyword-tagged text file of this directory's formats ("<magic> 1", then "keyword value ..." and counted lists),
+/// with its '#' comment lines dropped; every error names the file.
+struct KeywordFile {
+  std::string path;       ///< the file, for messages
+  std::stringstream text;  ///< its content without comment lines: read the values with >>
+  /// Opens `file` and checks its first words are "<magic> 1".
+  KeywordFile(const std::string& file, const char* magic) : path(file) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error(path + ": cannot open");
+    for (std::string line; std::getline(in, line);)
+      if (line.empty() || line[0] != '#') text << line << '\n';
+    expect(magic);
+    int version = 0;
+    text >> version;
+    if (version != 1) throw std::runtime_error(path + ": unknown version");
+  }
+  /// The next word must be `word`.
+  void expect(const char* word) {
     std::string w;
     if (!(text >> w) || w != word) throw std::runtime_error(path + ": expected '" + word + "', found '" + w + "'");
-  };
-  auto count = [&](const char* word) {
+  }
+  /// `word`, then a count ≥ 0.
+  std::size_t count(const char* word) {
     expect(word);
     long long k = -1;
     if (!(text >> k) || k < 0) throw std::runtime_error(path + ": bad count after '" + word + "'");
     return std::size_t(k);
-  };
+  }
+};
+
+inline Cloth read_cloth(const std::string& path) {
+  KeywordFile f(path, "pbd_peer_cloth");
+  std::stringstream& text = f.text;
+  auto expect = [&](const char* word) { f.expect(word); };
+  auto count = [&](const char* word) { return f.count(word); };
   Cloth c;
-  int version = 0;
-  expect("pbd_peer_cloth");
-  text >> version;
-  if (version != 1) throw std::runtime_error(path + ": unknown version");
   expect("n");
   text >> c.n;
   expect("width");
