@@ -236,14 +236,17 @@ template <class Real> void bind_world(py::module_& m, const char* name, const ch
       "Adds a solid sphere: center in m, radius in m (> 0), with a ContactMaterial.");
   cls.def(
       "add_contact_body",
-      [](W& w, std::int64_t first, std::int64_t count, Real radius, const ContactMaterial<double>& material, bool self) {
+      [](W& w, std::int64_t first, std::int64_t count, Real radius, const ContactMaterial<double>& material, bool self,
+         const std::vector<std::int64_t>& interior) {
         ContactBody<Real> b{index_arg(first, "add_contact_body: first"), index_arg(count, "add_contact_body: count"),
                             radius, to_engine<Real>(material), self};
+        for (std::int64_t i : interior) b.interior.push_back(index_arg(i, "add_contact_body: interior"));
         return w.get("add_contact_body").add_contact_body(b);
       },
       py::arg("first"), py::arg("count"), py::arg("radius"), py::arg("material") = ContactMaterial<double>{},
-      py::arg("self_collision") = false,
-      "Makes particles [first, first + count) a contact body of radius in m; returns its index.");
+      py::arg("self_collision") = false, py::arg("interior") = std::vector<std::int64_t>{},
+      "Makes particles [first, first + count) a contact body of radius in m, its `interior` particles (ascending) "
+      "points that touch colliders only; returns its index.");
 
   // ---- stepping ----
   cls.def_property(

@@ -105,7 +105,7 @@ template <class Real> World<Real> build_world(const WorldDescription& d) {
   for (const SphereDescription& s : d.spheres)
     w.add_sphere(Vec3<Real>(s.center.cast<Real>()), Real(s.radius), cast_material<Real>(s.material));
   for (const ContactBody<double>& b : d.contact_bodies)
-    w.add_contact_body({b.first, b.count, Real(b.radius), cast_material<Real>(b.material), b.self_collision});
+    w.add_contact_body({b.first, b.count, Real(b.radius), cast_material<Real>(b.material), b.self_collision, b.interior});
   const StepParams<double>& p = d.params;
   const Chebyshev<double>& c = p.chebyshev;
   w.set_params({Real(p.dt), p.substeps, p.iterations, Vec3<Real>(p.gravity.cast<Real>()), Real(p.damping),

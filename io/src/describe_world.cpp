@@ -31,7 +31,7 @@ template <class Real> WorldDescription describe_world(const World<Real>& w) {
   for (const auto& s : w.colliders().spheres)
     d.spheres.push_back({s.center.template cast<double>(), double(s.radius), to_double(s.material)});
   for (const auto& b : w.contact_bodies())
-    d.contact_bodies.push_back({b.first, b.count, double(b.radius), to_double(b.material), b.self_collision});
+    d.contact_bodies.push_back({b.first, b.count, double(b.radius), to_double(b.material), b.self_collision, b.interior});
   const StepParams<Real>& p = w.params();
   const Chebyshev<Real>& c = p.chebyshev;
   d.params = {double(p.dt), p.substeps, p.iterations, p.gravity.template cast<double>(), double(p.damping),

@@ -30,6 +30,17 @@ ContactMaterial<double> read_contact_material(const JsonObject& o) {
   return m;
 }
 
+std::vector<Index> interior_particles(const Body& body) {
+  if (body.triangles.empty()) return {};  // a rope, a grain: every particle is on its outside
+  std::vector<std::uint8_t> on_surface(body.num_particles, 0);
+  for (const auto& t : body.triangles)
+    for (Index i : t) on_surface[i - body.first_particle] = 1;
+  std::vector<Index> out;
+  for (Index k = 0; k < body.num_particles; ++k)
+    if (!on_surface[k]) out.push_back(body.first_particle + k);
+  return out;
+}
+
 void read_contact_body(const JsonObject& o, const Body& body, DescriptionBuilder& world) {
   if (!o.has("contact")) return;
   const JsonObject c = o.object("contact");
@@ -39,6 +50,7 @@ void read_contact_body(const JsonObject& o, const Body& body, DescriptionBuilder
   b.radius = c.number("radius", 0.0, kMaxContactRadius, 0.0);
   b.material = read_contact_material(c);
   b.self_collision = c.boolean("self_collision", false);
+  b.interior = interior_particles(body);
   c.reject_unknown_keys();
   try {
     world.add_contact_body(b);  // every value is checked above; this refuses only an empty or overlapping run

@@ -16,6 +16,10 @@ inline constexpr double kMaxContactRadius = 1e6;
 /// value; "restitution" is in [0, 1]. Errors name the file and the key.
 ContactMaterial<double> read_contact_material(const JsonObject& o);
 
+/// The particles of `body` on none of its surface triangles (world indices, ascending): a tet body's interior, which
+/// touches nothing but colliders (ContactBody::interior). A body without triangles has none.
+std::vector<Index> interior_particles(const Body& body);
+
 /// The optional "contact" object of the body object `o`: {"radius": m ≥ 0 (0), "friction", "restitution",
 /// "self_collision": bool (false)}. When present, `body`'s particles become a contact body of `world`; absent,
 /// nothing is added.

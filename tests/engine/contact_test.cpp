@@ -132,6 +132,48 @@ TYPED_TEST(Contact, HeadOnPairKeepsMomentumAndSeparatesAtRestitutionTimesTheAppr
   }
 }
 
+// A contact body's interior particles (ContactBody::interior: a tet body's inner ones) are points: a ball of another
+// body flies through one untouched, where it bounces off the same particle when that particle is not interior, and
+// the interior particle still lands on the ground (a collider) as a point.
+TYPED_TEST(Contact, InteriorParticlesTouchCollidersButNoOtherParticle) {
+  using Real = TypeParam;
+  for (Solver s : kSolvers) {
+    for (bool interior : {true, false}) {
+      World<Real> w;
+      w.add_particle(Vec3<Real>(Real(0), Real(3), Real(0.5)), Real(1));  // the body's surface, far away
+      w.add_particle(Vec3<Real>(Real(0), Real(0), Real(0.5)), Real(1));  // its inner particle, in the ball's way
+      w.add_particle(Vec3<Real>(Real(-0.5), Real(0), Real(0.5)), Real(1), Vec3<Real>(Real(4), 0, 0));
+      ContactBody<Real> body{0, 2, Real(0.1)};
+      if (interior) body.interior = {1};
+      w.add_contact_body(body);
+      w.add_contact_body({2, 1, Real(0.1)});
+      w.add_plane(Vec3<Real>(0, 0, 1), Real(0));
+      StepParams<Real> p = params<Real>(s, 8, 2);
+      p.gravity = Vec3<Real>(0, 0, Real(-9.81));
+      w.set_params(p);
+      for (int i = 0; i < 60; ++i) w.step();  // 1 s: the ball passes x = 0 at 0.125 s, before anything lands
+      const double ball_vx = double(w.velocities()(0, 2)), inner_x = double(w.positions()(0, 1));
+      if (interior) {
+        EXPECT_NEAR(ball_vx, 4.0, 1e-4) << name(s);  // untouched
+        EXPECT_NEAR(inner_x, 0.0, 1e-6) << name(s);
+        EXPECT_NEAR(double(w.positions()(2, 1)), 0.0, 1e-3) << name(s);  // a point on the ground
+      } else {
+        EXPECT_LT(ball_vx, 3.0) << name(s);  // the same particle, as a ball, takes momentum from it
+        EXPECT_GT(inner_x, 0.5) << name(s);
+      }
+    }
+  }
+  World<Real> w;  // an interior particle outside the body's run, or out of order, is refused
+  for (int i = 0; i < 3; ++i) w.add_particle(Vec3<Real>(Real(i), 0, 0), Real(1));
+  ContactBody<Real> outside{0, 2, Real(0.1)};
+  outside.interior = {2};
+  EXPECT_THROW(w.add_contact_body(outside), Error);
+  ContactBody<Real> unordered{0, 3, Real(0.1)};
+  unordered.interior = {2, 1};
+  EXPECT_THROW(w.add_contact_body(unordered), Error);
+  EXPECT_TRUE(w.contact_bodies().empty());
+}
+
 TYPED_TEST(Contact, FastParticlesDoNotPassThroughEachOther) {
   using Real = TypeParam;
   for (Solver s : kSolvers) {

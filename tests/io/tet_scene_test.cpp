@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <string>
 
@@ -47,6 +48,25 @@ TEST(TetScene, ABoxBarIsBuiltWithItsTetsClampedFaceAndMasses) {
   const auto& c = w.constraints<NeoHookeanConstraint<double>>()[0];
   EXPECT_NEAR(c.ratio, 0.4, 1e-12);
   EXPECT_NEAR(w.constraint_sets()[c.set].compliance, 2.6 / 1e6, 1e-18);
+}
+
+// A tet body's contact body: its inner particles (on none of its boundary faces) are points (ContactBody::interior),
+// so it touches other bodies and itself through its surface only: in a box of 4 × 2 × 2 cells, the 3 vertices off
+// every face.
+TEST(TetScene, ATetBodyTouchesOtherBodiesThroughItsSurface) {
+  const std::string scene = replaced(replaced(kBar, "[4, 1, 1]", "[4, 2, 2]"), "\"density\": 500,",
+                                     "\"density\": 500, \"contact\": {\"radius\": 0.01},");
+  const World<double> w = build_world<double>(parse_scene(scene, "bar.json").world);
+  ASSERT_EQ(w.num_particles(), 5u * 3 * 3);
+  ASSERT_EQ(w.contact_bodies().size(), 1u);
+  const std::vector<Index>& interior = w.contact_bodies()[0].interior;
+  ASSERT_EQ(interior.size(), 3u);
+  for (Index i : interior) {
+    EXPECT_GT(w.positions()(0, i), 0.05);
+    EXPECT_LT(w.positions()(0, i), 0.35);
+    for (int d : {1, 2}) EXPECT_NEAR(w.positions()(d, i), w.positions()(d, 0) + 0.05, 1e-12);  // the middle of 0.1 m
+  }
+  EXPECT_TRUE(std::is_sorted(interior.begin(), interior.end()));
 }
 
 TEST(TetScene, BallsFilesAndObjSurfacesAreFilled) {

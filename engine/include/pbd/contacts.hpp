@@ -25,6 +25,10 @@ template <class Real> struct ContactBody {
   /// Its particles also touch one another where no constraint joins them (cloth self-collision: a radius of at
   /// least half the rest edge leaves no gap a particle could pass through).
   bool self_collision = false;
+  /// Particles of the run (world indices, ascending) that are points whatever the radius: they touch colliders only,
+  /// never other particles. A tet body's interior: it touches other bodies and itself through its surface (io's
+  /// scene bodies say so from their surface triangles), and its inner particles stay out of the particle grid.
+  std::vector<Index> interior{};
 };
 
 /// Throws pbd::Error, its message starting with `what`, unless both frictions are finite and ≥ 0 and the
@@ -49,6 +53,12 @@ void check_contact_body(const ContactBody<Real>& body, Index n, std::span<const 
   if (!std::isfinite(body.radius) || body.radius < Real(0))
     throw Error(detail::message(what, ": radius must be finite and >= 0, got ", body.radius));
   check_contact_material(body.material, what);
+  for (std::size_t k = 0; k < body.interior.size(); ++k) {
+    const Index i = body.interior[k];
+    if (i < body.first || i - body.first >= body.count || (k > 0 && i <= body.interior[k - 1]))
+      throw Error(detail::message(what, ": interior particle ", k, " (", i, ") is not in [", body.first, ", ",
+                                  std::uint64_t(body.first) + body.count, ") or not above the one before"));
+  }
   for (std::size_t b = 0; b < others.size(); ++b)
     if (body.first < others[b].first + others[b].count && others[b].first < body.first + body.count)
       throw Error(detail::message(what, ": particles [", body.first, ", ", body.first + body.count,

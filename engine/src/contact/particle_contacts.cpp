@@ -24,6 +24,7 @@ template <class Real> void cook_contact_bodies(Model<Real>& m) {
       c.radius[i] = body.radius;
       c.material[i] = body.material;
     }
+    for (Index i : body.interior) c.radius[i] = Real(0);  // points: out of the grid (`active`)
     c.max_radius = std::max(c.max_radius, body.radius);
   }
   c.active.clear();
