@@ -18,6 +18,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -325,6 +326,40 @@ template <class Real> Cluster<Real> cluster_on(const Matrix3X<double>& rest) {
 // and the largest distance from the rigid fit ends at rounding: the shape is a proper rotation of the rest shape,
 // a mirrored one unmirrored. (The linear mode gets there more slowly: its goal follows the cluster's shear with
 // weight β, so the shear shrinks by 1 − k(1 − β) = 0.75 per projection, where the rigid mode's falls by 1 − k.)
+// The rotation's fast path (shape_match.hpp: newton_polar) gives the SVD's U Vᵀ to rounding wherever it applies:
+// on every moderately deformed matrix (I plus noise) and on most random ones; it refuses reflected and flat ones,
+// which go to the SVD (the next test).
+TYPED_TEST(ShapeMatch, NewtonPolarFactorIsTheSvdsRotation) {
+  using Real = TypeParam;
+  using M = detail::shape_match::Mat3<Real>;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0, 1);
+  const double tol = sizeof(Real) == 8 ? 1e-12 : 1e-5;
+  int applied = 0;
+  double worst = 0;
+  for (int t = 0; t < 4000; ++t) {
+    M a;
+    for (int i = 0; i < 9; ++i) a(i) = Real(noise(rng));
+    const bool mild = t % 2 == 0;
+    if (mild) a = M::Identity() + Real(0.2) * a;
+    M r;
+    const bool ok = detail::shape_match::newton_polar(a, r);
+    if (mild) EXPECT_TRUE(ok) << t;
+    if (a.determinant() <= 0) EXPECT_FALSE(ok) << t;
+    if (!ok) continue;
+    ++applied;
+    const Eigen::JacobiSVD<M> svd(a, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    worst = std::max(worst, double((r - svd.matrixU() * svd.matrixV().transpose()).norm()));
+  }
+  print_line("newton_polar", real_name<Real>(), "applied=" + std::to_string(applied) + " worst=" + fmt(worst));
+  EXPECT_GT(applied, 2000);
+  EXPECT_LT(worst, tol);
+  M flat = M::Identity();
+  flat(2, 2) = Real(0);
+  M r;
+  EXPECT_FALSE(detail::shape_match::newton_polar(flat, r));
+}
+
 TYPED_TEST(ShapeMatch, DegenerateAndReflectedClustersGoToAProperRotation) {
   using Real = TypeParam;
   const Matrix3X<double> rest = general_rest();
