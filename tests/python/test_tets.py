@@ -305,3 +305,28 @@ def test_every_new_name_has_a_docstring():
         for attr, value in vars(cls).items():
             if not attr.startswith("_") and (callable(value) or isinstance(value, property)):
                 assert value.__doc__ and len(value.__doc__.strip()) > 10, f"{name}.{attr}"
+
+
+@pytest.mark.parametrize("inner", [True, False])
+def test_a_tet_bodys_inner_particles_touch_no_other_body(world_type, inner):
+    # A 2 x 2 x 2-cell box's one inner vertex (on no boundary face) as a point: a ball of another body resting on it
+    # (0.05 m away, radii 0.1 m, 0.45 m from every surface vertex) is not pushed; as a ball, it is.
+    mesh = pbd.tet_box_mesh((2, 2, 2), (1.0, 1.0, 1.0))
+    w = world_type()
+    body = w.add_tet_body(mesh, neo_hookean=pbd.young_poisson(1e5, 0.3))
+    on_surface = np.zeros(body.num_particles, dtype=bool)
+    on_surface[np.asarray(body.triangles).ravel() - body.first_particle] = True
+    interior = np.flatnonzero(~on_surface) + body.first_particle
+    np.testing.assert_allclose(w.positions()[interior], [[0.5, 0.5, 0.5]])
+    ball = w.add_particle((0.55, 0.5, 0.5), 1.0)
+    w.add_contact_body(body.first_particle, body.num_particles, 0.1, interior=interior.tolist() if inner else [])
+    w.add_contact_body(ball, 1, 0.1)
+    p = w.params
+    p.gravity = (0.0, 0.0, 0.0)
+    w.params = p
+    for _ in range(10):
+        w.step()
+    moved = np.linalg.norm(w.positions()[ball] - (0.55, 0.5, 0.5))
+    assert (moved < 1e-6) if inner else (moved > 0.05)
+    with pytest.raises(pbd.Error, match="interior particle 0"):
+        w.add_contact_body(0, 2, 0.1, interior=[5])
