@@ -69,6 +69,44 @@ TEST(TetScene, ATetBodyTouchesOtherBodiesThroughItsSurface) {
   EXPECT_TRUE(std::is_sorted(interior.begin(), interior.end()));
 }
 
+// A tet body touches itself through its surface: one body of two unit cubes (a TetGen file of two components), the
+// upper one 0.5 m above the lower, falls onto it and rests corner on corner with self-collision (radius 0.05 m, the
+// lower cube on the ground, damped); without it, it falls through to the ground.
+TEST(TetScene, ASelfCollidingTetBodyRestsOnItself) {
+  test::TempDir dir("tet_self");
+  {
+    std::ofstream node(dir.path() / "two.node");
+    node << "16 3 0 0\n";
+    const int corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    for (int k = 0; k < 2; ++k)
+      for (int i = 0; i < 8; ++i)
+        node << 8 * k + i << " " << corner[i][0] << " " << corner[i][1] << " " << corner[i][2] + 1.5 * k + 0.1 << "\n";
+    std::ofstream ele(dir.path() / "two.ele");
+    ele << "10 4 0\n";
+    const int tet[5][4] = {{0, 1, 3, 4}, {1, 2, 3, 6}, {1, 3, 4, 6}, {1, 4, 5, 6}, {3, 4, 6, 7}};
+    for (int k = 0; k < 2; ++k)
+      for (int t = 0; t < 5; ++t)
+        ele << 5 * k + t << " " << 8 * k + tet[t][0] << " " << 8 * k + tet[t][1] << " " << 8 * k + tet[t][2] << " "
+            << 8 * k + tet[t][3] << "\n";
+  }
+  for (bool self : {true, false}) {
+    std::ofstream(dir.path() / "s.json")
+        << R"({"name": "s", "dt": 0.01, "substeps": 10, "gravity": [0, 0, -9.81], "damping": 2, "bodies": [
+      {"type": "tets", "file": "two.node", "neo_hookean": {"young": 1e6, "poisson": 0.3},
+       "contact": {"radius": 0.05, "friction": 0.5, "self_collision": )"
+        << (self ? "true" : "false") << R"(}}],
+      "colliders": [{"type": "plane", "normal": [0, 0, 1], "offset": 0}]})";
+    World<double> w = build_world<double>(load_scene(dir.path() / "s.json").world);
+    for (int step = 0; step < 200; ++step) w.step();  // 2 s: the upper cube lands at about 0.4 s
+    ASSERT_TRUE(w.positions().allFinite());
+    for (Index i = 0; i < 4; ++i) {  // the upper cube's bottom corners 8..11 above the lower's top corners 4..7
+      const double apart = (w.positions().col(8 + i) - w.positions().col(4 + i)).norm();
+      if (self) EXPECT_NEAR(apart, 0.1, 0.01) << i;  // touching: two radii apart
+      else EXPECT_LT(w.positions()(2, 8 + i), 0.6) << i;  // through the lower cube, near the ground
+    }
+  }
+}
+
 TEST(TetScene, BallsFilesAndObjSurfacesAreFilled) {
   test::TempDir dir("tet_scene");
   {
