@@ -45,21 +45,20 @@
 /// keep angular momentum too (to the polar decomposition's rounding; the paper claims it for the rigid mode only).
 ///
 /// The rotation. R = U diag(1, 1, det UVᵀ) Vᵀ from the SVD A_pq = U Σ Vᵀ (Eigen's JacobiSVD: two-sided Jacobi
-/// rotations, accurate at any rank, a pure function of A_pq, so the same bits on any thread count). A cluster that
-/// is neither flat nor reflected (det A_pq > 0, well conditioned: nearly all of them) gets the same U Vᵀ, to
-/// rounding, from a scaled Newton iteration for the polar factor, also a pure function of A_pq and about 4× cheaper. Where det A_pq
-/// < 0 (a reflected cluster) that is the best proper rotation (the axis of the smallest singular value flipped
-/// costs least) and RᵀA_pq is still symmetric; a reflected cluster is pulled back through flat to its rest
-/// orientation. A coplanar cluster (rank 2) gets the one best rotation, a collinear or collapsed one (rank 1, 0) one
-/// of the equally good ones, never a NaN.
+/// rotations, accurate at any rank, a pure function of A_pq, so the same bits on any thread count). A cluster that is
+/// neither flat nor reflected (det A_pq > 0, well conditioned: nearly all of them) gets the same U Vᵀ, to rounding,
+/// from a scaled Newton iteration for the polar factor, also a pure function of A_pq and far cheaper. Where det A_pq <
+/// 0 (a reflected cluster) the SVD's is the best proper rotation (the axis of the smallest singular value flipped costs
+/// least) and RᵀA_pq is still symmetric; a reflected cluster is pulled back through flat to its rest orientation. A
+/// coplanar cluster (rank 2) gets the one best rotation, a collinear or collapsed one (rank 1, 0) one of the equally
+/// good ones, never a NaN.
 ///
 /// Memory: 8 particle indices (32 B), the set (4 B), 8 rest offsets (96 B in float) and β (4 B): 136 bytes per
 /// constraint in float, 240 in double. A_qq⁻¹ is not stored: it depends on the masses, which measure_rest does not
 /// see (it is given positions only), set_mass may change, a pin's weight depends on its cluster and Jacobi splits;
 /// the linear mode forms it at each projection (a few hundred flops, little beside the SVD).
 ///
-/// Cost: the rotation is most of a projection (Newton's a quarter of the SVD's); the linear mode adds little
-/// (docs/performance.md has the figures).
+/// Cost: the rotation is most of a projection, the linear mode adds little (docs/performance.md has the figures).
 #include "pbd/constraints/traits.hpp"
 #include "pbd/detail/message.hpp"
 #include "pbd/stiffness.hpp"
@@ -147,7 +146,7 @@ template <class Real> bool newton_polar(const Mat3<Real>& a, Mat3<Real>& r) {
 }
 
 /// The rotation nearest to a (Frobenius): U diag(1, 1, det UVᵀ) Vᵀ from a = U Σ Vᵀ (the file comment says why), by
-/// newton_polar where it applies (about 4× cheaper than the SVD), else by the SVD.
+/// newton_polar where it applies (a few 3×3 inverses instead of Jacobi sweeps), else by the SVD.
 template <class Real> Mat3<Real> nearest_rotation(const Mat3<Real>& a) {
   Mat3<Real> r;
   if (newton_polar(a, r)) return r;
