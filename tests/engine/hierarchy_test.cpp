@@ -13,6 +13,7 @@
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
 #include "hanging_chain.hpp"
+#include "world_runs.hpp"
 
 #include <gtest/gtest.h>
 #include <oneapi/tbb/task_arena.h>
@@ -24,6 +25,8 @@
 
 namespace pbd {
 namespace {
+
+using test::run_on;
 
 template <class Real> class HierarchyTest : public ::testing::Test {};
 using Precisions = ::testing::Types<float, double>;
@@ -93,16 +96,6 @@ TYPED_TEST(HierarchyTest, CoarseningKeepsItsInvariantsOnClothsRopesAndMeshes) {
   EXPECT_NEAR(double(h.levels[1].rest[0]), 0.4 * (1 + s.slack), 1e-6);  // not compounded level by level
   EXPECT_NEAR(double(h.levels[0].compliance[0]), 2e-3, 1e-9);
   EXPECT_EQ(h.levels[0].w[0][0] == Real(0) || h.levels[0].w[0][1] == Real(0), true);  // link 0–2: the pinned top
-}
-
-// Steps `w` `steps` times on `threads` threads and returns the position hash.
-template <class Real> std::uint64_t run_on(World<Real> w, int threads, int steps) {
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
-    for (int i = 0; i < steps; ++i) w.step();
-  });
-  w.validate();
-  return position_hash(w);
 }
 
 TYPED_TEST(HierarchyTest, SameBitsOnOneToFourThreadsWithAndWithoutContacts) {

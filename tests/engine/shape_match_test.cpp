@@ -13,6 +13,7 @@
 #include "pbd/io/tet_mesh.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
+#include "world_runs.hpp"
 
 #include <gtest/gtest.h>
 #include <oneapi/tbb/task_arena.h>
@@ -28,6 +29,9 @@
 
 namespace pbd {
 namespace {
+
+using test::momenta;
+using test::run_on;
 
 template <class Real> class ShapeMatch : public ::testing::Test {};
 using Precisions = ::testing::Types<float, double>;
@@ -211,18 +215,6 @@ TYPED_TEST(ShapeMatch, OneProjectionKeepsMomentumAndAngularMomentum) {
   }
 }
 
-// Momentum and angular momentum of all particles, in double.
-template <class Real> std::pair<Vec3<double>, Vec3<double>> momenta(const World<Real>& w) {
-  Vec3<double> p = Vec3<double>::Zero(), l = Vec3<double>::Zero();
-  for (Index i = 0; i < w.num_particles(); ++i) {
-    const double m = 1 / double(w.inverse_masses()[i]);
-    const Vec3<double> v = w.velocities().col(i).template cast<double>();
-    p += m * v;
-    l += m * Vec3<double>(w.positions().col(i).template cast<double>()).cross(v);
-  }
-  return {p, l};
-}
-
 // The box deformed and spinning at 5 rad/s about a tilted axis, no gravity, pins or contacts, XPBD (α = 1e-4 m/N),
 // rigid and linear mode: momentum and angular momentum stay at their start values up to rounding (2·10⁴ rounding
 // errors of the body's scale, as soft_body_test's free block). The velocity update also gives a free body back its
@@ -260,15 +252,6 @@ TYPED_TEST(ShapeMatch, FreeSpinningBodyKeepsItsMomentum) {
 }
 
 // ---- threads ----
-
-template <class Real> std::uint64_t run_on(World<Real> w, int threads, int steps) {
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
-    for (int i = 0; i < steps; ++i) w.step();
-  });
-  w.validate();
-  return position_hash(w);
-}
 
 // The deformed box, XPBD so that λ is carried, in the linear mode: the same bits on 1–4 threads.
 TYPED_TEST(ShapeMatch, SameBitsOnOneToFourThreads) {

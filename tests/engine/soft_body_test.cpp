@@ -18,6 +18,7 @@
 #include "pbd/io/tet_mesh.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
+#include "world_runs.hpp"
 
 #include <gtest/gtest.h>
 #include <oneapi/tbb/task_arena.h>
@@ -30,6 +31,9 @@
 
 namespace pbd {
 namespace {
+
+using test::momenta;
+using test::run_on;
 
 template <class Real> class SoftBody : public ::testing::Test {};
 using Precisions = ::testing::Types<float, double>;
@@ -144,18 +148,6 @@ TEST(SoftBodyMeshLimit, CantileverSagConvergesToTimoshenkoUnderRefinement) {
     EXPECT_LT(std::abs(sag[1] - closed), std::abs(sag[0] - closed)) << name(s) << ": refining must help";
     EXPECT_LT(std::abs(limit / closed - 1), 0.05) << name(s);
   }
-}
-
-// Momentum and angular momentum of all particles.
-template <class Real> std::pair<Vec3<double>, Vec3<double>> momenta(const World<Real>& w) {
-  Vec3<double> p = Vec3<double>::Zero(), l = Vec3<double>::Zero();
-  for (Index i = 0; i < w.num_particles(); ++i) {
-    const double m = 1 / double(w.inverse_masses()[i]);
-    const Vec3<double> v = w.velocities().col(i).template cast<double>();
-    p += m * v;
-    l += m * Vec3<double>(w.positions().col(i).template cast<double>()).cross(v);
-  }
-  return {p, l};
 }
 
 // A free 3 × 2 × 2 block (0.3 × 0.2 × 0.2 m of 1000 kg/m³, E = 0.1 MPa, ν = 0.45), started
@@ -296,15 +288,6 @@ TEST(SoftBodyScene, PigKeepsItsVolumeAndBouncesAsItLands) {
     EXPECT_LT(worst, 0.01) << name(s);
     EXPECT_GT(rebound - lowest, (start - lowest) / 3) << name(s);
   }
-}
-
-template <class Real> std::uint64_t run_on(World<Real> w, int threads, int steps) {
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
-    for (int i = 0; i < steps; ++i) w.step();
-  });
-  w.validate();
-  return position_hash(w);
 }
 
 // The column with tet volume constraints too, falling onto the ground: the same bits on 1–4 threads.
