@@ -99,70 +99,32 @@ inline void bar_usage(const char* prog, const char* extra) {
 
 inline BarOptions parse_bar(int argc, char** argv, const char* extra_help) {
   BarOptions o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        bar_usage(argv[0], extra_help);
-        std::fprintf(stderr, "%s: %s needs a value\n", argv[0], a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    auto integer = [&](int lo) {
-      const std::string v = value();
-      char* end = nullptr;
-      const long r = std::strtol(v.c_str(), &end, 10);
-      if (v.empty() || *end || r < lo || r > 100000000) {
-        std::fprintf(stderr, "%s: %s: bad value '%s'\n", argv[0], a.c_str(), v.c_str());
-        std::exit(2);
-      }
-      return int(r);
-    };
-    auto real = [&]() {
-      const std::string v = value();
-      char* end = nullptr;
-      const double r = std::strtod(v.c_str(), &end);
-      if (v.empty() || *end || !(r >= 0) || !std::isfinite(r)) {
-        std::fprintf(stderr, "%s: %s: bad value '%s'\n", argv[0], a.c_str(), v.c_str());
-        std::exit(2);
-      }
-      return r;
-    };
-    if (a == "--mesh") o.mesh = value();
-    else if (a == "--steps") o.steps = integer(1);
-    else if (a == "--substeps") o.substeps = integer(1);
-    else if (a == "--iterations") o.iterations = integer(1);
-    else if (a == "--threads") o.threads = integer(1);
+  ArgReader r(argc, argv, [&] { bar_usage(argv[0], extra_help); });
+  while (r.next()) {
+    const std::string& a = r.option();
+    if (a == "--mesh") o.mesh = r.value();
+    else if (a == "--steps") o.steps = r.integer(1);
+    else if (a == "--substeps") o.substeps = r.integer(1);
+    else if (a == "--iterations") o.iterations = r.integer(1);
+    else if (a == "--threads") o.threads = r.integer(1);
     else if (a == "--double") o.use_double = true;
-    else if (a == "--solver") o.solver = value();
-    else if (a == "--inline-below") o.inline_below = integer(1);
-    else if (a == "--method") o.method = value();
-    else if (a == "--dt") o.dt = real();
-    else if (a == "--young") o.young = real();
-    else if (a == "--poisson") o.poisson = real();
-    else if (a == "--stiffness") o.stiffness = real();
-    else if (a == "--damping") o.damping = real();
-    else if (a == "--reference") o.reference = value();
-    else if (a == "--write-reference") o.write_reference = value();
-    else if (a == "-h" || a == "--help") {
-      bar_usage(argv[0], extra_help);
-      std::exit(0);
-    } else {
-      bar_usage(argv[0], extra_help);
-      std::fprintf(stderr, "%s: unknown option '%s'\n", argv[0], a.c_str());
-      std::exit(2);
-    }
+    else if (a == "--solver") o.solver = r.value();
+    else if (a == "--inline-below") o.inline_below = r.integer(1);
+    else if (a == "--method") o.method = r.value();
+    else if (a == "--dt") o.dt = r.real();
+    else if (a == "--young") o.young = r.real();
+    else if (a == "--poisson") o.poisson = r.real();
+    else if (a == "--stiffness") o.stiffness = r.real();
+    else if (a == "--damping") o.damping = r.real();
+    else if (a == "--reference") o.reference = r.value();
+    else if (a == "--write-reference") o.write_reference = r.value();
+    else if (a == "-h" || a == "--help") r.help();
+    else r.unknown();
   }
-  auto fail = [&](const char* what) {
-    bar_usage(argv[0], extra_help);
-    std::fprintf(stderr, "%s: %s\n", argv[0], what);
-    std::exit(2);
-  };
-  if (o.mesh.empty()) fail("--mesh is required (bench/peer/make_bar.py writes it)");
-  if (!(o.dt > 0)) fail("--dt must be > 0");
-  if (!(o.young > 0)) fail("--young must be > 0");
-  if (!(o.poisson < 0.5)) fail("--poisson must be in [0, 0.5)");
+  if (o.mesh.empty()) r.fail("--mesh is required (bench/peer/make_bar.py writes it)");
+  if (!(o.dt > 0)) r.fail("--dt must be > 0");
+  if (!(o.young > 0)) r.fail("--young must be > 0");
+  if (!(o.poisson < 0.5)) r.fail("--poisson must be in [0, 0.5)");
   return o;
 }
 

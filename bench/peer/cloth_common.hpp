@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <time.h>
@@ -112,6 +113,64 @@ struct Options {
   bool hierarchy = false;       ///< pbd only: hierarchical PBD (StepParams::hierarchy, defaults)
 };
 
+/// Reads a driver's command line one option at a time (both drivers of the cloth and of the bar): the option, then
+/// its value as text, an integer ≥ lo or a finite real ≥ 0. A missing value prints the usage and says so, a bad one
+/// says so; both exit with status 2, as fail() and an unknown option do.
+class ArgReader {
+public:
+  ArgReader(int argc, char** argv, std::function<void()> usage) : argc_(argc), argv_(argv), usage_(std::move(usage)) {}
+
+  /// Moves to the next option; false when there is none.
+  bool next() {
+    if (++i_ >= argc_) return false;
+    option_ = argv_[i_];
+    return true;
+  }
+  const std::string& option() const { return option_; }
+
+  std::string value() {
+    if (i_ + 1 >= argc_) fail(option_ + " needs a value");
+    return argv_[++i_];
+  }
+  int integer(int lo) {
+    const std::string v = value();
+    char* end = nullptr;
+    const long r = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end || r < lo || r > 100000000) bad(v);
+    return int(r);
+  }
+  double real() {
+    const std::string v = value();
+    char* end = nullptr;
+    const double r = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end || !(r >= 0) || !std::isfinite(r)) bad(v);
+    return r;
+  }
+
+  /// Prints the usage and `what`, and exits with status 2.
+  [[noreturn]] void fail(const std::string& what) {
+    usage_();
+    std::fprintf(stderr, "%s: %s\n", argv_[0], what.c_str());
+    std::exit(2);
+  }
+  [[noreturn]] void unknown() { fail("unknown option '" + option_ + "'"); }
+  [[noreturn]] void help() {
+    usage_();
+    std::exit(0);
+  }
+
+private:
+  [[noreturn]] void bad(const std::string& v) {
+    std::fprintf(stderr, "%s: %s: bad value '%s'\n", argv_[0], option_.c_str(), v.c_str());
+    std::exit(2);
+  }
+  int argc_;
+  char** argv_;
+  std::function<void()> usage_;
+  int i_ = 0;
+  std::string option_;
+};
+
 inline void usage(const char* prog, const char* extra) {
   std::fprintf(stderr,
                "usage: %s --mesh FILE [--steps S=200] [--substeps 1] [--iterations 10] [--threads T] [--double]\n"
@@ -122,67 +181,27 @@ inline void usage(const char* prog, const char* extra) {
 
 inline Options parse(int argc, char** argv, const char* extra_help) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        usage(argv[0], extra_help);
-        std::fprintf(stderr, "%s: %s needs a value\n", argv[0], a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    auto integer = [&](int lo) {
-      const std::string v = value();
-      char* end = nullptr;
-      const long r = std::strtol(v.c_str(), &end, 10);
-      if (*end || r < lo) {
-        std::fprintf(stderr, "%s: %s: bad value '%s'\n", argv[0], a.c_str(), v.c_str());
-        std::exit(2);
-      }
-      return int(r);
-    };
-    auto real = [&]() {
-      const std::string v = value();
-      char* end = nullptr;
-      const double r = std::strtod(v.c_str(), &end);
-      if (*end || !(r >= 0) || !std::isfinite(r)) {
-        std::fprintf(stderr, "%s: %s: bad value '%s'\n", argv[0], a.c_str(), v.c_str());
-        std::exit(2);
-      }
-      return r;
-    };
-    if (a == "--mesh") o.mesh = value();
-    else if (a == "--steps") o.steps = integer(1);
-    else if (a == "--substeps") o.substeps = integer(1);
-    else if (a == "--iterations") o.iterations = integer(1);
-    else if (a == "--threads") o.threads = integer(1);
+  ArgReader r(argc, argv, [&] { usage(argv[0], extra_help); });
+  while (r.next()) {
+    const std::string& a = r.option();
+    if (a == "--mesh") o.mesh = r.value();
+    else if (a == "--steps") o.steps = r.integer(1);
+    else if (a == "--substeps") o.substeps = r.integer(1);
+    else if (a == "--iterations") o.iterations = r.integer(1);
+    else if (a == "--threads") o.threads = r.integer(1);
     else if (a == "--double") o.use_double = true;
-    else if (a == "--solver") o.solver = value();
-    else if (a == "--dt") o.dt = real();
-    else if (a == "--k-distance") o.k_distance = real();
-    else if (a == "--k-bending") o.k_bending = real();
+    else if (a == "--solver") o.solver = r.value();
+    else if (a == "--dt") o.dt = r.real();
+    else if (a == "--k-distance") o.k_distance = r.real();
+    else if (a == "--k-bending") o.k_bending = r.real();
     else if (a == "--average-error") o.average = true;
     else if (a == "--tethers") o.tethers = true;
     else if (a == "--hierarchy") o.hierarchy = true;
-    else if (a == "-h" || a == "--help") {
-      usage(argv[0], extra_help);
-      std::exit(0);
-    } else {
-      usage(argv[0], extra_help);
-      std::fprintf(stderr, "%s: unknown option '%s'\n", argv[0], a.c_str());
-      std::exit(2);
-    }
+    else if (a == "-h" || a == "--help") r.help();
+    else r.unknown();
   }
-  if (o.mesh.empty()) {
-    usage(argv[0], extra_help);
-    std::fprintf(stderr, "%s: --mesh is required (bench/peer/make_cloth.py writes it)\n", argv[0]);
-    std::exit(2);
-  }
-  if (!(o.dt > 0)) {
-    std::fprintf(stderr, "%s: --dt must be > 0\n", argv[0]);
-    std::exit(2);
-  }
+  if (o.mesh.empty()) r.fail("--mesh is required (bench/peer/make_cloth.py writes it)");
+  if (!(o.dt > 0)) r.fail("--dt must be > 0");
   return o;
 }
 
