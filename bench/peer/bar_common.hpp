@@ -102,16 +102,9 @@ inline BarOptions parse_bar(int argc, char** argv, const char* extra_help) {
   ArgReader r(argc, argv, [&] { bar_usage(argv[0], extra_help); });
   while (r.next()) {
     const std::string& a = r.option();
-    if (a == "--mesh") o.mesh = r.value();
-    else if (a == "--steps") o.steps = r.integer(1);
-    else if (a == "--substeps") o.substeps = r.integer(1);
-    else if (a == "--iterations") o.iterations = r.integer(1);
-    else if (a == "--threads") o.threads = r.integer(1);
-    else if (a == "--double") o.use_double = true;
-    else if (a == "--solver") o.solver = r.value();
-    else if (a == "--inline-below") o.inline_below = r.integer(1);
+    if (read_run_option(r, o)) continue;
+    if (a == "--inline-below") o.inline_below = r.integer(1);
     else if (a == "--method") o.method = r.value();
-    else if (a == "--dt") o.dt = r.real();
     else if (a == "--young") o.young = r.real();
     else if (a == "--poisson") o.poisson = r.real();
     else if (a == "--stiffness") o.stiffness = r.real();

@@ -171,6 +171,22 @@ private:
   std::string option_;
 };
 
+/// The options every driver takes (--mesh, --steps, --substeps, --iterations, --threads, --double, --solver, --dt),
+/// into any options struct with those members; false when r.option() is none of them.
+template <class O> bool read_run_option(ArgReader& r, O& o) {
+  const std::string& a = r.option();
+  if (a == "--mesh") o.mesh = r.value();
+  else if (a == "--steps") o.steps = r.integer(1);
+  else if (a == "--substeps") o.substeps = r.integer(1);
+  else if (a == "--iterations") o.iterations = r.integer(1);
+  else if (a == "--threads") o.threads = r.integer(1);
+  else if (a == "--double") o.use_double = true;
+  else if (a == "--solver") o.solver = r.value();
+  else if (a == "--dt") o.dt = r.real();
+  else return false;
+  return true;
+}
+
 inline void usage(const char* prog, const char* extra) {
   std::fprintf(stderr,
                "usage: %s --mesh FILE [--steps S=200] [--substeps 1] [--iterations 10] [--threads T] [--double]\n"
@@ -184,15 +200,8 @@ inline Options parse(int argc, char** argv, const char* extra_help) {
   ArgReader r(argc, argv, [&] { usage(argv[0], extra_help); });
   while (r.next()) {
     const std::string& a = r.option();
-    if (a == "--mesh") o.mesh = r.value();
-    else if (a == "--steps") o.steps = r.integer(1);
-    else if (a == "--substeps") o.substeps = r.integer(1);
-    else if (a == "--iterations") o.iterations = r.integer(1);
-    else if (a == "--threads") o.threads = r.integer(1);
-    else if (a == "--double") o.use_double = true;
-    else if (a == "--solver") o.solver = r.value();
-    else if (a == "--dt") o.dt = r.real();
-    else if (a == "--k-distance") o.k_distance = r.real();
+    if (read_run_option(r, o)) continue;
+    if (a == "--k-distance") o.k_distance = r.real();
     else if (a == "--k-bending") o.k_bending = r.real();
     else if (a == "--average-error") o.average = true;
     else if (a == "--tethers") o.tethers = true;

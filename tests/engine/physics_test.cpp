@@ -16,6 +16,7 @@
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
 #include "hanging_chain.hpp"
+#include "world_runs.hpp"
 
 #include <gtest/gtest.h>
 
@@ -210,13 +211,7 @@ template <class Real> void check_free_body(Solver s, SweepOrder order) {
   double max_p = 0, max_l = 0, max_spin = 0;
   for (int step = 0; step < 600; ++step) {
     w.step();
-    Vec3<double> mom = Vec3<double>::Zero(), ang = Vec3<double>::Zero();
-    for (Index i = 0; i < w.num_particles(); ++i) {
-      const double m = 1 / double(w.inverse_masses()[i]);
-      const Vec3<double> v = w.velocities().col(i).template cast<double>();
-      mom += m * v;
-      ang += m * Vec3<double>(w.positions().col(i).template cast<double>()).cross(v);
-    }
+    const auto [mom, ang] = test::momenta(w);
     max_p = std::max(max_p, mom.norm());
     max_l = std::max(max_l, ang.norm());
     max_spin = std::max(max_spin, rigid_spin(w).norm());
