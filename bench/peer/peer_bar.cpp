@@ -6,6 +6,7 @@
 // TimeStepController as the demo steps it, and one line of JSON as pbd_bar prints (bar_common.hpp).
 // Built only with PBD_PEER_DIR (bench/peer/CMakeLists.txt), against the peer's sources compiled directly.
 #include "bar_common.hpp"
+#include "peer_simulation.hpp"
 
 #include "Common/Common.h"
 #include "Simulation/Constraints.h"
@@ -83,14 +84,7 @@ int main(int argc, char** argv) {
     check_against_peer_bar(b);
 
     const Clock::time_point t0 = Clock::now();
-    // As the demo: the current Simulation (its init makes the TimeStepController), a model, the time step.
-    SimulationModel* model = new SimulationModel();
-    model->init();
-    Simulation::getCurrent()->setModel(model);
-    TimeManager::getCurrent()->setTimeStepSize(static_cast<Real>(o.dt));
-    auto* controller = static_cast<TimeStepController*>(Simulation::getCurrent()->getTimeStep());
-    controller->setValue<unsigned int>(TimeStepController::NUM_SUB_STEPS, unsigned(o.substeps));
-    controller->setValue<unsigned int>(TimeStepController::MAX_ITERATIONS, unsigned(o.iterations));
+    SimulationModel* model = peer_bench::start_peer_simulation(o.dt, o.substeps, o.iterations);  // as the demo
     const Vector3r gravity(Simulation::getCurrent()->getVecValue<Real>(Simulation::GRAVITATION));
     if (gravity != Vector3r(0, -9.81, 0)) throw std::runtime_error("the peer's gravity is not (0, -9.81, 0)");
 

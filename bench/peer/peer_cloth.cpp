@@ -4,6 +4,7 @@
 // stepped by the peer's own TimeStepController as the demo steps it, and one line of JSON as pbd_cloth prints.
 // Built only with PBD_PEER_DIR (bench/peer/CMakeLists.txt), against the peer's sources compiled directly.
 #include "cloth_common.hpp"
+#include "peer_simulation.hpp"
 
 #include "Common/Common.h"
 #include "Simulation/Constraints.h"
@@ -61,14 +62,7 @@ int main(int argc, char** argv) {
     check_against_peer_grid(c);
 
     const Clock::time_point t0 = Clock::now();
-    // As the demo: the current Simulation (its init makes the TimeStepController), a model, the time step.
-    SimulationModel* model = new SimulationModel();
-    model->init();
-    Simulation::getCurrent()->setModel(model);
-    TimeManager::getCurrent()->setTimeStepSize(static_cast<Real>(o.dt));
-    auto* controller = static_cast<TimeStepController*>(Simulation::getCurrent()->getTimeStep());
-    controller->setValue<unsigned int>(TimeStepController::NUM_SUB_STEPS, unsigned(o.substeps));
-    controller->setValue<unsigned int>(TimeStepController::MAX_ITERATIONS, unsigned(o.iterations));
+    SimulationModel* model = peer_bench::start_peer_simulation(o.dt, o.substeps, o.iterations);  // as the demo
 
     // The mesh from the file, through the same call addRegularTriangleModel ends in (so the peer builds the edges).
     std::vector<Vector3r> points(c.x.size());
