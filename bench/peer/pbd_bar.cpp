@@ -2,6 +2,7 @@
 // peer's particles (1 kg each, the clamped end pinned) and one Neo-Hookean tet (XPBD, young_poisson(E, ν)) per tet of
 // the file, steps it S times under the peer's gravity, follows the tip and prints one line of JSON (bar_common.hpp).
 #include "bar_common.hpp"
+#include "pbd_particles.hpp"
 
 #include "pbd/constraints/neo_hookean.hpp"
 #include "pbd/world.hpp"
@@ -21,14 +22,9 @@ template <class Real> peer_bench::BarResult run(const peer_bench::BarOptions& o,
   using namespace pbd;
   const Clock::time_point t0 = Clock::now();
   World<Real> world;
-  const Index n = Index(b.x.size());
   // The peer's masses: addRegularTetModel gives every vertex 1 kg (not a density lumped over the tets, as
   // add_tet_body would: there the surface's vertices weigh less than the interior's), the demo pins the i = 0 end.
-  Matrix3X<Real> x(3, n);
-  VectorX<Real> w = VectorX<Real>::Constant(n, Real(1.0 / b.mass));
-  for (Index i = 0; i < n; ++i) x.col(i) = Vec3<Real>(Real(b.x[i][0]), Real(b.x[i][1]), Real(b.x[i][2]));
-  for (unsigned i : b.pinned) w[i] = 0;
-  world.add_particles_by_inverse_mass(x, w);
+  peer_bench::add_file_particles(world, b.x, b.mass, b.pinned);
 
   // One Neo-Hookean tet per tet of the file, corners in the file's (the peer's) order: every one is positively
   // oriented as pbd wants (World::add refuses an inverted one).

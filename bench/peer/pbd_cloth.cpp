@@ -2,6 +2,7 @@
 // peer's distance (k = 1) and dihedral (k = 0.01) constraints as plain PBD stiffness (the peer scales each
 // correction by k), steps it S times and prints one line of JSON (cloth_common.hpp).
 #include "cloth_common.hpp"
+#include "pbd_particles.hpp"
 
 #include "pbd/world.hpp"
 
@@ -20,12 +21,7 @@ template <class Real> peer_bench::Result run(const peer_bench::Options& o, const
   using namespace pbd;
   const Clock::time_point t0 = Clock::now();
   World<Real> world;
-  const Index n = Index(c.x.size());
-  Matrix3X<Real> x(3, n);
-  VectorX<Real> w = VectorX<Real>::Constant(n, Real(1.0 / c.mass));
-  for (Index i = 0; i < n; ++i) x.col(i) = Vec3<Real>(Real(c.x[i][0]), Real(c.x[i][1]), Real(c.x[i][2]));
-  for (unsigned i : c.pinned) w[i] = 0;
-  world.add_particles_by_inverse_mass(x, w);
+  peer_bench::add_file_particles(world, c.x, c.mass, c.pinned);
 
   // The peer's model: DistanceConstraint and DihedralConstraint both return k·(the full projection), with k fixed
   // per constraint whatever the iteration count: pbd's StiffnessMode::pbd (not the iteration-independent k', not
