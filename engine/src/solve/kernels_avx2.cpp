@@ -174,10 +174,12 @@ template <class W, class Real>
 }
 
 // L::kCount Neo-Hookean tets of one color in the lanes: neo_hookean.hpp's correction() and project()'s writes
-// (movable corners of the lanes that project, and their two λ: a lane projects only where α̃ > 0).
+// (movable corners of the lanes that project, and their two λ: a lane projects only where α̃ > 0). Only the lanes
+// in `lanes` write positions (all of them write λ).
 template <class W, class Real>
 [[gnu::always_inline]] inline void neo_hookean_block(const NeoHookeanConstraint<Real>* c, Real* q,
-                                                     const SolveCoefficients<Real>* coeff, Real* lambda) {
+                                                     const SolveCoefficients<Real>* coeff, Real* lambda,
+                                                     int lanes = (1 << Lanes<W>::kCount) - 1) {
   using L = Lanes<W>;
   constexpr int n = L::kCount;
   Real* at[4][n];  // [corner][lane]
@@ -189,7 +191,7 @@ template <class W, class Real>
   W lam_d, lam_h;
   L::load_pairs(lambda, lam_d, lam_h);
   const auto r = neo_hookean::neo_hookean_step<Real>(p, w, tet_rest<W, Real>(c), alpha, lam_d, lam_h);
-  const int active = bits(r.ok);
+  const int active = bits(r.ok) & lanes;
   if (active == 0) return;
   L::store_pairs(lambda, select(r.ok, lam_d + r.dlambda[0], lam_d), select(r.ok, lam_h + r.dlambda[1], lam_h));
   for (int i = 0; i < 4; ++i)
@@ -201,7 +203,18 @@ void neo_hookean_range(const NeoHookeanConstraint<Real>* c, Index b, Index e, Re
                        const SolveCoefficients<Real>* coeff, Real* lambda) {
   constexpr Index n = Lanes<W>::kCount;
   for (; b + n <= e; b += n) neo_hookean_block<W>(c + b, q, coeff, lambda + 2 * std::size_t(b));
-  for (; b < e; ++b) project_padded_one(c[b], q, coeff[c[b].set], lambda + 2 * std::size_t(b));
+  if (e - b == 1) project_padded_one(c[b], q, coeff[c[b].set], lambda + 2 * std::size_t(b));
+  if (e - b < 2) return;
+  // A tail of two or more in the lanes as well (a one-tet lane costs more than half of all eight): the lanes past it
+  // repeat its first tet and are masked off, their λ in a copy. A color's tets share no particle, so the tail's
+  // bits are those of one tet after the other.
+  const Index m = e - b;
+  NeoHookeanConstraint<Real> tail[n];
+  alignas(64) Real lam[2 * n] = {};
+  for (Index j = 0; j < n; ++j) tail[j] = c[b + (j < m ? j : 0)];
+  std::copy(lambda + 2 * std::size_t(b), lambda + 2 * std::size_t(e), lam);
+  neo_hookean_block<W>(tail, q, coeff, lam, (1 << m) - 1);
+  std::copy(lam, lam + 2 * m, lambda + 2 * std::size_t(b));
 }
 
 template <class W, bool kLambda, class C, class Real>
