@@ -1,5 +1,6 @@
 // The colored and Jacobi solvers: proper colors, the index map, determinism for any thread count, and agreement
 // with the serial reference.
+#include "pbd/detail/block_layout.hpp"
 #include "pbd/io/generators.hpp"
 #include "pbd/io/mesh_body.hpp"
 #include "pbd/io/mesh_generators.hpp"
@@ -344,7 +345,8 @@ TYPED_TEST(SolverTest, AreaKernelMatchesTheScalarProjectionBitForBit) {
 // the lanes mask or mix in one block: PBD sets (α̃ = 0: the tet does not move) beside XPBD sets of two compliances,
 // corners made coincident (F = 0), flat or inverted after their rest values were measured, pinned corners shared
 // between tets, all four corners pinned (nothing moves; λ moves where μ/λ > 0, and the system is singular where it is
-// 0), ratios μ/λ from 0 to 1, and counts that leave a scalar remainder, which must find the tet's two λ (2i, 2i + 1).
+// 0), ratios μ/λ from 0 to 1, and counts that leave a remainder (one tet: scalar; more: in masked lanes), which must
+// find the tet's two λ (2i, 2i + 1).
 TYPED_TEST(SolverTest, NeoHookeanKernelMatchesTheScalarProjectionBitForBit) {
   using Real = TypeParam;
   for (int count : {1, 3, 4, 5, 8, 9, 13, 17, 61, 250}) {
@@ -551,6 +553,39 @@ TEST(BlockLayout, AddingAndRemovingConstraintsKeepsThePartitionAndStaysDetermini
     return out;
   };
   EXPECT_TRUE(bitwise_equal(scenario(1), scenario(4)));
+}
+
+// A type with colored interiors (Neo-Hookean): lay_out_blocks colors each block's interior into runs that tile it,
+// and Store::validate rejects runs that share a movable particle or stop covering a block.
+TEST(BlockLayout, ColoredInteriorRunsTileEachBlockAndAreChecked) {
+  using C = NeoHookeanConstraint<double>;
+  detail::Store<C> s;
+  // Two strips of tets, particles 0..9 in block 0 and 10..19 in block 1; consecutive tets share three corners.
+  for (Index b : {0u, 10u})
+    for (Index k = 0; k + 3 < 10; ++k) {
+      C c = blank_constraint<C>();
+      c.particles = {b + k, b + k + 1, b + k + 2, b + k + 3};
+      s.append(c);
+    }
+  C across = blank_constraint<C>();
+  across.particles = {8, 9, 10, 11};  // the boundary
+  s.append(across);
+  const std::vector<std::uint8_t> fixed(20, 0);
+  std::vector<std::uint32_t> block(20, 0);
+  for (Index p = 10; p < 20; ++p) block[p] = 1;
+  detail::lay_out_blocks(s, fixed, block, 2, coloring::Options{});
+  ASSERT_EQ(s.block_runs.size(), 3u);
+  EXPECT_EQ(s.block_runs[1] - s.block_runs[0], 4u);  // 7 tets in a strip, each sharing a corner with the next 3
+  EXPECT_EQ(s.block_runs[2] - s.block_runs[1], 4u);
+  EXPECT_EQ(s.runs.back(), s.offsets[2]);
+  EXPECT_NO_THROW(s.validate(fixed, C::kName));
+  detail::Store<C> merged = s;  // two runs of block 0 as one: neighbours in one run
+  merged.runs.erase(merged.runs.begin() + 1);
+  for (Index& r : merged.block_runs) r -= r > 0 ? 1 : 0;
+  EXPECT_THROW(merged.validate(fixed, C::kName), Error);
+  detail::Store<C> short_runs = s;  // block 1's runs end before its interior does
+  short_runs.runs.back() -= 1;
+  EXPECT_THROW(short_runs.validate(fixed, C::kName), Error);
 }
 
 TEST(BlockLayout, SwitchingBetweenColoredAndBlockLaysOutAgain) {

@@ -15,8 +15,9 @@ enum class Solver : std::uint8_t {
   serial_colored,  ///< Gauss-Seidel in color order on one thread: what `colored` computes, bit for bit
   colored,         ///< Gauss-Seidel color after color, each color's constraints in parallel (oneTBB)
   jacobi,          ///< every constraint reads the same positions; corrections summed with split masses, × ω
-  block,           ///< block Gauss-Seidel: each block's interior in insertion order, the blocks in parallel (one
-                   ///< parallel loop per sweep), then the constraints crossing blocks color by color (BlockOptions)
+  block,           ///< block Gauss-Seidel: each block's interior in insertion order (color by color for a type
+                   ///< with colored interiors: Neo-Hookean tets), the blocks in parallel (one parallel loop per
+                   ///< sweep), then the constraints crossing blocks color by color (BlockOptions)
 };
 
 /// Every solver, in the order the command line lists them.

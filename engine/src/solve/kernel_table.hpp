@@ -24,7 +24,7 @@ template <class Real> struct PaddedKernel {
   Range range = nullptr;          ///< nullptr: no kernel (the generic projection)
   Interiors interiors = nullptr;  ///< nullptr: none for the interiors
   Index block = 1;                ///< colors' ranges are cut at multiples of this from each color's start
-  Index chains = 1;               ///< most blocks a task of the interiors kernel takes
+  Index chains = 1;               ///< most blocks a task of the interiors kernel takes (1: each block on its own)
   bool color_sets = false;        ///< range reads the set a color shares (Model::color_sets is kept for the type)
 };
 
@@ -54,6 +54,16 @@ template <class C, class Real> void interiors(const TypeStore<Real>& type, Index
   Kernels<C>::interiors(st.items.data(), st.offsets.data(), first, last, q, coeff, lambda, any_xpbd, reverse);
 }
 
+// Colored interiors (traits.hpp): each block's runs by the type's range kernel, as the generic projection
+// (TypeStore::project_interiors) visits them.
+template <class C, class Real> void colored_interiors(const TypeStore<Real>& type, Index first, Index last, Real* q,
+                                                      const SolveCoefficients<Real>* coeff, Real* lambda,
+                                                      bool any_xpbd, bool reverse) {
+  for_each_run(store_of<C>(type), first, last, reverse, [&](Index b, Index e) {
+    range<C, Real>(type, b, e, q, coeff, lambda, any_xpbd, kMixedSets);
+  });
+}
+
 // The entry of type C: its kernel when this build has it and the CPU runs it.
 template <class C, class Real> PaddedKernel<Real> entry() {
   using K = Kernels<C>;
@@ -63,7 +73,10 @@ template <class C, class Real> PaddedKernel<Real> entry() {
     k.range = &range<C, Real>;
     k.block = K::kBlock;
     k.color_sets = takes_set<C, Real>();
-    if constexpr (requires { K::interiors; }) {
+    if constexpr (pbd::colored_interiors<C>()) {
+      k.interiors = &colored_interiors<C, Real>;
+      k.chains = 1;
+    } else if constexpr (requires { K::interiors; }) {
       k.interiors = &interiors<C, Real>;
       k.chains = K::kChains;
     }

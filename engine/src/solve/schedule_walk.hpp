@@ -5,7 +5,8 @@
 //   colors     color after color; within a color no two constraints write the same movable particle, so a color's
 //              constraints run in parallel or one after the other with the same bits
 //   blocks     the blocks' interiors first, for every type at once (interiors(): one parallel loop over the blocks,
-//              a task projecting its blocks' constraints of every type, in types' order, each in insertion order; no
+//              a task projecting its blocks' constraints of every type, in types' order, each in insertion order
+//              or, for a type with colored interiors (traits.hpp), run (color) after run; no
 //              two blocks share a movable particle, so any number of threads gives the same bits); then each type's
 //              boundary colors as under colors (block_layout.hpp)
 //   reverse    (SweepOrder::symmetric, odd sub-steps) each type backwards: the colors in reverse order (a color's

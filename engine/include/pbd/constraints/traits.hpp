@@ -60,6 +60,16 @@ template <class C> constexpr bool ties_to_world() {
   else return false;
 }
 
+/// Whether Solver::block projects a block's interior of C color by color (block_layout.hpp), rather than in
+/// insertion order: its kColoredInteriors; a type that does not say does not. For a type whose constraints share
+/// each particle with many others (a tet's corner is in about 20 tets), insertion order is one long dependency
+/// chain; colored, a block's constraints run by the type's SIMD kernel, a color at a time, on the thread that owns
+/// the block. A property of the type, so the order (and the bits) never depend on the CPU.
+template <class C> constexpr bool colored_interiors() {
+  if constexpr (requires { C::kColoredInteriors; }) return C::kColoredInteriors;
+  else return false;
+}
+
 /// Multipliers (λ values) per constraint of C: its kMultipliers (a type whose own `correction` solves several
 /// coupled constraints at once, neo_hookean.hpp), else 1.
 template <class C> constexpr int multipliers() {

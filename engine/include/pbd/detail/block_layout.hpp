@@ -2,9 +2,12 @@
 /// \file detail/block_layout.hpp
 /// The block layout of a constraint store (engine internals), what Solver::block sweeps. The particles are split
 /// into blocks once (schedule.cpp, graph_coloring::partition); a constraint whose movable particles all lie in one
-/// block b belongs to b's interior, group b of the store, in insertion order; the others cross blocks (the
-/// boundary) and are colored with graph_coloring into the groups after the blocks. Two interiors never share a
-/// movable particle, so the blocks run in parallel, each in order on one thread, with the bits of any other cut.
+/// block b belongs to b's interior, group b of the store, in insertion order (or, for a type with colored
+/// interiors (traits.hpp), colored with graph_coloring within the block and laid out color by color: the store's
+/// runs); the others cross blocks (the boundary) and are colored with graph_coloring into the groups after the
+/// blocks. Two interiors never share a movable particle, so the blocks run in parallel, each in order on one thread,
+/// with the bits of any other cut.
+#include "pbd/constraints/traits.hpp"
 #include "pbd/detail/constraint_store.hpp"
 
 #include <algorithm>
@@ -65,9 +68,48 @@ void sort_boundary_by_block(Store<C>& s, const std::vector<std::uint8_t>& fixed,
   }
 }
 
+/// Colors each block's interior of `s` on its own with `options` and lays it out color by color (by insertion
+/// index within a color), setting s.runs and s.block_runs. The groups and the boundary are untouched.
+template <class C>
+void color_interiors(Store<C>& s, const std::vector<std::uint8_t>& fixed, const coloring::Options& options) {
+  const Index blocks = s.sequential;
+  std::vector<Index> user_at(s.items.size());
+  for (Index u = 0; u < Index(s.items.size()); ++u) user_at[s.slot[u]] = u;
+  std::vector<Index> runs, block_runs(std::size_t(blocks) + 1, 0);
+  std::vector<C> items;
+  std::vector<Index> users;
+  ConstraintGraph graph;
+  for (Index b = 0; b < blocks; ++b) {
+    block_runs[b] = Index(runs.size());
+    const Index begin = s.offsets[b], end = s.offsets[b + 1];
+    if (begin == end) continue;
+    items.assign(s.items.begin() + begin, s.items.begin() + end);  // by insertion index (layout_by_color)
+    users.assign(user_at.begin() + begin, user_at.begin() + end);
+    coloring::Coloring col;
+    try {
+      fill_constraint_graph(std::span<const C>(items), fixed, graph);
+      col = coloring::color(graph.view(), options);
+    } catch (const coloring::Error& e) {
+      throw Error(std::string("coloring the interior of block ") + std::to_string(b) + " of " + C::kName +
+                  " constraints: " + e.what());
+    }
+    for (std::uint32_t c = 0; c < col.num_colors; ++c) runs.push_back(begin + Index(col.color_offsets[c]));
+    for (Index k = 0; k < end - begin; ++k) {  // by color, insertion order within one (graph_coloring's items)
+      const Index from = Index(col.items[k]);
+      s.items[begin + k] = items[from];
+      s.slot[users[from]] = begin + k;
+    }
+  }
+  block_runs[blocks] = Index(runs.size());
+  runs.push_back(s.offsets[blocks]);
+  s.runs = std::move(runs);
+  s.block_runs = std::move(block_runs);
+}
+
 /// Lays out every constraint of `s` for the block schedule: group b < blocks is block b's interior (insertion
-/// order), the boundary constraints are colored with `options` into groups blocks, blocks + 1, ... Sets
-/// s.sequential = blocks (every block keeps its group, even an empty one). Nothing changes when coloring throws.
+/// order, or color by color for a type with colored interiors), the boundary constraints are colored with
+/// `options` into groups blocks, blocks + 1, ... Sets s.sequential = blocks (every block keeps its group, even an
+/// empty one). Nothing changes when coloring throws.
 template <class C>
 void lay_out_blocks(Store<C>& s, const std::vector<std::uint8_t>& fixed, std::span<const std::uint32_t> block,
                     Index blocks, const coloring::Options& options) {
@@ -96,10 +138,20 @@ void lay_out_blocks(Store<C>& s, const std::vector<std::uint8_t>& fixed, std::sp
     }
     for (std::size_t k = 0; k < boundary.size(); ++k) group[boundary_user[k]] = blocks + Index(col.color[k]);
   }
+  Store<C> before;
+  if constexpr (colored_interiors<C>()) before = s;  // color_interiors may throw after the layout
   s.color = std::move(group);
   s.sequential = blocks;
   layout_by_color(s, by_user);
   sort_boundary_by_block(s, fixed, block);
+  if constexpr (colored_interiors<C>()) {
+    try {
+      color_interiors(s, fixed, options);
+    } catch (...) {
+      s = std::move(before);
+      throw;
+    }
+  }
 #ifndef NDEBUG
   s.validate(fixed, C::kName);  // debug builds: interiors disjoint, every boundary color independent
 #endif

@@ -32,6 +32,11 @@ template <class C> struct Store {
   std::vector<Index> color;      ///< user index → group (a color, or a block below `sequential`); empty while uncolored
   std::vector<Index> offsets;    ///< group c is items[offsets[c], offsets[c + 1]); empty while uncolored
   Index sequential = 0;          ///< block layout: groups [0, sequential) are the blocks' interiors (kept, even empty)
+  /// Block layout of a type with colored interiors (traits.hpp): each interior is laid out color by color, and
+  /// block b's colors are the runs k in [block_runs[b], block_runs[b + 1]), run k being items[runs[k], runs[k + 1]).
+  /// Empty otherwise.
+  std::vector<Index> runs;
+  std::vector<Index> block_runs;  ///< sequential + 1 entries when runs is not empty
   /// Constraints colored since the last full coloring live in tail colors [tail_color, num_colors()), user indices
   /// from tail_item on; tail_used has, per particle, bit k set when tail color tail_color + k is at it.
   static constexpr Index kNoTail = ~Index(0);
@@ -62,6 +67,8 @@ template <class C> struct Store {
     color.clear();
     offsets.clear();
     sequential = 0;
+    runs.clear();
+    block_runs.clear();
     tail_color = kNoTail;
     tail_used.clear();
   }
@@ -72,6 +79,8 @@ template <class C> struct Store {
     color.clear();
     offsets.clear();
     sequential = 0;
+    runs.clear();
+    block_runs.clear();
     tail_color = kNoTail;
     tail_used.clear();
   }
@@ -90,6 +99,9 @@ template <class C> struct Store {
   /// Checks the layout (throws pbd::Error naming what is wrong): the map is a permutation, colors are contiguous
   /// ranges matching `color`, and no two constraints of one color share a particle not in `fixed`.
   void validate(const std::vector<std::uint8_t>& fixed, const char* name) const;
+  /// validate()'s part for the runs: they tile the interiors block by block, and no two constraints of a run share
+  /// a movable particle.
+  void validate_runs(const std::vector<std::uint8_t>& fixed, const std::string& what) const;
 };
 
 /// Places the constraints with user indices [first_user, n) of `by_user` (insertion order, n = by_user.size()) into
@@ -135,6 +147,8 @@ template <class C> void layout_by_color(Store<C>& s, const std::vector<C>& by_us
     s.offsets.clear();
     s.sequential = 0;
   }
+  s.runs.clear();  // the block layout colors the interiors again after this (block_layout.hpp)
+  s.block_runs.clear();
   s.tail_color = Store<C>::kNoTail;
   s.tail_used.clear();
 }
@@ -237,11 +251,12 @@ template <class C> bool color_tail(Store<C>& s, const std::vector<std::uint8_t>&
   return true;
 }
 
-/// Removes the constraints whose user index has drop[u] set; the others keep their order. Colored and up to date:
-/// they keep their colors too (laid out again, nothing recolored); otherwise the store is left uncolored.
+/// Removes the constraints whose user index has drop[u] set; the others keep their order. Colored and up to date
+/// (and no interior colored by runs, whose order this would lose): they keep their colors too (laid out again,
+/// nothing recolored); otherwise the store is left uncolored.
 /// Returns false when it left a colored store uncolored (the caller recolors everything at the next colored step).
 template <class C> bool erase(Store<C>& s, const std::vector<std::uint8_t>& drop) {
-  const bool keep_colors = !s.offsets.empty() && s.up_to_date();
+  const bool keep_colors = !s.offsets.empty() && s.up_to_date() && s.runs.empty();
   const Index n = Index(s.items.size());
   std::vector<C> kept;
   kept.reserve(n);
@@ -262,6 +277,8 @@ template <class C> bool erase(Store<C>& s, const std::vector<std::uint8_t>& drop
   s.color.clear();
   s.offsets.clear();
   s.sequential = 0;
+  s.runs.clear();
+  s.block_runs.clear();
   s.tail_color = Store<C>::kNoTail;
   s.tail_used.clear();
   return !was_colored;
@@ -297,10 +314,34 @@ template <class C> void Store<C>::validate(const std::vector<std::uint8_t>& fixe
         owner[p] = c;
       }
   }
+  validate_runs(fixed, what);
   for (Index u = 0; u < Index(color.size()); ++u) {
     const Index i = stored(u);
     if (i < offsets.back() && !(color[u] < num_colors() && offsets[color[u]] <= i && i < offsets[color[u] + 1]))
       throw Error(what + "constraint " + std::to_string(u) + " is not in the range of its color " + std::to_string(color[u]));
+  }
+}
+
+template <class C> void Store<C>::validate_runs(const std::vector<std::uint8_t>& fixed, const std::string& what) const {
+  if (runs.empty()) return;
+  if (block_runs.size() != std::size_t(sequential) + 1 || block_runs.front() != 0 ||
+      block_runs.back() + 1 != Index(runs.size()))
+    throw Error(what + "the interiors' runs do not match the blocks");
+  for (Index b = 0; b < sequential; ++b) {
+    if (block_runs[b] > block_runs[b + 1]) throw Error(what + "block " + std::to_string(b) + " has a negative run count");
+    if (runs[block_runs[b]] != offsets[b] || runs[block_runs[b + 1]] != offsets[b + 1])
+      throw Error(what + "the runs of block " + std::to_string(b) + " do not cover its interior");
+  }
+  std::vector<Index> owner(fixed.size(), ~Index(0));
+  for (Index k = 0; k + 1 < Index(runs.size()); ++k) {
+    if (runs[k] > runs[k + 1]) throw Error(what + "run " + std::to_string(k) + " has a negative range");
+    for (Index i = runs[k]; i < runs[k + 1]; ++i)
+      for (Index p : items[i].particles) {
+        if (p < fixed.size() && fixed[p]) continue;
+        if (owner[p] == k)
+          throw Error(what + "particle " + std::to_string(p) + " appears twice in interior run " + std::to_string(k));
+        owner[p] = k;
+      }
   }
 }
 

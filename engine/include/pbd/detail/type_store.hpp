@@ -107,6 +107,19 @@ template <bool kReverse, class C, class Real>
   }
 }
 
+/// Calls run(b, e) for each run [b, e) of the colored interiors of blocks [first, last) of `st` (block_layout.hpp),
+/// block after block, each block's runs in order (backwards when reverse: a run's constraints share no movable
+/// particle, so only the runs' order counts).
+template <class C, class F> void for_each_run(const Store<C>& st, Index first, Index last, bool reverse, const F& run) {
+  for (Index block = first; block < last; ++block) {
+    const Index r0 = st.block_runs[block], r1 = st.block_runs[block + 1];
+    for (Index j = 0; j < r1 - r0; ++j) {
+      const Index k = reverse ? r1 - 1 - j : r0 + j;
+      run(st.runs[k], st.runs[k + 1]);
+    }
+  }
+}
+
 /// How a sweep writes a projection: in place (Gauss-Seidel) or into per-particle deltas (Jacobi, split masses).
 enum class Update { in_place, jacobi };
 
@@ -172,7 +185,8 @@ public:
   /// Stored positions [b, e) (inside one color), each projected into `out`.
   virtual void project_range(Index b, Index e, Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
                              Real* lambda, Real* out, Real relax, Update update) const = 0;
-  /// Block interiors [first, last) (at most kInterleave), interleaved, in place.
+  /// Block interiors [first, last) (at most kInterleave), in place: interleaved, or block after block and run after
+  /// run for a type with colored interiors (backwards when reverse: each interior, or each block's runs).
   virtual void project_interiors(Index first, Index last, Real* p, const Real* w,
                                  const SolveCoefficients<Real>* coeff, Real* lambda, bool reverse) const = 0;
 };
@@ -317,8 +331,15 @@ public:
   }
   void project_interiors(Index first, Index last, Real* p, const Real* w, const SolveCoefficients<Real>* coeff,
                          Real* lambda, bool reverse) const override {
-    if (reverse) project_interiors_interleaved<true>(store, first, last, lambda, p, w, coeff);
-    else project_interiors_interleaved<false>(store, first, last, lambda, p, w, coeff);
+    if constexpr (colored_interiors<C>()) {
+      for_each_run(store, first, last, reverse, [&](Index b, Index e) {
+        project_stored_range<true>(store, b, e, lambda, p, w, coeff, Real(1), p);
+      });
+    } else if (reverse) {
+      project_interiors_interleaved<true>(store, first, last, lambda, p, w, coeff);
+    } else {
+      project_interiors_interleaved<false>(store, first, last, lambda, p, w, coeff);
+    }
   }
 };
 
