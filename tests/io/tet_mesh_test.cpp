@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace pbd {
 namespace {
@@ -51,6 +54,58 @@ TEST(TetBox, FillsTheBoxWithPositiveConformingTets) {
     EXPECT_FALSE(closed_mesh_defect(surface, m.num_vertices()).has_value());
     EXPECT_NEAR(surface_volume(m, surface), size[0] * size[1] * size[2], 1e-12);
   }
+}
+
+// Spatial order: the same tets (each the same four points in the same order, so the same orientation), the vertices
+// renumbered so that the first half lies below the second along the box's longest side at every level of the
+// bisection down to 32 vertices, the tets sorted by their smallest vertex; the same result every time.
+TEST(TetMeshOrder, RenumbersByRecursiveBisectionKeepingEveryTet) {
+  TetMesh m = tet_box_mesh({9, 3, 4}, {0.9, 0.3, 0.4});
+  // Scramble the numbering first (a fixed permutation), as a mesher leaves it.
+  const Index n = m.num_vertices();
+  std::vector<Index> scramble(n);
+  for (Index v = 0; v < n; ++v) scramble[v] = Index((std::uint64_t(v) * 97) % n);  // 97 is prime to 400
+  TetMesh shuffled;
+  shuffled.positions.resize(3, n);
+  for (Index v = 0; v < n; ++v) shuffled.positions.col(scramble[v]) = m.positions.col(v);
+  shuffled.tets = m.tets;
+  for (auto& t : shuffled.tets)
+    for (Index& v : t) v = scramble[v];
+  std::vector<Index> new_index;
+  const TetMesh o = spatially_ordered(shuffled, &new_index);
+  ASSERT_EQ(o.num_vertices(), n);
+  ASSERT_EQ(o.tets.size(), shuffled.tets.size());
+  EXPECT_EQ(error_of(o), "");
+  EXPECT_NEAR(mesh_volume(o), 0.9 * 0.3 * 0.4, 1e-12);
+  std::vector<Index> seen(n, 0);
+  for (Index v = 0; v < n; ++v) {
+    ASSERT_LT(new_index[v], n);
+    ++seen[new_index[v]];
+    EXPECT_EQ(Vec3<double>(o.positions.col(new_index[v])), Vec3<double>(shuffled.positions.col(v))) << v;
+  }
+  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](Index c) { return c == 1; }));
+  // Every tet is there, its corners in order.
+  std::vector<std::array<Index, 4>> mapped = shuffled.tets, got = o.tets;
+  for (auto& t : mapped)
+    for (Index& v : t) v = new_index[v];
+  std::sort(mapped.begin(), mapped.end());
+  std::sort(got.begin(), got.end());
+  EXPECT_EQ(mapped, got);
+  for (std::size_t k = 1; k < o.tets.size(); ++k)
+    EXPECT_LE(*std::min_element(o.tets[k - 1].begin(), o.tets[k - 1].end()),
+              *std::min_element(o.tets[k].begin(), o.tets[k].end()));
+  // The first split: along x (0.9 m is the longest side), the lower 200 vertices first.
+  double first_max = -1, second_min = 2;
+  for (Index v = 0; v < n; ++v)
+    (v < n / 2 ? first_max : second_min) =
+        v < n / 2 ? std::max(first_max, o.positions(0, v)) : std::min(second_min, o.positions(0, v));
+  EXPECT_LE(first_max, second_min);
+  const TetMesh again = spatially_ordered(shuffled);
+  EXPECT_EQ(again.tets, o.tets);
+  EXPECT_EQ(again.positions, o.positions);
+  TetMesh bad = shuffled;
+  bad.tets[5][2] = n;  // out of range
+  EXPECT_THROW(spatially_ordered(bad), Error);
 }
 
 TEST(TetBox, RefusesBadCellsAndSizes) {

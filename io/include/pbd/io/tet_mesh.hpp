@@ -42,4 +42,14 @@ std::vector<std::array<Index, 3>> tet_mesh_surface(const TetMesh& mesh);
 /// Throws pbd::Error unless every cell count is ≥ 1 and every size > 0 and finite.
 TetMesh tet_box_mesh(const std::array<int, 3>& cells, const std::array<double, 3>& size);
 
+/// The mesh with its vertices renumbered in recursive coordinate bisection order and its tets sorted by their
+/// smallest new vertex (ties: in their order). The vertices of each part (at first, all) are split at the median of
+/// the part's bounding box's longest side, lower half first, until a part has at most 32 vertices, which then keep
+/// their order. So vertices close in space get close indices at every scale: a block of the block solver, or a
+/// thread's share of the particles, is a few ranges of memory rather than particles spread over all of it (two
+/// threads writing particles that share a cache line stall each other). A tet keeps its corners' order, so its
+/// orientation. Deterministic: a strict order (coordinate, then index) decides every split. new_index (when not
+/// null) receives each old vertex's new index. Throws as check_tet_mesh (source "spatially_ordered").
+TetMesh spatially_ordered(const TetMesh& mesh, std::vector<Index>* new_index = nullptr);
+
 }  // namespace pbd
