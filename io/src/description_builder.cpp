@@ -93,4 +93,9 @@ void DescriptionBuilder::set_params(const StepParams<double>& p) {
   d_.params = p;
 }
 
+void DescriptionBuilder::set_blocking(const BlockOptions& options) {
+  if (options.constraints_per_block == 0) throw Error("set_blocking: constraints_per_block must be >= 1");
+  d_.blocking = options;
+}
+
 }  // namespace pbd

@@ -282,11 +282,15 @@ TetMesh read_tet_mesh(const JsonObject& o, const DescriptionBuilder& world) {
   return mesh;
 }
 
-// A volumetric body: {"type": "tets", mesh (read_tet_mesh), "origin", "scale", "density", "pinned": [...],
+// A volumetric body: {"type": "tets", mesh (read_tet_mesh), "vertex_order", "origin", "scale", "density", "pinned": [...],
 // "clamped": face, "tet_volume": stiffness, "neo_hookean": {"young": E, "poisson": nu},
 // "shape_matching": {stiffness..., "beta": β}}.
 Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
-  const TetMesh mesh = read_tet_mesh(o, world);
+  TetMesh mesh = read_tet_mesh(o, world);
+  const std::string order = o.has("vertex_order") ? o.string("vertex_order") : "mesh";
+  if (order == "spatial") mesh = spatially_ordered(mesh);
+  else if (order != "mesh")
+    o.fail("vertex_order", message("unknown vertex order ", detail::quoted(order), " (expected \"mesh\" or \"spatial\")"));
   TetBodyOptions opts;
   opts.scale = o.number("scale", 1e-9, 1e9, 1.0);
   opts.origin = o.vec3("origin", opts.origin);
@@ -607,6 +611,14 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   }
   if (o.has("hierarchy")) p.hierarchy = read_hierarchy(o);
   at_path(f, "", [&] { world.set_params(p); });
+  if (o.has("blocking")) {  // {"constraints_per_block": n, "metis": bool}: the block solver's partition
+    const JsonObject b = o.object("blocking");
+    BlockOptions blocking;
+    blocking.constraints_per_block = std::size_t(b.integer("constraints_per_block", 1, 1'000'000'000, 1024));
+    blocking.use_metis = b.boolean("metis", true);
+    b.reject_unknown_keys();
+    world.set_blocking(blocking);
+  }
   for (const auto& [v, path] : o.array("bodies")) {
     at_path(f, path, [&, &v = v, &path = path] {
       const JsonObject b(*v, f, path);

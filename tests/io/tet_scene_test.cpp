@@ -142,6 +142,39 @@ TEST(TetScene, ShapeMatchingMakesOneClusterPerVertex) {
                {"/bodies/0/shape_matching", "alpha"});
 }
 
+// "vertex_order": "spatial" renumbers a tet body's vertices (tet_mesh.hpp's spatially_ordered) before anything else:
+// the same particles and tets, the clamped face found in the new order; "blocking" sets the block solver's
+// partition.
+TEST(TetScene, SpatialVertexOrderAndBlockingKeys) {
+  const std::string long_bar = replaced(kBar, "[4, 1, 1]", "[40, 1, 1]");  // 164 vertices: more than a leaf of 32
+  const std::string text = replaced(replaced(long_bar, "\"density\": 500", "\"vertex_order\": \"spatial\", \"density\": 500"),
+                                    "\"dt\": 0.01,", "\"dt\": 0.01, \"blocking\": {\"constraints_per_block\": 7, \"metis\": false},");
+  const Scene spatial = parse_scene(text, "bar.json");
+  const Scene mesh = parse_scene(long_bar, "bar.json");
+  const World<double> w = build_world<double>(spatial.world), v = build_world<double>(mesh.world);
+  ASSERT_EQ(w.num_particles(), v.num_particles());
+  EXPECT_NE(w.positions(), v.positions());  // renumbered
+  int pinned = 0;
+  for (Index i = 0; i < w.num_particles(); ++i)
+    if (w.inverse_masses()[i] == 0) {
+      ++pinned;
+      EXPECT_EQ(w.positions()(0, i), 0.0);
+    }
+  EXPECT_EQ(pinned, 4);
+  EXPECT_EQ(w.constraints<NeoHookeanConstraint<double>>().size(), 240u);
+  EXPECT_EQ(w.blocking().constraints_per_block, 7u);
+  EXPECT_FALSE(w.blocking().use_metis);
+  EXPECT_EQ(v.blocking().constraints_per_block, BlockOptions{}.constraints_per_block);
+  auto expect = [&](const std::string& from, const std::string& to, std::initializer_list<std::string> words) {
+    const std::string bad = replaced(text, from, to);
+    ASSERT_NE(bad, text) << from;
+    expect_words(error_of([&] { parse_scene(bad, "bar.json"); }), words);
+  };
+  expect("\"spatial\"", "\"random\"", {"/bodies/0/vertex_order", "random", "spatial"});
+  expect("\"constraints_per_block\": 7", "\"constraints_per_block\": 0", {"/blocking/constraints_per_block"});
+  expect("\"metis\": false", "\"metis\": false, \"parts\": 2", {"/blocking", "parts"});
+}
+
 TEST(TetScene, MalformedTetBodiesNameTheirKey) {
   auto expect = [](const std::string& from, const std::string& to, std::initializer_list<std::string> words) {
     const std::string text = replaced(kBar, from, to);

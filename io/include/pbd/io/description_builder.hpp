@@ -58,6 +58,8 @@ public:
   Index add_contact_body(const ContactBody<double>& body);
   /// As World::set_params.
   void set_params(const StepParams<double>& params);
+  /// As World::set_blocking: how the block solver splits the particles (constraints_per_block ≥ 1).
+  void set_blocking(const BlockOptions& options);
 
   /// Room for this many more constraints of built-in type C (no effect on results).
   template <class C> void reserve_more(std::size_t more) {
