@@ -338,6 +338,14 @@ TYPED_TEST(SoftBody, BlockSolverRunsTetInteriorsColorByColor) {
   for (int threads : {2, 3, 4}) EXPECT_EQ(run_on(blocked, threads, 15), one) << threads << " threads";
   EXPECT_NE(run_on(world(Solver::colored, 64), 1, 15), one);
   EXPECT_EQ(run_on(world(Solver::block, 1u << 30), 2, 15), run_on(world(Solver::colored, 64), 2, 15));
+  // Large blocks (sweep_loops.hpp: about 5,000 tets each): one block a thread, the small boundary colors on one
+  // thread; the same bits on 1–4 threads.
+  World<Real> large = block<Real>({12, 12, 12}, {0.3, 0.3, 0.3}, 1e5, 0.45, -1, 9.81, Solver::block, 2, 2, 0.0);
+  large.add_plane(Vec3<Real>(0, 0, 1), Real(-0.001));
+  large.set_blocking({5184, true});
+  large.set_parallel_config({1, 16});
+  const std::uint64_t large_one = run_on(large, 1, 4);
+  for (int threads : {2, 3, 4}) EXPECT_EQ(run_on(large, threads, 4), large_one) << threads << " threads, large blocks";
 }
 
 }  // namespace

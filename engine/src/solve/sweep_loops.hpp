@@ -24,13 +24,24 @@ public:
   /// blocks: the sweeps run the block schedule (its interiors and boundary cutting apply).
   SweepLoops(const Model<Real>& model, Scratch<Real>& scratch, bool parallel, bool blocks, const ParallelConfig& config)
       : m_(model), k_(scratch), parallel_(parallel), blocks_(blocks), config_(config),
-        share_interiors_(shares_interiors(model, parallel, blocks)) {}
+        large_blocks_(blocks && large_blocks(model)), share_interiors_(shares_interiors(model, parallel, blocks)) {}
 
-  /// The interiors are shared only with at least two blocks per thread (with fewer, the threads mostly trade cache
-  /// lines instead of sharing the work).
+  /// Blocks hold on average at least this many interior constraints: large (a type with colored interiors wants
+  /// them so; its kernel runs a block a color at a time, so a block need not be small to keep the core busy).
+  static constexpr std::size_t kLargeBlock = 4096;
+  static bool large_blocks(const Model<Real>& m) {
+    std::size_t interior = 0;
+    for_each_type(m, [&](const TypeStore<Real>& type, std::size_t) {
+      interior += type.num_blocks() ? type.color_begin(type.num_blocks()) : 0;
+    });
+    return m.num_blocks > 0 && interior >= kLargeBlock * std::size_t(m.num_blocks);
+  }
+  /// The interiors are shared with at least two blocks per thread, or one large block per thread (with fewer small
+  /// blocks, the threads mostly trade cache lines instead of sharing the work).
   static bool shares_interiors(const Model<Real>& m, bool parallel, bool blocks) {
     const Index threads = Index(std::max(1, tbb::this_task_arena::max_concurrency()));
-    return blocks && parallel && m.num_blocks >= 2 * threads;
+    if (!blocks || !parallel) return false;
+    return m.num_blocks >= 2 * threads || (m.num_blocks >= threads && large_blocks(m));
   }
   /// A team forms only when some loop has at least this many items (ParallelConfig::inline_below, the loops a fork
   /// would take): sharing small loops moves their cache lines between the threads for nothing.
@@ -90,8 +101,13 @@ public:
       const std::uint32_t first = std::uint32_t(task_begin(Index(std::uint64_t(tasks) * Index(r) / members), tasks, blocks));
       return std::size_t(type.boundary_start(begin, end, first, m_.fixed, block));
     };
-    team_->loop_parts(begin, end, interior_items_ >= team_share_below(config_), start,
-                      [&](std::size_t b, std::size_t e) { body(Index(b), Index(e)); });
+    // Small blocks: each member takes its own blocks' part of every boundary color, whose particles it keeps in its
+    // cache (that pays on a cloth of 100², against one member taking the boundary). Large blocks leave a thin
+    // boundary, and a barrier costs more than half of a small color (the pig: 25 colors of ~34 tets a sweep): a
+    // color too small for a team loop runs on member 0, the others going on to the next shared loop.
+    const bool share = interior_items_ >= team_share_below(config_) &&
+                       (!large_blocks_ || std::size_t(end - begin) >= team_loop_share_below(config_, team_->size()));
+    team_->loop_parts(begin, end, share, start, [&](std::size_t b, std::size_t e) { body(Index(b), Index(e)); });
   }
 
   /// range() over [begin, end) cut only at multiples of `block` from begin (the inline threshold and grain still
@@ -162,6 +178,7 @@ private:
   bool parallel_;                   // the solver's loops may run on several threads
   bool blocks_;                     // the block schedule
   const ParallelConfig& config_;
+  bool large_blocks_;               // large_blocks(): small boundary colors run on one member
   bool share_interiors_;            // the blocks' interiors run on more than one thread
   std::size_t interior_items_ = 0;  // constraints in the blocks' interiors
   Index chains_ = kInterleave;      // most blocks a task of interiors takes
