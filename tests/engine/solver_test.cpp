@@ -340,6 +340,34 @@ TYPED_TEST(SolverTest, AreaKernelMatchesTheScalarProjectionBitForBit) {
     }
 }
 
+// Tet volume constraints that share no movable particle, likewise (tet_volume_math.hpp in eight float or four double
+// lanes): tets inverted and upright against rest volumes of either size, collapsed onto a line (no gradient: with
+// α̃ = 0 nothing moves) and onto one point, a pinned edge shared between tets, all four corners pinned, mixed sets
+// with and without XPBD, and counts that leave a scalar remainder.
+TYPED_TEST(SolverTest, TetVolumeKernelMatchesTheScalarProjectionBitForBit) {
+  using Real = TypeParam;
+  for (bool with_xpbd : {true, false})
+    for (int count : {1, 3, 4, 5, 8, 9, 13, 17, 61, 250}) {
+      KernelCase<Real> t(unsigned(count) + 31u, with_xpbd);
+      for (int k = 0; k < count; ++k) {
+        TetVolumeConstraint<Real> c = blank_constraint<TetVolumeConstraint<Real>>();
+        c.set = t.any_set();
+        c.rest = Real(0.01 + 0.2 * std::abs(t.uniform()));
+        const Vec3<Real> a = t.random_point(), b = t.random_point();
+        switch (k % 6) {
+          case 0: c.particles = {t.at(a), t.at(b), t.at(a + Real(0.3) * (b - a)), t.at(a + Real(0.6) * (b - a))}; break;
+          case 1: c.particles = {t.at(a), t.at(a), t.at(a), t.at(a)}; break;        // one point
+          case 2: c.particles = {t.pin[0], t.pin[1], t.movable(), t.movable()}; break;  // shared pinned edge
+          case 3: c.particles = {t.pin[0], t.pin[1], t.pin[2], t.pin[3]}; break;    // all pinned
+          default: c.particles = {t.movable(), t.movable(), t.movable(), t.movable()}; break;
+        }
+        t.w.add(c);  // its rest volume given
+      }
+      t.expect_colored_is_serial(testing::Message() << count << " constraints, " << (with_xpbd ? "with" : "without")
+                                                   << " XPBD");
+    }
+}
+
 // Neo-Hookean tets that share no movable particle, likewise: the colored solver (with AVX2: eight float or four
 // double lanes on padded positions, neo_hookean_math.hpp) must give the serial reference's bits. The tets cover what
 // the lanes mask or mix in one block: PBD sets (α̃ = 0: the tet does not move) beside XPBD sets of two compliances,

@@ -133,6 +133,13 @@ void project_padded_one(const AreaConstraint<double>& c, double* q, SolveCoeffic
   project_one(c, q, coeff, &lambda);
 }
 
+void project_padded_one(const TetVolumeConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda) {
+  project_one(c, q, coeff, &lambda);
+}
+void project_padded_one(const TetVolumeConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
+                        double& lambda) {
+  project_one(c, q, coeff, &lambda);
+}
 void project_padded_one(const NeoHookeanConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float* lambda) {
   project_one(c, q, coeff, lambda);
 }

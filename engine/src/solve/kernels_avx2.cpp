@@ -1,4 +1,4 @@
-// AVX2 builds of the bending, area and Neo-Hookean kernels (float and double) and of the double stretch kernel
+// AVX2 builds of the bending, area, tet volume and Neo-Hookean kernels (float and double) and of the double stretch kernel
 // (kernels_avx2.hpp).
 // This file alone is compiled with -mavx2 -mno-fma (engine/CMakeLists.txt). It instantiates no inline function the
 // rest of the engine also instantiates (the scalar remainders are called out of line), so the linker never keeps an
@@ -72,7 +72,13 @@ template <class Real, class W>
   return area::area_step<Real>(p, w, rest, neg_k, alpha, lam);
 }
 
-// L::kCount constraints of one color (bending or area) in the lanes: the step as the scalar correction() runs it,
+template <class Real, class W>
+[[gnu::always_inline]] inline auto lane_step(const TetVolumeConstraint<Real>*, const lane::V3<W> (&p)[4],
+                                             const W (&w)[4], W rest, W neg_k, W alpha, W lam) {
+  return tet_volume::tet_volume_step<Real>(p, w, rest, neg_k, alpha, lam);
+}
+
+// L::kCount constraints of one color (bending, area or tet volume) in the lanes: the step as the scalar correction() runs it,
 // and only the writes project() makes (movable corners of lanes that project; λ of lanes with α̃ ≠ 0).
 // kLambda = false: every α̃ is +0 and every λ 0 (the scalar "− α̃·λ" then subtracts +0, which changes no bit).
 template <class W, bool kLambda, class C, class Real>
@@ -266,6 +272,16 @@ void project_area_range_avx2(const AreaConstraint<double>* c, Index b, Index e, 
   if (any_xpbd) lanes_range<wide8::DoubleW4, true>(c, b, e, q, coeff, lambda);
   else lanes_range<wide8::DoubleW4, false>(c, b, e, q, coeff, lambda);
 }
+void project_tet_volume_range_avx2(const TetVolumeConstraint<float>* c, Index b, Index e, float* q,
+                                   const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+  if (any_xpbd) lanes_range<wide8::FloatW8, true>(c, b, e, q, coeff, lambda);
+  else lanes_range<wide8::FloatW8, false>(c, b, e, q, coeff, lambda);
+}
+void project_tet_volume_range_avx2(const TetVolumeConstraint<double>* c, Index b, Index e, double* q,
+                                   const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
+  if (any_xpbd) lanes_range<wide8::DoubleW4, true>(c, b, e, q, coeff, lambda);
+  else lanes_range<wide8::DoubleW4, false>(c, b, e, q, coeff, lambda);
+}
 void project_neo_hookean_range_avx2(const NeoHookeanConstraint<float>* c, Index b, Index e, float* q,
                                     const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
   if (any_xpbd) neo_hookean_range<wide8::FloatW8>(c, b, e, q, coeff, lambda);
@@ -299,6 +315,14 @@ void project_area_range_avx2(const AreaConstraint<float>*, Index, Index, float*,
 }
 void project_area_range_avx2(const AreaConstraint<double>*, Index, Index, double*, const SolveCoefficients<double>*,
                              double*, bool) {
+  std::abort();
+}
+void project_tet_volume_range_avx2(const TetVolumeConstraint<float>*, Index, Index, float*,
+                                   const SolveCoefficients<float>*, float*, bool) {
+  std::abort();
+}
+void project_tet_volume_range_avx2(const TetVolumeConstraint<double>*, Index, Index, double*,
+                                   const SolveCoefficients<double>*, double*, bool) {
   std::abort();
 }
 void project_neo_hookean_range_avx2(const NeoHookeanConstraint<float>*, Index, Index, float*,

@@ -4,6 +4,7 @@
 /// (Müller et al. 2006, §4.3; Jolt's soft bodies keep their tets' volume the same way).
 #include "pbd/constraints/traits.hpp"
 #include "pbd/detail/message.hpp"
+#include "pbd/detail/tet_volume_math.hpp"
 #include "pbd/stiffness.hpp"
 
 #include <Eigen/Geometry>
@@ -24,6 +25,7 @@ template <class Real> struct TetVolumeConstraint {
   static constexpr const char* kSceneKey = "tet_volume";    ///< a tet body's key: one on each of its tets
   static constexpr SceneForm kSceneForm = SceneForm::mesh;  ///< made by the body's generator
   static constexpr bool kTiesToWorld = false;               ///< between four particles
+  static constexpr bool kColoredInteriors = true;           ///< block solver: interiors color by color (traits.hpp)
   static constexpr Measure kMeasure{"tet_volume_pct", "tet volume error", "%", 100.0};  ///< |V − V0| / V0, in %
   std::array<Index, 4> particles;  ///< the corners p0..p3, positively oriented at rest
   Index set;                       ///< constraint set (stiffness) it belongs to
@@ -50,6 +52,22 @@ inline bool evaluate(const TetVolumeConstraint<Real>& c, const Vec3<Real> (&p)[4
   grad[3] = sixth * a.cross(b);
   grad[0] = -grad[1] - grad[2] - grad[3];
   C = grad[3].dot(d) - c.rest;
+  return true;
+}
+
+/// The tet volume constraint's own correction (projection.hpp's generic one, in the arithmetic the AVX2 kernel
+/// shares, detail/tet_volume_math.hpp): the gradients above, Δλ = (−k·C − α̃·λ) / (α̃ + Σ_i w_i|∇_i C|²),
+/// Δp_i = w_i ∇_i C Δλ; false where the denominator is not positive.
+template <class Real>
+inline bool correction(const TetVolumeConstraint<Real>& c, const Vec3<Real> (&p)[4], const Real (&w)[4],
+                       SolveCoefficients<Real> coeff, Real lambda, Vec3<Real> (&dp)[4], Real& dlambda) {
+  using V = detail::lane::V3<Real>;
+  const V q[4] = {{p[0].x(), p[0].y(), p[0].z()}, {p[1].x(), p[1].y(), p[1].z()},
+                  {p[2].x(), p[2].y(), p[2].z()}, {p[3].x(), p[3].y(), p[3].z()}};
+  const auto r = detail::tet_volume::tet_volume_step<Real>(q, w, c.rest, -coeff.k, coeff.alpha_tilde, lambda);
+  if (!r.ok) return false;
+  dlambda = r.dlambda;
+  for (int i = 0; i < 4; ++i) dp[i] = Vec3<Real>(r.dp[i].x, r.dp[i].y, r.dp[i].z);
   return true;
 }
 
