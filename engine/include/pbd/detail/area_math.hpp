@@ -15,13 +15,6 @@ namespace pbd::detail::area {
 
 using namespace lane;
 
-/// One projection's result where ok (the triangle gives a normal and the denominator is positive): dλ and Δp_i.
-template <class T, class M> struct AreaStep {
-  M ok;
-  T dlambda;
-  V3<T> dp[3];
-};
-
 /// One projection of C = ½|u × v| − A0 at corners p: w the inverse masses, neg_k −k, alpha α̃, lambda λ
 /// (projection.hpp's correction()). Real: the precision whose guards apply (degenerate.hpp's degenerate_cross).
 template <class Real, class T>
@@ -40,7 +33,7 @@ template <class Real, class T>
   const V3<T> g1 = cross(v, a) * half_r, g2 = cross(a, u) * half_r;
   const V3<T> g0 = V3<T>{L::of(0.0), L::of(0.0), L::of(0.0)} - g1 - g2;
   const T denom = alpha + w[0] * (quarter * norm2(v - u)) + w[1] * (quarter * v2) + w[2] * (quarter * u2);
-  AreaStep<T, decltype(ok & (denom > denom))> r;
+  Step<T, decltype(ok & (denom > denom)), 3> r;  // ok: the triangle gives a normal and the denominator is positive
   r.ok = ok & (denom > L::of(0.0));
   r.dlambda = (neg_k * C - alpha * lambda) / denom;
   r.dp[0] = g0 * (w[0] * r.dlambda);

@@ -59,12 +59,6 @@ template <class T, class M> struct BendingGradient {
   T C;
   V3<T> g[4];
 };
-/// One projection's result where ok (the gradient exists and the denominator is positive): dλ and Δp_i.
-template <class T, class M> struct BendingStep {
-  M ok;
-  T dlambda;
-  V3<T> dp[4];
-};
 
 /// C = acos(n1·n2) − φ0 and its gradient (constraints/bending.hpp gives the formulas) at corners p (p1, p2 the
 /// shared edge). Real: the precision whose guards apply (float for the lanes).
@@ -105,7 +99,7 @@ template <class Real, class T>
   const auto grad = bending_gradient<Real>(p, rest);
   const V3<T>(&g)[4] = grad.g;
   const T denom = alpha + w[0] * norm2(g[0]) + w[1] * norm2(g[1]) + w[2] * norm2(g[2]) + w[3] * norm2(g[3]);
-  BendingStep<T, decltype(grad.ok & (denom > denom))> r;
+  Step<T, decltype(grad.ok & (denom > denom)), 4> r;  // ok: the gradient exists and the denominator is positive
   r.ok = grad.ok & (denom > L::of(0.0));
   r.dlambda = (neg_k * grad.C - alpha * lambda) / denom;
   for (int i = 0; i < 4; ++i) r.dp[i] = g[i] * (w[i] * r.dlambda);

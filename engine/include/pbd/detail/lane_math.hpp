@@ -45,4 +45,12 @@ template <class T> [[gnu::always_inline]] inline T dot(const V3<T>& a, const V3<
 }
 template <class T> [[gnu::always_inline]] inline T norm2(const V3<T>& a) { return dot(a, a); }
 
+/// One single-multiplier projection's result (bending_math.hpp, area_math.hpp, tet_volume_math.hpp), meaningful
+/// where ok (a mask, or a bool for scalars): Δλ and the Δp_i of its N corners.
+template <class T, class M, int N> struct Step {
+  M ok;
+  T dlambda;
+  V3<T> dp[N];
+};
+
 }  // namespace pbd::detail::lane

@@ -13,13 +13,6 @@ namespace pbd::detail::tet_volume {
 
 using namespace lane;
 
-/// One projection's result where ok (the denominator is positive): dλ and Δp_i.
-template <class T, class M> struct TetVolumeStep {
-  M ok;
-  T dlambda;
-  V3<T> dp[4];
-};
-
 /// One projection of C = V − V0 at corners p: w the inverse masses, neg_k −k, alpha α̃, lambda λ (projection.hpp's
 /// correction(): Δλ = (−k·C − α̃·λ) / (α̃ + Σ_i w_i |∇_i C|²), Δp_i = ∇_i C · w_i Δλ). A tet collapsed onto a line
 /// has no gradient: with α̃ = 0 its denominator is 0 and it moves nothing.
@@ -36,7 +29,7 @@ template <class Real, class T>
   g[0] = V3<T>{zero, zero, zero} - g[1] - g[2] - g[3];
   const T C = dot(g[3], d) - rest;
   const T denom = alpha + w[0] * norm2(g[0]) + w[1] * norm2(g[1]) + w[2] * norm2(g[2]) + w[3] * norm2(g[3]);
-  TetVolumeStep<T, decltype(denom > zero)> r;
+  Step<T, decltype(denom > zero), 4> r;  // ok: the denominator is positive
   r.ok = denom > zero;
   r.dlambda = (neg_k * C - alpha * lambda) / denom;
   for (int i = 0; i < 4; ++i) r.dp[i] = g[i] * (w[i] * r.dlambda);
