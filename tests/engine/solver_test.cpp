@@ -368,6 +368,38 @@ TYPED_TEST(SolverTest, TetVolumeKernelMatchesTheScalarProjectionBitForBit) {
     }
 }
 
+// Shape-matching clusters that share no movable particle, likewise (shape_match_math.hpp in eight float or four
+// double lanes, the SVD lane by lane where Newton's iteration does not apply): clusters deformed from random rest
+// shapes in the rigid and the linear mode, mirrored (det A_pq < 0), flat (coplanar), collapsed onto one point
+// (A_pq = 0), with pinned particles shared between clusters, all eight pinned, mixed sets with and without XPBD,
+// and counts that leave a remainder of every length.
+TYPED_TEST(SolverTest, ShapeMatchKernelMatchesTheScalarProjectionBitForBit) {
+  using Real = TypeParam;
+  for (bool with_xpbd : {true, false})
+    for (int count : {1, 2, 3, 5, 8, 9, 13, 17, 61}) {
+      KernelCase<Real> t(unsigned(count) + 47u, with_xpbd);
+      for (int k = 0; k < count; ++k) {
+        ShapeMatchConstraint<Real> c = blank_constraint<ShapeMatchConstraint<Real>>();
+        c.set = t.any_set();
+        c.beta = k % 3 == 1 ? Real(0.4) : Real(0);
+        constexpr auto members = ShapeMatchConstraint<Real>::offsets();
+        for (int i = 0; i < 8; ++i) c.*members[i] = t.random_point();
+        const Vec3<Real> centre = t.random_point();
+        for (int i = 0; i < 8; ++i) {
+          Vec3<Real> x = centre + Real(0.8) * (c.*members[i]) + Real(0.2) * t.random_point();
+          if (k % 7 == 2) x.x() = -x.x();         // mirrored
+          if (k % 7 == 3) x.z() = centre.z();     // flat
+          if (k % 7 == 4) x = centre;             // collapsed
+          c.particles[i] = k % 11 == 6 ? t.w.add_particle(x, World<Real>::kPinned) : t.at(x);  // all pinned
+        }
+        if (k % 5 == 3) c.particles[0] = t.pin[0], c.particles[1] = t.pin[1];  // shared pins
+        t.w.add(c);
+      }
+      t.expect_colored_is_serial(testing::Message() << count << " clusters, " << (with_xpbd ? "with" : "without")
+                                                   << " XPBD");
+    }
+}
+
 // Neo-Hookean tets that share no movable particle, likewise: the colored solver (with AVX2: eight float or four
 // double lanes on padded positions, neo_hookean_math.hpp) must give the serial reference's bits. The tets cover what
 // the lanes mask or mix in one block: PBD sets (α̃ = 0: the tet does not move) beside XPBD sets of two compliances,

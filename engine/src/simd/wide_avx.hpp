@@ -50,6 +50,7 @@ PBD_W8 MaskF8 operator&(MaskF8 a, MaskF8 b) { return {_mm256_and_ps(a.v, b.v)}; 
 PBD_W8 MaskF8 operator|(MaskF8 a, MaskF8 b) { return {_mm256_or_ps(a.v, b.v)}; }
 PBD_W8 MaskF8 andnot(MaskF8 a, MaskF8 b) { return {_mm256_andnot_ps(a.v, b.v)}; }  ///< b and not a
 PBD_W8 int bits(MaskF8 m) { return _mm256_movemask_ps(m.v); }
+PBD_W8 bool none(MaskF8 m) { return bits(m) == 0; }
 PBD_W8 FloatW8 select(MaskF8 m, FloatW8 a, FloatW8 b) { return {_mm256_blendv_ps(b.v, a.v, m.v)}; }
 
 // Doubles.
@@ -67,7 +68,9 @@ PBD_W8 MaskD4 operator<(DoubleW4 a, DoubleW4 b) { return {_mm256_cmp_pd(a.v, b.v
 PBD_W8 MaskD4 operator==(DoubleW4 a, DoubleW4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_EQ_OQ)}; }
 PBD_W8 MaskD4 operator!=(DoubleW4 a, DoubleW4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_NEQ_UQ)}; }
 PBD_W8 MaskD4 operator&(MaskD4 a, MaskD4 b) { return {_mm256_and_pd(a.v, b.v)}; }
+PBD_W8 MaskD4 operator|(MaskD4 a, MaskD4 b) { return {_mm256_or_pd(a.v, b.v)}; }
 PBD_W8 int bits(MaskD4 m) { return _mm256_movemask_pd(m.v); }
+PBD_W8 bool none(MaskD4 m) { return bits(m) == 0; }
 PBD_W8 DoubleW4 select(MaskD4 m, DoubleW4 a, DoubleW4 b) { return {_mm256_blendv_pd(b.v, a.v, m.v)}; }
 
 // Eight int32 lanes (particle ids, cells) and the lane masks of their comparisons, for the particle contacts' walk.

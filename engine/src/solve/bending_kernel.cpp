@@ -140,6 +140,13 @@ void project_padded_one(const TetVolumeConstraint<double>& c, double* q, SolveCo
                         double& lambda) {
   project_one(c, q, coeff, &lambda);
 }
+void project_padded_one(const ShapeMatchConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda) {
+  project_one(c, q, coeff, &lambda);
+}
+void project_padded_one(const ShapeMatchConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
+                        double& lambda) {
+  project_one(c, q, coeff, &lambda);
+}
 void project_padded_one(const NeoHookeanConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float* lambda) {
   project_one(c, q, coeff, lambda);
 }

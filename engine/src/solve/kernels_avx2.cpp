@@ -1,4 +1,4 @@
-// AVX2 builds of the bending, area, tet volume and Neo-Hookean kernels (float and double) and of the double stretch kernel
+// AVX2 builds of the bending, area, tet volume, shape-matching and Neo-Hookean kernels (float and double) and of the double stretch kernel
 // (kernels_avx2.hpp).
 // This file alone is compiled with -mavx2 -mno-fma (engine/CMakeLists.txt). It instantiates no inline function the
 // rest of the engine also instantiates (the scalar remainders are called out of line), so the linker never keeps an
@@ -7,12 +7,24 @@
 
 #include "simd/wide_avx.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <type_traits>
 
 #if defined(__AVX2__)
+namespace pbd::detail::wide8 {
+/// shape_match_math.hpp's cube_root lane by lane (found by argument-dependent lookup).
+template <class W> [[gnu::always_inline]] inline W cube_root(W a) {
+  using L = Lanes<W>;
+  alignas(64) typename L::Real f[L::kCount];
+  L::storeu(f, a);
+  for (auto& x : f) x = shape_match::math::cube_root(x);
+  return L::loadu(f);
+}
+}  // namespace pbd::detail::wide8
+
 namespace pbd::detail::lane {
 /// A constant in every lane: Real(v), as the scalar code converts it.
 template <> struct Lit<wide8::FloatW8> {
@@ -140,6 +152,20 @@ template <class W, bool kLambda, class Real>
   if (const int moves = active & ~bits(pb[3] == L::zero())) L::add(b, dx * sb, dy * sb, dz * sb, moves);
 }
 
+// The last m (2 ≤ m < n) constraints [b, e) of a color in the lanes: the lanes past them repeat the first and are
+// masked off, and their λ (kMul a constraint) are a copy; block(tail, λ, lanes) projects them. A color's constraints
+// share no particle, so the tail gets the bits of one constraint after the other.
+template <int n, int kMul, class C, class Real, class Block>
+[[gnu::always_inline]] inline void masked_tail(const C* c, Index b, Index e, Real* lambda, const Block& block) {
+  const Index m = e - b;
+  C tail[n];
+  alignas(64) Real lam[kMul * n] = {};
+  for (Index j = 0; j < n; ++j) tail[j] = c[b + (j < m ? j : 0)];
+  std::copy(lambda + kMul * std::size_t(b), lambda + kMul * std::size_t(e), lam);
+  block(static_cast<const C*>(tail), lam, (1 << m) - 1);
+  std::copy(lam, lam + kMul * m, lambda + kMul * std::size_t(b));
+}
+
 // The rest values of L::kCount Neo-Hookean tets across the lanes, one lane at a time.
 template <class W, class Real>
 [[gnu::always_inline]] inline neo_hookean::TetRest<W> tet_rest_by_lane(const NeoHookeanConstraint<Real>* c) {
@@ -211,16 +237,73 @@ void neo_hookean_range(const NeoHookeanConstraint<Real>* c, Index b, Index e, Re
   for (; b + n <= e; b += n) neo_hookean_block<W>(c + b, q, coeff, lambda + 2 * std::size_t(b));
   if (e - b == 1) project_padded_one(c[b], q, coeff[c[b].set], lambda + 2 * std::size_t(b));
   if (e - b < 2) return;
-  // A tail of two or more in the lanes as well (a one-tet lane costs more than half of all eight): the lanes past it
-  // repeat its first tet and are masked off, their λ in a copy. A color's tets share no particle, so the tail's
-  // bits are those of one tet after the other.
-  const Index m = e - b;
-  NeoHookeanConstraint<Real> tail[n];
-  alignas(64) Real lam[2 * n] = {};
-  for (Index j = 0; j < n; ++j) tail[j] = c[b + (j < m ? j : 0)];
-  std::copy(lambda + 2 * std::size_t(b), lambda + 2 * std::size_t(e), lam);
-  neo_hookean_block<W>(tail, q, coeff, lam, (1 << m) - 1);
-  std::copy(lam, lam + 2 * m, lambda + 2 * std::size_t(b));
+  // A tail of two or more in the lanes as well: a one-tet lane costs more than half of all eight.
+  masked_tail<n, 2>(c, b, e, lambda, [&](const auto* tail, Real* lam, int lanes) {
+    neo_hookean_block<W>(tail, q, coeff, lam, lanes);
+  });
+}
+
+// L::kCount shape-matching clusters of one color in the lanes (shape_match_math.hpp): correction()'s step and
+// project()'s writes; only the lanes in `lanes` write positions. The clusters Newton's iteration does not take get
+// the SVD's rotation lane by lane, out of line (shape_match_svd.cpp: compiled for any x86-64, one copy for both).
+template <class W, bool kLambda, class Real>
+[[gnu::always_inline]] inline void shape_match_block(const ShapeMatchConstraint<Real>* c, Real* q,
+                                                     const SolveCoefficients<Real>* coeff, Real* lambda, int lanes) {
+  using L = Lanes<W>;
+  constexpr int n = L::kCount;
+  Real* at[8][n];  // [corner][lane]
+  lane::V3<W> p[8];
+  W w[8];
+  gather_corners(c, q, at, p, w);
+  W k, alpha;
+  lane_coefficients<W, kLambda>(c, coeff, k, alpha);
+  const W lam = kLambda ? L::loadu(lambda) : L::zero();
+  constexpr auto members = ShapeMatchConstraint<Real>::offsets();
+  lane::V3<W> rest[8];
+  for (int i = 0; i < 8; ++i)
+    rest[i] = {L::of([&](int j) { return (c[j].*members[i]).x(); }), L::of([&](int j) { return (c[j].*members[i]).y(); }),
+               L::of([&](int j) { return (c[j].*members[i]).z(); })};
+  const W beta = L::of([&](int j) { return c[j].beta; });
+  auto fallback = [&](const shape_match::math::M3<W>& a, shape_match::math::M3<W>& r, auto done) {
+    const int need = lanes & ~bits(done);
+    if (need == 0) return;
+    alignas(64) Real in[9][n], out[9][n];
+    for (int i = 0; i < 3; ++i) {
+      const W ai[3] = {a.r[i].x, a.r[i].y, a.r[i].z}, ri[3] = {r.r[i].x, r.r[i].y, r.r[i].z};
+      for (int j = 0; j < 3; ++j) {
+        L::storeu(in[3 * i + j], ai[j]);
+        L::storeu(out[3 * i + j], ri[j]);
+      }
+    }
+    for (int lane = 0; lane < n; ++lane) {
+      if (!(need >> lane & 1)) continue;
+      Real a9[9], r9[9];
+      for (int e = 0; e < 9; ++e) a9[e] = in[e][lane];
+      shape_match::svd_rotation(a9, r9);
+      for (int e = 0; e < 9; ++e) out[e][lane] = r9[e];
+    }
+    for (int i = 0; i < 3; ++i) r.r[i] = {L::loadu(out[3 * i]), L::loadu(out[3 * i + 1]), L::loadu(out[3 * i + 2])};
+  };
+  const auto r = shape_match::math::shape_match_step<Real>(p, w, rest, beta, -k, alpha, lam, fallback);
+  const int active = bits(r.ok) & lanes;
+  if (active == 0) return;
+  if constexpr (kLambda) L::storeu(lambda, select(r.ok & (alpha != L::zero()), lam + r.dlambda, lam));
+  for (int i = 0; i < 8; ++i)
+    if (const int moves = active & ~bits(w[i] == L::zero())) L::add(at[i], r.dp[i].x, r.dp[i].y, r.dp[i].z, moves);
+}
+
+// A color's clusters, L::kCount at a time; a tail of two or more in the lanes too (masked_tail), one alone scalar.
+template <class W, bool kLambda, class Real>
+void shape_match_range(const ShapeMatchConstraint<Real>* c, Index b, Index e, Real* q,
+                       const SolveCoefficients<Real>* coeff, Real* lambda) {
+  constexpr Index n = Lanes<W>::kCount;
+  constexpr int all = (1 << n) - 1;
+  for (; b + n <= e; b += n) shape_match_block<W, kLambda>(c + b, q, coeff, lambda + b, all);
+  if (e - b == 1) project_padded_one(c[b], q, coeff[c[b].set], lambda[b]);
+  if (e - b < 2) return;
+  masked_tail<n, 1>(c, b, e, lambda, [&](const auto* tail, Real* lam, int lanes) {
+    shape_match_block<W, kLambda>(tail, q, coeff, lam, lanes);
+  });
 }
 
 template <class W, bool kLambda, class C, class Real>
@@ -282,6 +365,16 @@ void project_tet_volume_range_avx2(const TetVolumeConstraint<double>* c, Index b
   if (any_xpbd) lanes_range<wide8::DoubleW4, true>(c, b, e, q, coeff, lambda);
   else lanes_range<wide8::DoubleW4, false>(c, b, e, q, coeff, lambda);
 }
+void project_shape_match_range_avx2(const ShapeMatchConstraint<float>* c, Index b, Index e, float* q,
+                                    const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
+  if (any_xpbd) shape_match_range<wide8::FloatW8, true>(c, b, e, q, coeff, lambda);
+  else shape_match_range<wide8::FloatW8, false>(c, b, e, q, coeff, lambda);
+}
+void project_shape_match_range_avx2(const ShapeMatchConstraint<double>* c, Index b, Index e, double* q,
+                                    const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd) {
+  if (any_xpbd) shape_match_range<wide8::DoubleW4, true>(c, b, e, q, coeff, lambda);
+  else shape_match_range<wide8::DoubleW4, false>(c, b, e, q, coeff, lambda);
+}
 void project_neo_hookean_range_avx2(const NeoHookeanConstraint<float>* c, Index b, Index e, float* q,
                                     const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd) {
   if (any_xpbd) neo_hookean_range<wide8::FloatW8>(c, b, e, q, coeff, lambda);
@@ -319,6 +412,14 @@ void project_area_range_avx2(const AreaConstraint<double>*, Index, Index, double
 }
 void project_tet_volume_range_avx2(const TetVolumeConstraint<float>*, Index, Index, float*,
                                    const SolveCoefficients<float>*, float*, bool) {
+  std::abort();
+}
+void project_shape_match_range_avx2(const ShapeMatchConstraint<float>*, Index, Index, float*,
+                                    const SolveCoefficients<float>*, float*, bool) {
+  std::abort();
+}
+void project_shape_match_range_avx2(const ShapeMatchConstraint<double>*, Index, Index, double*,
+                                    const SolveCoefficients<double>*, double*, bool) {
   std::abort();
 }
 void project_tet_volume_range_avx2(const TetVolumeConstraint<double>*, Index, Index, double*,

@@ -7,6 +7,7 @@
 #include "pbd/constraints/area.hpp"
 #include "pbd/constraints/bending.hpp"
 #include "pbd/constraints/neo_hookean.hpp"
+#include "pbd/constraints/shape_match.hpp"
 #include "pbd/constraints/stretch.hpp"
 #include "pbd/constraints/tet_volume.hpp"
 #include "pbd/detail/model.hpp"  // kMixedSets
@@ -46,6 +47,12 @@ void project_tet_volume_range_avx2(const TetVolumeConstraint<float>* c, Index b,
 void project_tet_volume_range_avx2(const TetVolumeConstraint<double>* c, Index b, Index e, double* q,
                                    const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
 
+/// Shape matching on padded positions q: eight clusters at a time in float, four in double (shape_match_math.hpp).
+void project_shape_match_range_avx2(const ShapeMatchConstraint<float>* c, Index b, Index e, float* q,
+                                    const SolveCoefficients<float>* coeff, float* lambda, bool any_xpbd);
+void project_shape_match_range_avx2(const ShapeMatchConstraint<double>* c, Index b, Index e, double* q,
+                                    const SolveCoefficients<double>* coeff, double* lambda, bool any_xpbd);
+
 /// One constraint on padded positions, scalar (the kernels' remainders; compiled for any x86-64).
 void project_padded_one(const BendingConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda);
 void project_padded_one(const BendingConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
@@ -56,6 +63,9 @@ void project_padded_one(const AreaConstraint<float>& c, float* q, SolveCoefficie
 void project_padded_one(const AreaConstraint<double>& c, double* q, SolveCoefficients<double> coeff, double& lambda);
 void project_padded_one(const TetVolumeConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda);
 void project_padded_one(const TetVolumeConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
+                        double& lambda);
+void project_padded_one(const ShapeMatchConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float& lambda);
+void project_padded_one(const ShapeMatchConstraint<double>& c, double* q, SolveCoefficients<double> coeff,
                         double& lambda);
 /// A Neo-Hookean tet: lambda points at its two λ.
 void project_padded_one(const NeoHookeanConstraint<float>& c, float* q, SolveCoefficients<float> coeff, float* lambda);
@@ -91,6 +101,14 @@ template <> struct Kernels<TetVolumeConstraint<float>> : Avx2Kernel<float> {
 template <> struct Kernels<TetVolumeConstraint<double>> : Avx2Kernel<double> {
   static constexpr void (*range)(const TetVolumeConstraint<double>*, Index, Index, double*,
                                  const SolveCoefficients<double>*, double*, bool) = &project_tet_volume_range_avx2;
+};
+template <> struct Kernels<ShapeMatchConstraint<float>> : Avx2Kernel<float> {
+  static constexpr void (*range)(const ShapeMatchConstraint<float>*, Index, Index, float*,
+                                 const SolveCoefficients<float>*, float*, bool) = &project_shape_match_range_avx2;
+};
+template <> struct Kernels<ShapeMatchConstraint<double>> : Avx2Kernel<double> {
+  static constexpr void (*range)(const ShapeMatchConstraint<double>*, Index, Index, double*,
+                                 const SolveCoefficients<double>*, double*, bool) = &project_shape_match_range_avx2;
 };
 template <> struct Kernels<NeoHookeanConstraint<float>> : Avx2Kernel<float> {
   static constexpr void (*range)(const NeoHookeanConstraint<float>*, Index, Index, float*,

@@ -51,7 +51,8 @@
 /// 0 (a reflected cluster) the SVD's is the best proper rotation (the axis of the smallest singular value flipped costs
 /// least) and RᵀA_pq is still symmetric; a reflected cluster is pulled back through flat to its rest orientation. A
 /// coplanar cluster (rank 2) gets the one best rotation, a collinear or collapsed one (rank 1, 0) one of the equally
-/// good ones, never a NaN.
+/// good ones, never a NaN. The arithmetic is detail/shape_match_math.hpp's, written once for the scalar projection
+/// and the AVX2 kernel's lanes (eight clusters at a time in float), so the kernel gives the scalar bits.
 ///
 /// Memory: 8 particle indices (32 B), the set (4 B), 8 rest offsets (96 B in float) and β (4 B): 136 bytes per
 /// constraint in float, 240 in double. A_qq⁻¹ is not stored: it depends on the masses, which measure_rest does not
@@ -61,11 +62,11 @@
 /// Cost: the rotation is most of a projection, the linear mode adds little (docs/performance.md has the figures).
 #include "pbd/constraints/traits.hpp"
 #include "pbd/detail/message.hpp"
+#include "pbd/detail/shape_match_math.hpp"
 #include "pbd/stiffness.hpp"
 #include "pbd/types.hpp"
 
 #include <Eigen/LU>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -122,39 +123,43 @@ namespace detail::shape_match {
 
 template <class Real> using Mat3 = Eigen::Matrix<Real, 3, 3>;
 
-/// The polar factor of a by Newton's iteration X ← ½(γX + X⁻ᵀ/γ), scaled by γ = (‖X⁻¹‖/‖X‖)^½ (Higham), when a
-/// is well conditioned with det a > 0: then it converges in a few steps, and its limit is the SVD's U Vᵀ. Fills r
-/// and returns true once a step moves X by under a few roundings; false for a flat, reflected or badly conditioned a
-/// (det a under 1/50 of that of a rotation of the same size) or no convergence within 12 steps.
+template <class Real> math::M3<Real> to_m3(const Mat3<Real>& a) {
+  return {{{a(0, 0), a(0, 1), a(0, 2)}, {a(1, 0), a(1, 1), a(1, 2)}, {a(2, 0), a(2, 1), a(2, 2)}}};
+}
+template <class Real> Mat3<Real> to_mat(const math::M3<Real>& a) {
+  Mat3<Real> m;
+  m << a.r[0].x, a.r[0].y, a.r[0].z, a.r[1].x, a.r[1].y, a.r[1].z, a.r[2].x, a.r[2].y, a.r[2].z;
+  return m;
+}
+template <class Real> lane::V3<Real> to_v3(const Vec3<Real>& v) { return {v.x(), v.y(), v.z()}; }
+
+/// The polar factor of a by Newton's iteration (shape_match_math.hpp's polar: where a is well conditioned with
+/// det a > 0, within 12 steps); fills r and returns true, else false (a flat, reflected or badly conditioned a).
 template <class Real> bool newton_polar(const Mat3<Real>& a, Mat3<Real>& r) {
-  const Real size = a.norm() / std::sqrt(Real(3));  // a rotation's Frobenius norm is √3
-  if (!(a.determinant() > Real(0.02) * size * size * size)) return false;
-  constexpr Real tol = Real(16) * std::numeric_limits<Real>::epsilon();
-  Mat3<Real> x = a / size;
-  for (int k = 0; k < 12; ++k) {
-    const Mat3<Real> inv_t = x.inverse().transpose();
-    const Real gamma = std::sqrt(std::sqrt(inv_t.squaredNorm() / x.squaredNorm()));
-    const Mat3<Real> next = Real(0.5) * (gamma * x + inv_t / gamma);
-    const Real moved = (next - x).squaredNorm();
-    x = next;
-    if (moved <= tol * tol * Real(3)) {
-      r = x;
-      return true;
-    }
-  }
-  return false;
+  math::M3<Real> out{};
+  if (!math::polar<Real>(to_m3(a), out)) return false;
+  r = to_mat(out);
+  return true;
 }
 
-/// The rotation nearest to a (Frobenius): U diag(1, 1, det UVᵀ) Vᵀ from a = U Σ Vᵀ (the file comment says why), by
-/// newton_polar where it applies (a few 3×3 inverses instead of Jacobi sweeps), else by the SVD.
-template <class Real> Mat3<Real> nearest_rotation(const Mat3<Real>& a) {
-  Mat3<Real> r;
-  if (newton_polar(a, r)) return r;
-  const Eigen::JacobiSVD<Mat3<Real>> svd(a, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Mat3<Real> v = svd.matrixV();
-  if (svd.matrixU().determinant() * v.determinant() < Real(0)) v.col(2) = -v.col(2);  // σ3 is the smallest
-  return svd.matrixU() * v.transpose();
-}
+/// The rotation nearest to a (3 × 3, by rows; Frobenius) by the SVD: U diag(1, 1, det UVᵀ) Vᵀ from a = U Σ Vᵀ (the
+/// file comment says why), into r, for the clusters Newton's iteration does not take. Out of line
+/// (engine/src/shape_match_svd.cpp), so that the scalar projection and the AVX2 kernel run the one same copy.
+template <class Real> void svd_rotation(const Real (&a)[9], Real (&r)[9]);
+extern template void svd_rotation(const float (&)[9], float (&)[9]);
+extern template void svd_rotation(const double (&)[9], double (&)[9]);
+
+/// The scalar projection's fallback (shape_match_math.hpp's match): the SVD's rotation where Newton's did not
+/// converge.
+struct SvdFallback {
+  template <class Real> void operator()(const math::M3<Real>& a, math::M3<Real>& r, bool done) const {
+    if (done) return;
+    const Real in[9] = {a.r[0].x, a.r[0].y, a.r[0].z, a.r[1].x, a.r[1].y, a.r[1].z, a.r[2].x, a.r[2].y, a.r[2].z};
+    Real out[9];
+    svd_rotation(in, out);
+    r = {{{out[0], out[1], out[2]}, {out[3], out[4], out[5]}, {out[6], out[7], out[8]}}};
+  }
+};
 
 /// Whether a second-moment matrix (symmetric, positive semi-definite) spans space well enough to invert:
 /// det > 10⁻⁶·(tr/3)³, about a thinnest extent above 10⁻³ of the cluster's size.
@@ -170,58 +175,6 @@ template <class Real> Mat3<Real> second_moments(const Vec3<Real> (&q)[8], const 
   return m;
 }
 
-/// The goal matrix T of the file comment from A_pq and the centred rest offsets q̂ with their weights.
-template <class Real>
-Mat3<Real> goal_matrix(const Mat3<Real>& apq, const Vec3<Real> (&q)[8], const Real (&mu)[8], Real beta) {
-  const Mat3<Real> r = nearest_rotation(apq);
-  if (!(beta > Real(0))) return r;
-  const Mat3<Real> aqq = second_moments(q, mu);
-  if (!spans_space(aqq)) return r;  // a flat rest shape: no linear map to fit
-  Mat3<Real> a = apq * aqq.inverse();
-  const Real det = a.determinant();
-  if (!(det > Real(0))) return r;  // inverted or flat: no volume to keep
-  a /= std::cbrt(std::clamp(det, Real(0.125), Real(8)));
-  return beta * a + (Real(1) - beta) * r;
-}
-
-/// A cluster matched: d_i = x_i − g_i and C² = Σ μ_i |d_i|² / Σ μ_i; total = Σ μ_i.
-template <class Real> struct Match {
-  Vec3<Real> d[8];  ///< each particle's distance from its goal, x_i − g_i
-  Real c2;          ///< C², m²
-  Real total;       ///< Σ μ_i
-};
-
-/// Matches rest offsets `rest` (from any common point) to positions x with weights mu (> 0) in mode beta. The
-/// centres are taken relative to x[0] and to no absolute origin, so a body far from it loses no more than it must.
-template <class Real>
-Match<Real> match(const Vec3<Real> (&rest)[8], const Vec3<Real> (&x)[8], const Real (&mu)[8], Real beta) {
-  Match<Real> m;
-  m.total = Real(0);
-  Vec3<Real> pm = Vec3<Real>::Zero(), qm = Vec3<Real>::Zero();
-  for (int i = 0; i < 8; ++i) {
-    m.total += mu[i];
-    pm += mu[i] * (x[i] - x[0]);
-    qm += mu[i] * rest[i];
-  }
-  pm /= m.total;
-  qm /= m.total;
-  Vec3<Real> p[8], q[8];
-  Mat3<Real> apq = Mat3<Real>::Zero();
-  for (int i = 0; i < 8; ++i) {
-    p[i] = (x[i] - x[0]) - pm;
-    q[i] = rest[i] - qm;
-    apq.noalias() += (mu[i] * p[i]) * q[i].transpose();
-  }
-  const Mat3<Real> t = goal_matrix(apq, q, mu, beta);
-  Real sum = Real(0);
-  for (int i = 0; i < 8; ++i) {
-    m.d[i] = p[i] - t * q[i];
-    sum += mu[i] * m.d[i].squaredNorm();
-  }
-  m.c2 = sum / m.total;
-  return m;
-}
-
 /// The rest offsets of c, q0..q7, in precision To.
 template <class To, class Real> void rest_offsets(const ShapeMatchConstraint<Real>& c, Vec3<To> (&q)[8]) {
   constexpr auto members = ShapeMatchConstraint<Real>::offsets();
@@ -230,40 +183,41 @@ template <class To, class Real> void rest_offsets(const ShapeMatchConstraint<Rea
 
 }  // namespace detail::shape_match
 
-/// The XPBD step of the file comment: weights μ_i = w_min/w_i (pins: 1), the match, then with s = Δλ/(M C) =
-/// (−k − α̃λ/C)/(1 + α̃M): Δx_i = s·(x_i − g_i), Δλ = s·M·C. False (nothing moves) when every particle is pinned
-/// or the cluster is at its goals (C² below tiny_squared).
+/// The XPBD step of the file comment (shape_match_math.hpp, which the AVX2 kernel shares, so its bits): weights
+/// μ_i = w_min/w_i (pins: 1), the match, then with s = Δλ/(M C) = (−k − α̃λ/C)/(1 + α̃M): Δx_i = s·(x_i − g_i),
+/// Δλ = s·M·C. False (nothing moves) when every particle is pinned or the cluster is at its goals (C² below
+/// tiny_squared).
 template <class Real>
 inline bool correction(const ShapeMatchConstraint<Real>& c, const Vec3<Real> (&p)[8], const Real (&w)[8],
                        SolveCoefficients<Real> coeff, Real lambda, Vec3<Real> (&dp)[8], Real& dlambda) {
-  Real w_min = std::numeric_limits<Real>::infinity();
-  for (int i = 0; i < 8; ++i)
-    if (w[i] > Real(0)) w_min = std::min(w_min, w[i]);
-  if (!(w_min < std::numeric_limits<Real>::infinity())) return false;
-  Real mu[8];
-  for (int i = 0; i < 8; ++i) mu[i] = w[i] > Real(0) ? w_min / w[i] : Real(1);
-  Vec3<Real> rest[8];
-  detail::shape_match::rest_offsets(c, rest);
-  const auto m = detail::shape_match::match(rest, p, mu, c.beta);
-  if (!(m.c2 > tiny_squared<Real>())) return false;
-  const Real C = std::sqrt(m.c2), mass = m.total / w_min;
-  const Real s = (-coeff.k - coeff.alpha_tilde * lambda / C) / (Real(1) + coeff.alpha_tilde * mass);
-  for (int i = 0; i < 8; ++i) dp[i] = s * m.d[i];
-  dlambda = s * mass * C;
+  using detail::shape_match::to_v3;
+  constexpr auto members = ShapeMatchConstraint<Real>::offsets();
+  detail::lane::V3<Real> x[8], rest[8];
+  for (int i = 0; i < 8; ++i) {
+    x[i] = to_v3(p[i]);
+    rest[i] = to_v3(c.*members[i]);
+  }
+  const auto r = detail::shape_match::math::shape_match_step<Real>(x, w, rest, c.beta, -coeff.k, coeff.alpha_tilde,
+                                                                   lambda, detail::shape_match::SvdFallback{});
+  if (!r.ok) return false;
+  for (int i = 0; i < 8; ++i) dp[i] = Vec3<Real>(r.dp[i].x, r.dp[i].y, r.dp[i].z);
+  dlambda = r.dlambda;
   return true;
 }
 
 /// RMS distance of the particles to their goals in the rigid mode, equal weights (a violation sees positions, not
 /// masses): 0 exactly when the cluster is a rotated and moved copy of its rest shape, in m.
 template <class Real> double violation(const ShapeMatchConstraint<Real>& c, const PositionsView<Real>& x) {
-  Vec3<double> rest[8], p[8];
+  Vec3<double> rest[8];
   detail::shape_match::rest_offsets(c, rest);
+  detail::lane::V3<double> q[8], p[8];
   double mu[8];
   for (int i = 0; i < 8; ++i) {
-    p[i] = detail::position_of<Real>(x, c.particles[i]);
+    q[i] = detail::shape_match::to_v3(rest[i]);
+    p[i] = detail::shape_match::to_v3(Vec3<double>(detail::position_of<Real>(x, c.particles[i])));
     mu[i] = 1.0;
   }
-  return std::sqrt(detail::shape_match::match(rest, p, mu, 0.0).c2);
+  return std::sqrt(detail::shape_match::math::match<double>(q, p, mu, 0.0, detail::shape_match::SvdFallback{}).c2);
 }
 
 /// Defaults: each offset from the particles' centroid where they are, β = 0 (the rigid mode).

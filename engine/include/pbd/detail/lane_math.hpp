@@ -18,6 +18,8 @@ template <class T> struct Lit {
 template <class S> [[gnu::always_inline]] inline S select(bool m, S a, S b) { return m ? a : b; }
 [[gnu::always_inline]] inline float sqrt(float a) { return std::sqrt(a); }
 [[gnu::always_inline]] inline double sqrt(double a) { return std::sqrt(a); }
+/// No lane set (the lanes': no bit of their mask).
+[[gnu::always_inline]] inline bool none(bool m) { return !m; }
 [[gnu::always_inline]] inline float abs(float a) { return std::abs(a); }
 [[gnu::always_inline]] inline double abs(double a) { return std::abs(a); }
 /// std::min and std::max (the lanes': minps and maxps, the same for numbers).
