@@ -1,5 +1,5 @@
-// AVX2 builds of the bending, area, tet volume, shape-matching and Neo-Hookean kernels (float and double) and of the double stretch kernel
-// (kernels_avx2.hpp).
+// AVX2 builds of the bending, area, tet volume, shape-matching and Neo-Hookean kernels (float and double) and of the
+// double stretch kernel (kernels_avx2.hpp).
 // This file alone is compiled with -mavx2 -mno-fma (engine/CMakeLists.txt). It instantiates no inline function the
 // rest of the engine also instantiates (the scalar remainders are called out of line), so the linker never keeps an
 // AVX2 copy of a function other files call on machines without AVX2.

@@ -135,8 +135,9 @@ private:
 
   // The plan (SweepPlan): the kernels run in place, under the colors schedule; under the block schedule only for
   // the interiors and boundary of a type that is the only one with constraints, with no user type and, when the
-  // kernel's lanes run several blocks at once (chains), at least 4 blocks (with fewer they are not filled). The copy is kept from sweep to sweep when
-  // every type with constraints runs a kernel and nothing else reads p (no user type, volume or contact).
+  // kernel's lanes run several blocks at once (chains), at least 4 blocks (with fewer they are not filled). The copy
+  // is kept from sweep to sweep when every type with constraints runs a kernel and nothing else reads p (no user
+  // type, volume or contact).
   void plan_sweeps() {
     const Schedule schedule = walk_.schedule();
     plan_.kernel.assign(m_.num_types(), PaddedKernel<Real>{});
@@ -148,7 +149,8 @@ private:
     if (update_.in_place() && schedule == Schedule::colors) {
       for (std::size_t t = 0; t < plan_.kernel.size(); ++t) plan_.kernel[t] = padded_kernel<Real>(t);
     } else if (update_.in_place() && schedule == Schedule::blocks && m_.user.empty() && nonempty == 1 &&
-               padded_kernel<Real>(only).interiors && m_.num_blocks >= std::min<Index>(4, padded_kernel<Real>(only).chains)) {
+               padded_kernel<Real>(only).interiors &&
+               m_.num_blocks >= std::min<Index>(4, padded_kernel<Real>(only).chains)) {
       plan_.kernel[only] = padded_kernel<Real>(only);
       plan_.interiors_kernel = only;
     }

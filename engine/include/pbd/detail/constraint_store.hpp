@@ -328,7 +328,8 @@ template <class C> void Store<C>::validate_runs(const std::vector<std::uint8_t>&
       block_runs.back() + 1 != Index(runs.size()))
     throw Error(what + "the interiors' runs do not match the blocks");
   for (Index b = 0; b < sequential; ++b) {
-    if (block_runs[b] > block_runs[b + 1]) throw Error(what + "block " + std::to_string(b) + " has a negative run count");
+    if (block_runs[b] > block_runs[b + 1])
+      throw Error(what + "block " + std::to_string(b) + " has a negative run count");
     if (runs[block_runs[b]] != offsets[b] || runs[block_runs[b + 1]] != offsets[b + 1])
       throw Error(what + "the runs of block " + std::to_string(b) + " do not cover its interior");
   }
