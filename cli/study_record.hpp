@@ -22,6 +22,11 @@ struct ErrorValue {
 /// whole list: pbd::violation_measures()); a type without one keeps its own name and unit.
 using Errors = std::map<std::string, ErrorValue>;
 
+/// The measure of a scene whose primary_error is "reference": Record::ref_error_mm, one step's distance from the
+/// converged reference's step (run-averaged; Record::trajectory_error_mm is its "final"). An elastic body's strain is
+/// its physics, not the solver's error, and ranks nothing; how far the solver lands from converged does.
+inline constexpr const char* kReferenceMeasure = "ref_error_mm";
+
 /// The measure name and unit scale of an engine violation type ("stretch" → {"stretch_pct", 100}), from its Measure.
 std::pair<std::string, double> measure_of(const std::string& violation_type);
 

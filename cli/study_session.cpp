@@ -317,7 +317,7 @@ Report run_study(const StudyPlan& plan) {
       std::snprintf(line, sizeof line, "%s %dx%d: ", info.name.c_str(), task.split.substeps, task.split.iterations);
       what = line + what;
       std::snprintf(line, sizeof line, "; %s (run average) %.3g to %.3g", info.primary_error.c_str(), lo, hi);
-      what += line;
+      if (info.primary_error != kReferenceMeasure) what += line;  // that one is measured with the reference
       for (Record& r : records) report.records.push_back(std::move(r));
     } else {
       // The parts: for a generated N×N cloth, T cloths of N/√T on a side (the same data split T ways); for any

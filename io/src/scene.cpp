@@ -530,12 +530,12 @@ void read_listed_types(const JsonObject& body, DescriptionBuilder& world, const 
   });
 }
 
-// The measures a scene's primary_error may name: each built-in type's name, volume, penetration (collisions) and
-// overlap (particle contacts).
+// The measures a scene's primary_error may name: each built-in type's name, volume, penetration (collisions),
+// overlap (particle contacts) and reference (the distance from the study's converged reference).
 std::vector<std::string> error_measures() {
   std::vector<std::string> names;
   for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) { names.push_back(decltype(type)::type::kName); });
-  for (const char* other : {"volume", "penetration", "overlap"}) names.push_back(other);
+  for (const char* other : {"volume", "penetration", "overlap", "reference"}) names.push_back(other);
   return names;
 }
 
