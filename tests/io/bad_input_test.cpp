@@ -63,8 +63,10 @@ TEST(BadInputScene, PrimaryErrorIsAKnownMeasure) {
   EXPECT_EQ(parse_scene(kScene, "ok.json").primary_error, "");  // not stated: the study picks
   const std::string volume = replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": \"volume\"");
   EXPECT_EQ(parse_scene(volume, "ok.json").primary_error, "volume");
+  const std::string reference = replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": \"reference\"");
+  EXPECT_EQ(parse_scene(reference, "ok.json").primary_error, "reference");  // the study's distance from its reference
   expect_scene_error(replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": \"energy\""),
-                     {"bad.json", "primary_error", "unknown error measure", "\"energy\"", "penetration"});
+                     {"bad.json", "primary_error", "unknown error measure", "\"energy\"", "penetration", "reference"});
   expect_scene_error(replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": 2"),
                      {"bad.json", "primary_error"});
 }
