@@ -78,6 +78,7 @@ struct Reference {
   Errors error_change;                ///< |averaged error at half the budget − its own|, per measure (rms and max)
   // The check (finish() redoes it over every record, e.g. after a merge):
   bool converged = false;         ///< every change at most a tenth of the smallest error it is compared with
+  bool step_converged = false;    ///< the one-step change is: ref_error_mm is measured against a converged step
   std::vector<std::string> failures;  ///< the changes that are not, as text
   bool capped = false;            ///< the study could not raise its budget further (cap or time limit)
   std::vector<std::string> tried; ///< the budgets tried before it, "SxI"

@@ -201,7 +201,7 @@ Reference converged_reference(const StudyPlan& plan, const std::vector<StudyScen
         if (r.scene == scenes[i].info.name) mine.push_back(&r);
       compare_with_reference(scenes[i].scene, plan.solvers, ref, mine);
     }
-    check_reference(ref, records);
+    check_reference(ref, records, plain_info.primary_error == kReferenceMeasure);
     ref.tried = tried;
     ref.seconds = spent;
     if (ref.converged) return ref;

@@ -32,8 +32,8 @@ RECORD = ["scene", "solver", "threads", "budget", "substeps", "iterations", "ste
           "trajectory_error_mm", "energy_drift", "state_hash", "repeatable", "load", "busy", "pareto", "variant",
           "timing_steps", "errors_final", "primary_error_final", "settle_motion_mm", "settled"]
 REFERENCE = ["scene", "solver", "precision", "threads", "substeps", "iterations", "steps", "seconds", "errors",
-             "errors_final", "step_change_mm", "trajectory_change_mm", "error_change", "converged", "failures",
-             "capped", "tried"]
+             "errors_final", "step_change_mm", "trajectory_change_mm", "error_change", "converged", "step_converged",
+             "failures", "capped", "tried"]
 CONTEXT = ["compiler", "flags", "build_type", "cpu", "cores", "load_before", "load_during", "load_during_max",
            "commit", "date", "loadavg_start"]
 # What must not depend on how the work was split into shards (timings and load do).
@@ -90,6 +90,8 @@ def check_report(doc, out):
                 fail(f"reference of {ref.get('scene')} has no {key}")
         if ref["converged"] != (not ref["failures"]):
             fail(f"reference of {ref['scene']}: converged {ref['converged']} but failures {ref['failures']}")
+        if ref["step_converged"] != (not any(f.startswith("one step") for f in ref["failures"])):
+            fail(f"reference of {ref['scene']}: step_converged {ref['step_converged']} but failures {ref['failures']}")
     records = doc["records"]
     for r in records:
         where = f"{r.get('scene')}/{r.get('solver')}/{r.get('threads')}T/{r.get('substeps')}x{r.get('iterations')}"

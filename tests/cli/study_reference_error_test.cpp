@@ -48,5 +48,27 @@ TEST(StudyReferenceError, ElasticScenesAreJudgedByTheirDistanceFromTheReference)
   EXPECT_TRUE(std::isnan(report.records[0].primary_error_final));
 }
 
+// The reference of such a scene is checked by positions alone: its strain is not an error to be a tenth of.
+TEST(StudyReferenceError, ItsReferenceIsCheckedByPositionsNotByTheStrain) {
+  std::vector<Record> records = {record("colored", 1.0, 1.0, 0.5, 0.9)};
+  Reference ref;
+  ref.scene = "bar";
+  ref.step_change_mm = 0.01;        // a tenth of 0.5 mm is 0.05: converged
+  ref.trajectory_change_mm = 0.5;   // a tenth of 0.9 mm is 0.09: not
+  ref.error_change["neo_hookean"] = {0.5, 0.5};  // half the smallest strain (1.0)
+  check_reference(ref, records, false);
+  EXPECT_FALSE(ref.converged);
+  EXPECT_TRUE(ref.step_converged);
+  EXPECT_EQ(ref.failures.size(), 2u) << "the run's end and the strain";
+  check_reference(ref, records, true);
+  EXPECT_EQ(ref.failures.size(), 1u) << "the run's end only";
+  ref.trajectory_change_mm = 0.05;
+  check_reference(ref, records, true);
+  EXPECT_TRUE(ref.converged);
+  ref.step_change_mm = 0.1;
+  check_reference(ref, records, true);
+  EXPECT_FALSE(ref.step_converged);
+}
+
 }  // namespace
 }  // namespace pbd::cli
