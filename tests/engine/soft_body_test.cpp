@@ -235,7 +235,7 @@ TYPED_TEST(SoftBody, CrushedFlatAndInvertedBlockRecoversWithoutNaN) {
 }
 
 // The built-in pig-tets scene as it is (float, 10 sub-steps of 3 iterations; at 10 × 1 its worst volume error is
-// 2.8%, at 10 × 2 0.95%): 2 s, landing at about step 20 and bouncing. Jacobi, which spreads a stiff bulk response
+// 2.8%, at 10 × 2 1.0%): 2 s, landing at about step 20 and bouncing. Jacobi, which spreads a stiff bulk response
 // far more slowly, runs 40 × 4 (at 10 × 12 it loses 5.2%, at 40 × 3 1.1%). Its tets' total volume stays within 1% of the rest volume over the whole run, and its
 // centre of mass rises again after the landing by more than a third of its fall (an elastic body stores the impact
 // and gives it back: the contact has no restitution).
