@@ -291,7 +291,7 @@ json report_json(const Report& report) {
     measures[m.measure.key] = {{"type", m.type}, {"label", m.measure.label}, {"unit", m.measure.unit}};
   for (const ExtraMeasure& m : known_answer_measures())
     measures[m.key] = {{"type", nullptr}, {"label", m.label}, {"unit", m.unit}};
-  measures[kReferenceMeasure] = {{"type", nullptr}, {"label", "distance of one step from the converged reference's"},
+  measures[kReferenceMeasure] = {{"type", nullptr}, {"label", "one-step distance from the converged reference"},
                                  {"unit", "mm"}};
   json& refs = doc["references"] = json::array();
   for (const Reference& r : report.references)

@@ -26,6 +26,7 @@ import math
 import os
 import statistics
 import sys
+import textwrap
 
 import matplotlib
 
@@ -49,10 +50,11 @@ UNIT_SUFFIXES = {"pct": "%", "mm": "mm", "rad": "rad"}
 
 
 def measure_label(m):
+    """The axis label of measure m, wrapped so that it stays beside its own panel."""
     if m in MEASURES:
-        return f"RMS {MEASURES[m]['label']} ({MEASURES[m]['unit']})"
+        return textwrap.fill(f"RMS {MEASURES[m]['label']} ({MEASURES[m]['unit']})", 34)
     name, _, suffix = m.rpartition("_")
-    return f"RMS {name or m} ({UNIT_SUFFIXES.get(suffix, suffix if name else '?')})"
+    return textwrap.fill(f"RMS {name or m} ({UNIT_SUFFIXES.get(suffix, suffix if name else '?')})", 34)
 
 
 def solver_style(solver):
