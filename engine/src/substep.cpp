@@ -48,6 +48,10 @@ template <class Real> struct ForkRunner {
   template <class Body> void particles(int pass, const Body& body) {
     run_range(0, c.model.num_particles(), parallel, c.config, c.scratch.particle_partitioners[pass], body);
   }
+  // A loop over `n` chunks of `size` particles (pass 2: the free bodies' sums), with its own partitioner.
+  template <class Body> void chunks(Index n, Index size, const Body& body) {
+    run_range(0, n, parallel, per_block(c.config, std::size_t(size)), c.scratch.particle_partitioners[2], body);
+  }
   // A loop of the hierarchy's pass (run_hierarchy), with its own partitioner.
   template <class Body> void loop(std::size_t id, Index b, Index e, const Body& body) {
     run_range(b, e, parallel, c.config, c.scratch.hierarchy.partitioners[id], body);
@@ -207,7 +211,14 @@ template <class Real, class Runner> void substep(StepContext<Real>& c, Runner& r
   // the impacts of this sub-step leave at e × their approach speed.
   FreeBodies<Real>& fb = k.free_bodies;
   bool spin = false;
-  if constexpr (!Runner::kTeam) spin = measure_solver_spin<Real>(m, fb, k.collisions.items, k.particle_contacts.items, x, p, v, h);
+  if constexpr (!Runner::kTeam) {
+    if (find_free_contacts<Real>(fb, k.collisions.items, k.particle_contacts.items)) {
+      run.chunks(Index(fb.parts.size()), kSpinChunk, [&](Index b, Index e) {
+        for (Index chunk = b; chunk < e; ++chunk) sum_free_chunk<Real>(m, fb, chunk, x, p, v, h);
+      });
+      spin = find_solver_spin(fb);
+    }
+  }
   run.particles(1, [&](Index b, Index e) {
     if (in_q) update_velocities_from_padded(h, x, k.padded.data(), p, v, b, e);
     else update_velocities(h, x, p, v, b, e);

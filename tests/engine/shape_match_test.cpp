@@ -327,8 +327,12 @@ TYPED_TEST(ShapeMatch, NewtonPolarFactorIsTheSvdsRotation) {
     if (mild) a = M::Identity() + Real(0.2) * a;
     M r;
     const bool ok = detail::shape_match::newton_polar(a, r);
-    if (mild) EXPECT_TRUE(ok) << t;
-    if (a.determinant() <= 0) EXPECT_FALSE(ok) << t;
+    if (mild) {
+      EXPECT_TRUE(ok) << t;
+    }
+    if (a.determinant() <= 0) {
+      EXPECT_FALSE(ok) << t;
+    }
     if (!ok) continue;
     ++applied;
     const Eigen::JacobiSVD<M> svd(a, Eigen::ComputeFullU | Eigen::ComputeFullV);

@@ -16,6 +16,7 @@
 #include "pbd/io/scene.hpp"
 #include "pbd/io/tet_body.hpp"
 #include "pbd/io/tet_mesh.hpp"
+#include "solve/free_bodies.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
 #include "world_runs.hpp"
@@ -199,6 +200,56 @@ TYPED_TEST(SoftBody, FreeBlockKeepsItsMomentumWhileItSpringsBack) {
       EXPECT_LE(max_dl, 2e4 * eps * mass * speed * 0.3) << name(s);
       EXPECT_TRUE(w.positions().allFinite());
     }
+}
+
+// Two free bodies of 1000 particles each, squashed and spinning: the free bodies' sums run over chunks of 512
+// particles, one of which holds both bodies, and every loop forks. The bits are the same on 1–4 threads (the chunks'
+// sums are added in chunk order however they were shared), and each body keeps its momentum and angular momentum (the
+// sums reach the right body across the chunks: a run summed into the other body would spin both).
+TYPED_TEST(SoftBody, FreeBodiesAcrossChunksKeepTheirMomentaWithTheSameBitsOnOneToFourThreads) {
+  using Real = TypeParam;
+  World<Real> w;
+  const TetMesh mesh = tet_box_mesh({9, 9, 9}, {0.2, 0.2, 0.2});
+  ASSERT_EQ(mesh.num_vertices(), 1000);
+  const NeoHookeanMaterial m = young_poisson(1e5, 0.45);
+  TetConstraintSets sets;
+  sets.neo_hookean = w.add_constraint_set(Stiffness::xpbd_compliance(m.compliance()));
+  sets.ratio = m.ratio();
+  for (double x0 : {0.0, 0.5}) {
+    TetBodyOptions o;
+    o.origin = {x0, 0.0, 0.0};
+    add_tet_body(w, mesh, o, sets);
+  }
+  ASSERT_GT(w.num_particles(), 3 * Index(pbd::detail::kSpinChunk));
+  Matrix3X<Real> x = w.positions(), v(3, w.num_particles());
+  const Vec3<double> axis = Vec3<double>(1, 2, 3).normalized();
+  for (Index i = 0; i < w.num_particles(); ++i) {
+    const double sign = i < 1000 ? 1.0 : -1.0, centre = i < 1000 ? 0.1 : 0.6;
+    x(2, i) *= Real(0.5);
+    const Vec3<double> r = x.col(i).template cast<double>() - Vec3<double>(centre, 0.1, 0.05);
+    v.col(i) = (sign * 5.0 * axis.cross(r)).template cast<Real>();
+  }
+  w.positions() = x;
+  w.velocities() = v;
+  StepParams<Real> p;
+  p.gravity.setZero();
+  p.substeps = 4;
+  p.iterations = 2;
+  p.solver = Solver::colored;
+  w.set_params(p);
+  w.set_parallel_config({1, 16});
+  auto body_momenta = [](const World<Real>& world, Index b) { return momenta(world, 1000 * b, 1000 * (b + 1)); };
+  const std::uint64_t bits = run_on(w, 1, 30);
+  for (int threads : {2, 3, 4}) EXPECT_EQ(run_on(w, threads, 30), bits) << threads << " threads";
+  const double mass = 1000.0 * 0.2 * 0.2 * 0.1, speed = 5.0 * 0.15, eps = std::numeric_limits<Real>::epsilon();
+  for (Index b : {0, 1}) {
+    const auto [p0, l0] = body_momenta(w, b);
+    World<Real> run = w;
+    for (int step = 0; step < 30; ++step) run.step();
+    const auto [p1, l1] = body_momenta(run, b);
+    EXPECT_LE((p1 - p0).norm(), 2e4 * eps * mass * speed) << "body " << b;
+    EXPECT_LE((l1 - l0).norm(), 2e4 * eps * mass * speed * 0.2) << "body " << b;
+  }
 }
 
 // Total signed volume of the body's tets at the world's positions.

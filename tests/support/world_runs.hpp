@@ -6,15 +6,18 @@
 
 #include <oneapi/tbb/task_arena.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 
 namespace pbd::test {
 
-/// Momentum and angular momentum (about the origin) of all particles, in double. Every particle must be movable.
-template <class Real> std::pair<Vec3<double>, Vec3<double>> momenta(const World<Real>& w) {
+/// Momentum and angular momentum (about the origin) of particles [begin, end) (all of them by default), in double.
+/// Every one of them must be movable.
+template <class Real>
+std::pair<Vec3<double>, Vec3<double>> momenta(const World<Real>& w, Index begin = 0, Index end = ~Index(0)) {
   Vec3<double> p = Vec3<double>::Zero(), l = Vec3<double>::Zero();
-  for (Index i = 0; i < w.num_particles(); ++i) {
+  for (Index i = begin; i < std::min(end, w.num_particles()); ++i) {
     const double m = 1 / double(w.inverse_masses()[i]);
     const Vec3<double> v = w.velocities().col(i).template cast<double>();
     p += m * v;

@@ -14,6 +14,40 @@ Index root(std::vector<Index>& parent, Index i) {
   return i;
 }
 
+// Adds one particle's mass and moments to a body's 25 sums: mass; first moments of p (q) and x; angular momentum
+// about the origin after the solve (q × v_after) and before it (x × v_before); momentum after and before; second
+// moments of q (xx, yy, zz, xy, xz, yz).
+template <class Real>
+inline void add_moments(double* s, double mass, const Real* x, const Real* p, const Real* v, Real h) {
+  double q[3], xi[3], before[3], after[3];
+  for (int d = 0; d < 3; ++d) {
+    const Real predicted = x[d] + h * v[d];  // as steps 2 and 5 compute them
+    q[d] = double(p[d]);
+    xi[d] = double(x[d]);
+    before[d] = double(v[d]);
+    after[d] = double(v[d] + (p[d] - predicted) / h);
+  }
+  const double l_after[3] = {q[1] * after[2] - q[2] * after[1], q[2] * after[0] - q[0] * after[2],
+                             q[0] * after[1] - q[1] * after[0]};
+  const double l_before[3] = {xi[1] * before[2] - xi[2] * before[1], xi[2] * before[0] - xi[0] * before[2],
+                              xi[0] * before[1] - xi[1] * before[0]};
+  s[0] += mass;
+  for (int d = 0; d < 3; ++d) {
+    s[1 + d] += mass * q[d];
+    s[4 + d] += mass * xi[d];
+    s[7 + d] += mass * l_after[d];
+    s[10 + d] += mass * l_before[d];
+    s[13 + d] += mass * after[d];
+    s[16 + d] += mass * before[d];
+  }
+  s[19] += mass * q[0] * q[0];
+  s[20] += mass * q[1] * q[1];
+  s[21] += mass * q[2] * q[2];
+  s[22] += mass * q[0] * q[1];
+  s[23] += mass * q[0] * q[2];
+  s[24] += mass * q[1] * q[2];
+}
+
 }  // namespace
 
 template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<Real>& f) {
@@ -56,9 +90,8 @@ template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<R
 }
 
 template <class Real>
-bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<const CollisionConstraint<Real>> contacts,
-                         std::span<const ParticleContact<Real>> pairs,
-                         const Real* x, const Real* p, const Real* v, Real h) {
+bool find_free_contacts(FreeBodies<Real>& f, std::span<const CollisionConstraint<Real>> contacts,
+                        std::span<const ParticleContact<Real>> pairs) {
   if (f.count == 0) return false;
   constexpr Index kNone = FreeBodies<Real>::kNone;
   // Contacts: none (0), all along one normal n (1: their forces have no torque about n through any point, so the
@@ -85,42 +118,42 @@ bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<co
   }
   bool any = false;
   for (Index b = 0; b < f.count; ++b) any = any || f.contact[b] != 2;
-  if (!any) return false;
-  constexpr int kSums = 25;
-  f.sums.assign(std::size_t(f.count) * kSums, 0.0);
-  const Index n = m.num_particles();
-  for (Index i = 0; i < n; ++i) {  // one thread, particle order: the same bits for any thread count
+  if (any) f.parts.resize(std::size_t((Index(f.body.size()) + kSpinChunk - 1) / kSpinChunk));
+  return any;
+}
+
+template <class Real>
+void sum_free_chunk(const Model<Real>& m, FreeBodies<Real>& f, Index chunk, const Real* x, const Real* p, const Real* v,
+                    Real h) {
+  constexpr Index kNone = FreeBodies<Real>::kNone;
+  auto& parts = f.parts[chunk];
+  parts.clear();
+  const Index end = std::min(m.num_particles(), (chunk + 1) * kSpinChunk);
+  for (Index i = chunk * kSpinChunk; i < end;) {
     const Index b = f.body[i];
-    if (b == kNone || f.contact[b] == 2) continue;
-    const double mass = 1.0 / double(m.inverse_mass[i]);
-    Eigen::Vector3d q, xi, before, after;
-    for (int d = 0; d < 3; ++d) {
-      const std::size_t j = 3 * std::size_t(i) + d;
-      const Real predicted = x[j] + h * v[j];  // as steps 2 and 5 compute them
-      q[d] = double(p[j]);
-      xi[d] = double(x[j]);
-      before[d] = double(v[j]);
-      after[d] = double(v[j] + (p[j] - predicted) / h);
+    if (b == kNone || f.contact[b] == 2) {
+      ++i;
+      continue;
     }
-    double* s = f.sums.data() + std::size_t(b) * kSums;
-    const Eigen::Vector3d l_after = q.cross(after), l_before = xi.cross(before);
-    s[0] += mass;
-    for (int d = 0; d < 3; ++d) {
-      s[1 + d] += mass * q[d];
-      s[4 + d] += mass * xi[d];
-      s[7 + d] += mass * l_after[d];
-      s[10 + d] += mass * l_before[d];
-      s[13 + d] += mass * after[d];
-      s[16 + d] += mass * before[d];
-    }
-    s[19] += mass * q.x() * q.x();
-    s[20] += mass * q.y() * q.y();
-    s[21] += mass * q.z() * q.z();
-    s[22] += mass * q.x() * q.y();
-    s[23] += mass * q.x() * q.z();
-    s[24] += mass * q.y() * q.z();
+    // A run of the body's particles, summed in locals (registers, not stores through memory) in particle order.
+    double a[kSpinSums] = {};
+    for (; i < end && f.body[i] == b; ++i) add_moments<Real>(a, 1.0 / double(m.inverse_mass[i]), x + 3 * std::size_t(i),
+                                                             p + 3 * std::size_t(i), v + 3 * std::size_t(i), h);
+    parts.push_back({b, {}});
+    std::copy(a, a + kSpinSums, parts.back().sums.begin());
   }
+}
+
+template <class Real> bool find_solver_spin(FreeBodies<Real>& f) {
+  constexpr int kSums = kSpinSums;
+  f.sums.assign(std::size_t(f.count) * kSums, 0.0);
+  for (const auto& chunk : f.parts)  // chunk order, then run order: the same bits however the chunks were shared
+    for (const auto& run : chunk) {
+      double* s = f.sums.data() + std::size_t(run.body) * kSums;
+      for (int k = 0; k < kSums; ++k) s[k] += run.sums[k];
+    }
   f.omega.assign(std::size_t(f.count) * 9, std::numeric_limits<double>::quiet_NaN());
+  bool any = false;
   for (Index b = 0; b < f.count; ++b) {
     if (f.contact[b] == 2) continue;
     const double* s = f.sums.data() + std::size_t(b) * kSums;
@@ -158,18 +191,22 @@ bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<co
       f.omega[9 * std::size_t(b) + 3 + d] = c[d];
       f.omega[9 * std::size_t(b) + 6 + d] = shift[d];
     }
+    any = true;
   }
-  return true;
+  return any;
 }
 
 template void update_free_bodies(const Model<float>&, FreeBodies<float>&);
 template void update_free_bodies(const Model<double>&, FreeBodies<double>&);
-template bool measure_solver_spin(const Model<float>&, FreeBodies<float>&, std::span<const CollisionConstraint<float>>,
-                                  std::span<const ParticleContact<float>>,
-                                  const float*, const float*, const float*, float);
-template bool measure_solver_spin(const Model<double>&, FreeBodies<double>&,
-                                  std::span<const CollisionConstraint<double>>, std::span<const ParticleContact<double>>,
-                                  const double*, const double*,
-                                  const double*, double);
+template bool find_free_contacts(FreeBodies<float>&, std::span<const CollisionConstraint<float>>,
+                                 std::span<const ParticleContact<float>>);
+template bool find_free_contacts(FreeBodies<double>&, std::span<const CollisionConstraint<double>>,
+                                 std::span<const ParticleContact<double>>);
+template void sum_free_chunk(const Model<float>&, FreeBodies<float>&, Index, const float*, const float*, const float*,
+                             float);
+template void sum_free_chunk(const Model<double>&, FreeBodies<double>&, Index, const double*, const double*,
+                             const double*, double);
+template bool find_solver_spin(FreeBodies<float>&);
+template bool find_solver_spin(FreeBodies<double>&);
 
 }  // namespace pbd::detail

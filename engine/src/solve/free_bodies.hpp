@@ -18,10 +18,22 @@
 #include "pbd/constraints/particle_contact.hpp"
 #include "pbd/detail/model.hpp"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
 namespace pbd::detail {
+
+/// The spin's sums are taken over fixed chunks of particles (in parallel), then added in chunk order: the same bits
+/// for any thread count.
+inline constexpr Index kSpinChunk = 512;
+inline constexpr int kSpinSums = 25;  // mass, Σ m p, Σ m x, Σ m p × v', Σ m x × v, Σ m v', Σ m v, Σ m p pᵀ (6)
+
+/// A run of one body's particles within a chunk, and its sums.
+struct SpinRun {
+  Index body;
+  std::array<double, kSpinSums> sums;
+};
 
 template <class Real> struct FreeBodies {
   std::uint64_t edits = ~std::uint64_t(0);  // Model::edits the bodies below were found at
@@ -29,6 +41,7 @@ template <class Real> struct FreeBodies {
   Index count = 0;                          // bodies that may be free (no pinned particle, no anchor)
   std::vector<std::uint8_t> contact;        // per body, this sub-step: 0 no contact, 1 all along normal, 2 more
   std::vector<double> normal;               // per body with contact 1: that normal (3)
+  std::vector<std::vector<SpinRun>> parts;  // per chunk of kSpinChunk particles: its runs of free bodies' particles
   std::vector<double> sums;                 // per body: mass and first and second moments (free_bodies.cpp)
   std::vector<double> omega;                // per body: ω to remove (3), centre of mass (3), velocity to remove (3);
                                             // NaN ω: leave the body alone
@@ -38,11 +51,18 @@ template <class Real> struct FreeBodies {
 /// Finds the bodies again if the model changed since (Model::edits).
 template <class Real> void update_free_bodies(const Model<Real>& m, FreeBodies<Real>& f);
 
-/// Sets f.omega for this sub-step from x, the solved positions p, the predicted velocities v and the sub-step's
-/// contacts (a body with a particle contact, or a contact with friction, is left alone); returns false (and computes nothing more) when no body is free.
+/// The solver's spin is measured in three phases (step 5 of solver.hpp):
+/// 1. find_free_contacts: this sub-step's contacts classify the bodies (a body with a particle contact, or a contact
+///    with friction, is left alone); false (and nothing more to do) when no body is free. Sizes f.parts.
+/// 2. sum_free_chunk, for every chunk (any order, any thread): the chunk's sums from x, the solved positions p and the
+///    predicted velocities v.
+/// 3. find_solver_spin: adds the chunks' sums in chunk order and sets f.omega; false when no body is to be despun.
 template <class Real>
-bool measure_solver_spin(const Model<Real>& m, FreeBodies<Real>& f, std::span<const CollisionConstraint<Real>> contacts,
-                         std::span<const ParticleContact<Real>> pairs,
-                         const Real* x, const Real* p, const Real* v, Real h);
+bool find_free_contacts(FreeBodies<Real>& f, std::span<const CollisionConstraint<Real>> contacts,
+                        std::span<const ParticleContact<Real>> pairs);
+template <class Real>
+void sum_free_chunk(const Model<Real>& m, FreeBodies<Real>& f, Index chunk, const Real* x, const Real* p, const Real* v,
+                    Real h);
+template <class Real> bool find_solver_spin(FreeBodies<Real>& f);
 
 }  // namespace pbd::detail

@@ -100,7 +100,7 @@ template <class Real> struct Scratch {
   std::vector<Real> delta;                          // Jacobi: accumulated corrections, 3 per particle
   PaddedPoints<Real> padded;                        // the SIMD kernels' positions: x y z w per particle
   PartitionerPool partitioners;                     // one per color and pass of the sweeps
-  PartitionerPool particle_partitioners;            // the two per-particle passes of a sub-step
+  PartitionerPool particle_partitioners;            // the per-particle passes of a sub-step (substep.cpp)
   FreeBodies<Real> free_bodies;                     // bodies nothing outside touches, and their solver spin
   std::vector<Real> cheb_prev, cheb_cur;            // Chebyshev: positions before the last sweep and this one
   std::vector<Real> cheb_lambda_prev, cheb_lambda_cur;  // Chebyshev: every λ likewise (compliant sets only)
