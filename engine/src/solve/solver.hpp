@@ -37,10 +37,10 @@
 //                           body up (a body with a particle contact or friction is not free). Last, restitution:
 //                           a touched contact of e > 0 leaves at e × its approach speed (restitution.hpp).
 // Steps 1, 2 and 5 are per particle and run as parallel loops for the parallel solvers (the free bodies' sums in
-// step 5 are taken on one thread, in particle order, so they give the same bits on any thread count). In step 4 the
-// colored solver runs each color as a parallel loop: a color's constraints write no particle twice, so the result is
-// the serial color-order result bit for bit, whatever the thread count (pinned particles are never written, so they
-// never conflict). A volume constraint spans a mesh: its sums are reduced over fixed blocks in block order, so it
+// step 5 over fixed chunks of particles, added in chunk order, so they give the same bits on any thread count). In
+// step 4 the colored solver runs each color as a parallel loop: a color's constraints write no particle twice, so the
+// result is the serial color-order result bit for bit, whatever the thread count (pinned particles are never written,
+// so they never conflict). A volume constraint spans a mesh: its sums are reduced over fixed blocks in block order, so it
 // too gives the same bits on any thread count. Colors smaller than ParallelConfig::inline_below run inline: a
 // fork/join costs about as much as projecting a thousand constraints. The Gauss-Seidel sweeps of the colored and
 // block solvers hold one team of threads for the whole solve instead (team.hpp: a barrier per loop, a fork/join per
