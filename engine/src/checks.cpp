@@ -22,8 +22,20 @@ void check_particles(const Matrix3X<Real>& positions, const VectorX<Real>& masse
   }
 }
 
+std::string Material::error() const {
+  const auto bad = [](const char* name, double v, const char* rule) { return detail::message(name, " must be ", rule, ", got ", v); };
+  if (!(stiffness > 0.0) || !std::isfinite(stiffness)) return bad("stiffness", stiffness, "finite and > 0 (N per unit strain)");
+  if (!(toe_strain >= 0.0) || !std::isfinite(toe_strain)) return bad("toe_strain", toe_strain, "finite and >= 0");
+  if (!(yield_strain >= toe_strain)) return bad("yield_strain", yield_strain, "at least toe_strain (the yield is on the linear part)");
+  if (!(hardening >= 0.0) || !std::isfinite(hardening)) return bad("hardening", hardening, "finite and >= 0 (N per unit plastic strain)");
+  if (!(rupture_strain > 0.0)) return bad("rupture_strain", rupture_strain, "> 0");
+  return {};
+}
+
 void check_stiffness(const Stiffness& s, const std::string& what) {
-  if (s.mode == StiffnessMode::xpbd) {
+  if (s.mode == StiffnessMode::material) {
+    if (const std::string why = s.material.error(); !why.empty()) throw Error(detail::message(what, ": ", why));
+  } else if (s.mode == StiffnessMode::xpbd) {
     if (!(s.compliance >= 0.0) || !std::isfinite(s.compliance))
       throw Error(detail::message(what, ": compliance must be finite and >= 0, got ", s.compliance));
   } else if (!(s.k >= 0.0 && s.k <= 1.0)) {

@@ -27,6 +27,8 @@ template <class Real> void World<Real>::check_particle(Index i, const char* item
 
 template <class Real> void World<Real>::check_set(Index set, const char* item, std::size_t index) const {
   if (set >= model_.sets.size()) detail::fail_set_index(detail::message(item, " ", index), set, model_.sets.size());
+  if (model_.sets[set].mode == StiffnessMode::material)  // only fibers take a curve (checked_constraint)
+    throw Error(detail::message(item, " ", index, ": set ", set, " has a stress-strain curve, which only fibers take"));
 }
 
 // ---- particles ----
@@ -142,7 +144,7 @@ template <class Real> template <class C> Index World<Real>::add(const C& constra
   ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   auto& store = model_.template store<C>();
   const std::size_t index = store.size();
-  store.append(checked_constraint(constraint, given, state_.x, model_.sets.size(), index));
+  store.append(checked_constraint(constraint, given, state_.x, std::span<const Stiffness>(model_.sets), index));
   return Index(index);
 }
 
@@ -177,7 +179,21 @@ void World<Real>::remove(std::span<const Index> indices, const char* what) {
     drop[i] = 1;
   }
   if (indices.empty()) return;
+  // λ follows its constraints to their new places: what the last step left there is read as forces (World::fibers).
+  constexpr Index kMul = detail::kMul<C>;
+  std::vector<Real>& lambda = state_.lambda[TypeIndex<C, BuiltinConstraintTypes<Real>>::value];
+  const bool carry = lambda.size() == std::size_t(kMul) * store.size();
+  std::vector<Real> kept;
+  if (carry)
+    for (Index u = 0; u < Index(store.size()); ++u)
+      if (!drop[u])
+        for (Index j = 0; j < kMul; ++j) kept.push_back(lambda[std::size_t(kMul) * store.stored(u) + j]);
   const bool kept_colors = detail::erase(store, drop);
+  if (carry) {
+    lambda.assign(kept.size(), Real(0));
+    for (Index v = 0; v < Index(store.size()); ++v)
+      for (Index j = 0; j < kMul; ++j) lambda[std::size_t(kMul) * store.stored(v) + j] = kept[std::size_t(kMul) * v + j];
+  }
   if (!kept_colors) model_.colors_current = false;
   else if (model_.colors_current) detail::note_layout(model_);
 }
@@ -257,7 +273,7 @@ template <class Real> void World<Real>::validate() const {
   // λ is only ever written where α̃ ≠ 0: while no set is compliant, every λ is 0. (Per constraint it cannot be
   // checked here: λ keeps the last sub-step's layout until the next one resets it.)
   const bool any_compliant = std::ranges::any_of(model_.sets, [](const Stiffness& st) {
-    return st.mode == StiffnessMode::xpbd && st.compliance != 0.0;
+    return (st.mode == StiffnessMode::xpbd && st.compliance != 0.0) || st.mode == StiffnessMode::material;
   });
   detail::for_each_type(model_, [&](const detail::TypeStore<Real>& type, std::size_t t) {
     const char* name = type.name();

@@ -10,6 +10,7 @@
 // Both give the same bits: every pass gives the same bits however its loop is cut (tested).
 #include "substep.hpp"
 
+#include "fibers.hpp"
 #include "contact/particle_contacts.hpp"
 #include "contact/scratch.hpp"
 #include "solve/hierarchy.hpp"
@@ -205,6 +206,9 @@ template <class Real, class Runner> void substep(StepContext<Real>& c, Runner& r
     out.seconds_waiting += solved.wait_fraction * seconds(t3, clock::now());
     out.threads = std::max(out.threads, solved.threads);
   }
+  // 4b. the fibers' plastic flow at the solved positions (fibers.hpp; never on a team: step_on_team)
+  if constexpr (!Runner::kTeam)
+    if (c.flow) flow_fibers(m, p);
   const auto t4 = clock::now();
   // 5. update (integrate.hpp), from the padded copy when the solved positions are there; free bodies get back the
   // momentum and angular momentum the solve changed (free_bodies.hpp); then restitution (Müller et al. 2006 §3.5):
@@ -293,7 +297,7 @@ template <class Real> bool step_on_team(const StepContext<Real>& c) {
   return is_parallel(solver) && solver != Solver::jacobi && !(c.callback && *c.callback) && m.colliders.empty() &&
          m.contact.empty() && m.user.empty() && m.volume.table.empty() && c.scratch.free_bodies.count == 0 &&
          tbb::this_task_arena::max_concurrency() >= 2 && c.scratch.team_skip == 0 &&
-         !(c.params.chebyshev.enabled && c.params.iterations > 1);
+         !(c.params.chebyshev.enabled && c.params.iterations > 1) && !c.flow;
 }
 
 #define PBD_SUBSTEP_INSTANTIATE(Real)                                                              \

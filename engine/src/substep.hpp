@@ -20,6 +20,7 @@ template <class Real> struct StepContext {
   const std::function<void(double, Eigen::Ref<const Matrix3X<Real>>, Eigen::Ref<Matrix3X<Real>>)>* callback;
   Real h;                      ///< sub-step length, s
   long long first_substep;     ///< number of the step's first sub-step, round(time / dt) · substeps
+  bool flow = false;           ///< fibers flow plastically after each sub-step's sweeps (fibers.hpp)
 };
 
 /// What run_substeps reports (seconds summed over the sub-steps).
@@ -38,7 +39,7 @@ struct SubstepsReport {
 /// in the scratch's buffer: the caller puts them back). One sub-step function runs them on one of two runners,
 /// chosen here and nowhere else: one team of threads (team.hpp) for the whole step when the step is only predict,
 /// sweeps and update (step_on_team: a parallel Gauss-Seidel solver, no Chebyshev acceleration, no user type, volume,
-/// collider, force callback or free body, and a model whose sweeps would form a team anyway); otherwise sub-step by
+/// collider, force callback, free body or plastic flow, and a model whose sweeps would form a team anyway); otherwise sub-step by
 /// sub-step with loops that fork (run_range), where solve() may still hold a team for its sweeps. The bits are the
 /// same on both. A force callback's error propagates with the state half-stepped: the caller rolls back.
 template <class Real> SubstepsReport run_substeps(StepContext<Real>& context);

@@ -7,6 +7,7 @@
 #include "solve/hierarchy.hpp"
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
+#include "fibers.hpp"
 #include "substep.hpp"
 
 #include <chrono>
@@ -141,6 +142,10 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   // The sub-steps (solver.hpp: run_substeps), on the runner it chooses.
   const long long first_substep = std::llround(state_.time / double(params_.dt)) * params_.substeps;
   detail::StepContext<Real> context{model_, state_, k, params_, parallel_, forces, &force_callback_, h, first_substep};
+  context.flow = detail::fibers_flow(model_);
+  // Plastic flow changes the fibers during the sub-steps: kept too, when a later sub-step may fail.
+  std::vector<FiberConstraint<Real>> rollback_fibers;
+  if (rollback && context.flow) rollback_fibers = model_.template store<FiberConstraint<Real>>().items;
   detail::SubstepsReport run;
   try {
     run = detail::run_substeps(context);
@@ -148,6 +153,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
     if (rollback) {
       state_.x = k.rollback_x;  // copied back, not swapped: maps the host holds on positions() stay valid
       state_.v = k.rollback_v;
+      if (context.flow) model_.template store<FiberConstraint<Real>>().items = std::move(rollback_fibers);
     }
     keep_storage();
     throw;
@@ -161,6 +167,8 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   stats_.chebyshev_fallbacks = run.chebyshev_fallbacks;
   keep_storage();
   state_.time += double(params_.dt);
+  state_.lambda_h2 = double(h) * double(h);
+  break_fibers();
   stats_.substeps = params_.substeps;
   stats_.sweeps = params_.substeps * params_.iterations;
   stats_.collisions = k.collisions.size() + k.particle_contacts.size();
@@ -169,6 +177,21 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   if (measure_violation_) stats_.violation = constraint_violations(*this);
   stats_.seconds = seconds_since(t0);
 }
+
+// After a step: the fibers at their rupture strain leave the model (fibers.hpp: find_breaks), reported by
+// last_breaks(). Removed as remove_constraints removes them, so the colors of the others are kept.
+template <class Real> void World<Real>::break_fibers() {
+  breaks_.clear();
+  if (model_.template store<FiberConstraint<Real>>().empty()) return;
+  breaks_ = detail::find_breaks(model_, state_, std::llround(state_.time / double(params_.dt)));
+  if (breaks_.empty()) return;
+  std::vector<Index> gone;
+  gone.reserve(breaks_.size());
+  for (const FiberBreak& b : breaks_) gone.push_back(b.fiber);
+  remove_constraints<FiberConstraint<Real>>(gone);
+}
+
+template <class Real> std::vector<FiberReading> World<Real>::fibers() const { return detail::read_fibers(model_, state_); }
 
 template class World<float>;
 template class World<double>;

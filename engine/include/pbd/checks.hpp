@@ -15,6 +15,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <span>
 #include <string>
 
 namespace pbd {
@@ -67,14 +68,17 @@ template <class C> void check_particle_of(Index i, std::size_t n, std::size_t in
 
 /// Constraint c of built-in type C (constraint_types.hpp) as World::add<C> and DescriptionBuilder::add<C> store it,
 /// the index-th of its type: its particles exist (x has one column per particle) and are distinct, its set exists
-/// (num_sets sets), the rest values not in `given` are measured in x (measure_rest), and all of them are valid
+/// (among `sets`) and takes C (a set with a stress–strain curve takes only the types that take_material()), the
+/// rest values not in `given` are measured in x (measure_rest), and all of them are valid
 /// (rest_error). Throws pbd::Error naming the first problem, in that order.
 template <class C, class X>
-C checked_constraint(C c, FieldMask given, const X& x, std::size_t num_sets, std::size_t index) {
+C checked_constraint(C c, FieldMask given, const X& x, std::span<const Stiffness> sets, std::size_t index) {
   const std::size_t n = std::size_t(x.cols());
   auto item = [&] { return detail::constraint_item(C::kName, C::kNoun, index); };
   for (Index p : c.particles) check_particle_of<C>(p, n, index);
-  if (c.set >= num_sets) detail::fail_set_index(item(), c.set, num_sets);
+  if (c.set >= sets.size()) detail::fail_set_index(item(), c.set, sets.size());
+  if (sets[c.set].mode == StiffnessMode::material && !takes_material<C>())
+    detail::fail_constraint(item(), detail::message("set ", c.set, " has a stress-strain curve, which only fibers take"));
   for (int a = 0; a < C::kArity; ++a)
     for (int b = a + 1; b < C::kArity; ++b)
       if (c.particles[a] == c.particles[b])

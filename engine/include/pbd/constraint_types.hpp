@@ -12,6 +12,7 @@
 #include "pbd/constraints/anchor.hpp"
 #include "pbd/constraints/area.hpp"
 #include "pbd/constraints/bending.hpp"
+#include "pbd/constraints/fiber.hpp"
 #include "pbd/constraints/neo_hookean.hpp"
 #include "pbd/constraints/shape_match.hpp"
 #include "pbd/constraints/stretch.hpp"
@@ -30,7 +31,7 @@ template <class Real>
 using BuiltinConstraintTypes =
     std::tuple<StretchConstraint<Real>, AnchorConstraint<Real>, BendingConstraint<Real>, AreaConstraint<Real>,
                TetherConstraint<Real>, TetVolumeConstraint<Real>, NeoHookeanConstraint<Real>,
-               ShapeMatchConstraint<Real>>;
+               ShapeMatchConstraint<Real>, FiberConstraint<Real>>;
 
 /// Number of built-in fixed-arity types.
 inline constexpr std::size_t kNumBuiltinTypes = std::tuple_size_v<BuiltinConstraintTypes<float>>;

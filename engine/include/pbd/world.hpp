@@ -14,6 +14,7 @@
 #include "pbd/custom_constraints.hpp"
 #include "pbd/detail/model.hpp"
 #include "pbd/error.hpp"
+#include "pbd/fiber_state.hpp"
 #include "pbd/solver.hpp"
 #include "pbd/step_params.hpp"
 #include "pbd/tethers.hpp"
@@ -75,6 +76,11 @@ public:
   Index add_stretch(Index a, Index b, Index set, std::optional<Real> rest = std::nullopt);
   /// Adds an anchor pulling `particle` to `target` (default: its current position).
   Index add_anchor(Index particle, Index set, std::optional<Vec> target = std::nullopt);
+  /// Adds a fiber (constraints/fiber.hpp) between a and b; rest length in m, default: their current distance. In a
+  /// set with a stress–strain curve (Stiffness::fiber) it follows the curve, yields and breaks.
+  Index add_fiber(Index a, Index b, Index set, std::optional<Real> rest = std::nullopt) {
+    return add(FiberConstraint<Real>{{a, b}, set, rest.value_or(Real(0)), Real(0)}, rest ? FieldMask(3) : FieldMask(2));
+  }
   /// Adds a dihedral bending constraint on triangles (p1, p2, p3) and (p1, p2, p4) sharing edge p1–p2; the rest
   /// angle in radians defaults to the current one (an error if a triangle is degenerate there).
   Index add_bending(Index p1, Index p2, Index p3, Index p4, Index set, std::optional<Real> rest = std::nullopt);
@@ -186,6 +192,12 @@ public:
   using ForceCallback = std::function<void(double time, Eigen::Ref<const Positions> x, Eigen::Ref<Positions> forces)>;
   /// Sets (or with an empty function clears) the force callback used by step().
   void set_force_callback(ForceCallback callback) { force_callback_ = std::move(callback); }
+  /// The fibers the last step() broke (empty if none), in the order of their indices just before: each reached
+  /// its set's rupture strain at the step's end and has left the model (as remove_constraints<FiberConstraint>
+  /// removes, so later fibers' indices moved down).
+  std::span<const FiberBreak> last_breaks() const { return breaks_; }
+  /// Each fiber's strains and the tension it carries after the last step (fiber_state.hpp), in insertion order.
+  std::vector<FiberReading> fibers() const;
   /// Statistics of the last step().
   const StepStats& last_step_stats() const { return stats_; }
   /// Whether step() measures the per-type violation at its end (one extra pass over the constraints; off by default).
@@ -233,6 +245,7 @@ private:
   void check_set(Index set, const char* item, std::size_t index) const;
   template <class C> void remove(std::span<const Index> indices, const char* what);
   void ensure_colored();
+  void break_fibers();
   void advance(const Real* forces);
   void check_state_finite() const;  // throws naming the first particle with a non-finite position or velocity
   detail::Scratch<Real>& scratch();
@@ -242,6 +255,7 @@ private:
   std::unique_ptr<detail::Scratch<Real>, detail::ScratchDeleter<Real>> scratch_;  // per-step scratch (made on demand)
   StepParams<Real> params_;
   StepStats stats_;
+  std::vector<FiberBreak> breaks_;  // the fibers the last step broke
   bool measure_violation_ = false;
   bool host_wrote_ = false;     // a mutable map of positions or velocities was handed out since the last check
   ParallelConfig parallel_;

@@ -12,6 +12,7 @@
 ///   kSceneKey      its key in a scene body ("stretch", "anchors"), read as kSceneForm says
 ///   kTiesToWorld   its constraints hold particles to fixed points (a body they hold is not free: free_bodies.cpp)
 ///   kMeasure       how its violation is reported: the study's error key, label, unit and scale ("stretch_pct", %)
+///   kTakesMaterial optional: it may be in a set with a stress–strain curve (takes_material)
 ///   fields()       its rest values (members), each with its name, its noun in messages, whether a scene gives it
 ///                  and whether it has no default (required)
 /// and three free functions found by argument-dependent lookup:
@@ -57,6 +58,13 @@ template <class C, class T> Field(const char*, const char*, T C::*) -> Field<C, 
 /// user-defined one may not) does not.
 template <class C> constexpr bool ties_to_world() {
   if constexpr (requires { C::kTiesToWorld; }) return C::kTiesToWorld;
+  else return false;
+}
+
+/// Whether constraint type C may be in a set with a stress–strain curve (StiffnessMode::material): its
+/// kTakesMaterial; a type that does not say may not (constraints/fiber.hpp is the one that does).
+template <class C> constexpr bool takes_material() {
+  if constexpr (requires { C::kTakesMaterial; }) return C::kTakesMaterial;
   else return false;
 }
 

@@ -130,6 +130,7 @@ template <class Real> struct State {
   /// stored order.
   std::vector<std::vector<Real>> lambda = std::vector<std::vector<Real>>(kNumBuiltinTypes);
   std::vector<Real> volume_lambda;                          ///< λ per volume constraint
+  double lambda_h2 = 0.0;  ///< h² of the sub-steps whose λ the arrays hold, s² (0: no step yet): force = −λ/h²
   /// Some λ may be non-zero: a sweep since the last reset had α̃ ≠ 0 (λ changes only there, projection.hpp).
   bool lambda_dirty = true;
   /// ρ of Chebyshev acceleration measured by a sub-step (StepParams::chebyshev.rho = 0 uses it; 0: none yet). An

@@ -31,7 +31,7 @@ public:
   /// values in `given`, the others measured at the particles' positions; returns its index among its type.
   template <class C> Index add(const C& constraint, FieldMask given = kAllFields) {
     std::vector<C>& list = d_.constraints<C>();
-    list.push_back(checked_constraint(constraint, given, d_.positions, d_.sets.size(), list.size()));
+    list.push_back(checked_constraint(constraint, given, d_.positions, std::span<const Stiffness>(d_.sets), list.size()));
     return Index(list.size() - 1);
   }
   /// As World::add_stretch: rest distance in m, by default the particles' current distance.
