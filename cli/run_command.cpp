@@ -2,7 +2,7 @@
 // constraint type's RMS error at the final frame and averaged over the run's steps (a moving scene's final frame is
 // a noisy measure: runs are compared by the average), for every volume constraint the volume reached against its
 // target, and the final state hash (a determinism check with --expect-hash); --stats writes each step's phase times
-// as CSV.
+// as CSV, --breaks the fibers that broke (step, fiber, strain, force) as CSV.
 #include "commands.hpp"
 #include "pbd/io/atomic_file.hpp"
 #include "pbd/io/build_world.hpp"
@@ -37,6 +37,7 @@ struct RunOptions {
   int threads = 0;  // 0: the arena's default
   std::string expect_hash;  // empty: no check
   std::string stats;        // --stats FILE: per-step phase times as CSV
+  std::string breaks;       // --breaks FILE: the fibers that broke, as CSV
   std::string precision = "float";
   std::optional<double> chebyshev_rho;  // --chebyshev: accelerate with this ρ (0: estimated)
   bool hierarchy = false;               // --hierarchy: the coarse-to-fine pass (StepParams::hierarchy)
@@ -60,6 +61,17 @@ void stats_row(std::ostringstream& csv, int step, double time, const StepStats& 
                 s.seconds_integrate, s.seconds_collisions, s.seconds_coloring, s.seconds_solve, s.seconds_waiting,
                 s.seconds_hierarchy, s.solve_threads, s.substeps, s.sweeps, unsigned(s.colors), s.collisions);
   csv << line;
+}
+
+// One CSV row per fiber a step broke (the header is kBreaksHeader): World::last_breaks.
+constexpr const char* kBreaksHeader = "step,time_s,fiber,set,particle_a,particle_b,strain,force_n\n";
+void break_rows(std::ostringstream& csv, std::span<const FiberBreak> breaks) {
+  for (const FiberBreak& b : breaks) {
+    char line[200];
+    std::snprintf(line, sizeof line, "%lld,%.9g,%u,%u,%u,%u,%.9g,%.9g\n", static_cast<long long>(b.step), b.time,
+                  unsigned(b.fiber), unsigned(b.set), unsigned(b.a), unsigned(b.b), b.strain, b.force);
+    csv << line;
+  }
 }
 
 // "12 stretch, 0 bending, 0 area, 1 volume, 2 anchor": the constraints of every type, from the list: the types a
@@ -153,6 +165,9 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
               params.substeps, params.iterations, steps);
   std::ostringstream csv;
   if (!o.stats.empty()) csv << kStatsHeader;
+  std::ostringstream breaks_csv;
+  breaks_csv << kBreaksHeader;
+  std::size_t broken = 0;
   frame(0);
   std::vector<double> ms;
   RunErrors errors;
@@ -163,6 +178,8 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     const auto t1 = std::chrono::steady_clock::now();
     ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     if (!o.stats.empty()) stats_row(csv, s, world.time(), world.last_step_stats());
+    broken += world.last_breaks().size();
+    if (!o.breaks.empty()) break_rows(breaks_csv, world.last_breaks());
     errors.add(world);
     frame(s);
     if (std::chrono::duration<double>(t1 - last_report).count() > 1.0) {
@@ -196,6 +213,11 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
   if (!o.stats.empty()) {
     write_file_atomically(o.stats, csv.str());
     std::printf("wrote per-step statistics to %s\n", o.stats.c_str());
+  }
+  if (broken) std::printf("fibers broken: %zu of %zu\n", broken, broken + world.template constraints<FiberConstraint<Real>>().size());
+  if (!o.breaks.empty()) {
+    write_file_atomically(o.breaks, breaks_csv.str());
+    std::printf("wrote the %zu breaks to %s\n", broken, o.breaks.c_str());
   }
   const std::string hash = hex(position_hash(world));
   std::printf("state hash: %s\n", hash.c_str());
@@ -243,15 +265,18 @@ void add_run_command(CLI::App& app) {
                    : "a state hash is 16 lowercase hex digits, as `pbd run` prints it";
       });
   cmd->add_option("--stats", o->stats, "Write each step's phase times (s) and counts to this CSV file");
+  cmd->add_option("--breaks", o->breaks,
+                  "Write the fibers that broke (step, time, fiber, set, particles, strain, force in N) to this CSV file");
   cmd->add_option("--precision", o->precision, "float or double")
       ->check(CLI::IsMember({"float", "double"}))
       ->capture_default_str();
   cmd->callback([o] {
-    if (!o->stats.empty()) {  // refused before the run, not after it
-      const std::filesystem::path folder = std::filesystem::absolute(o->stats).parent_path();
+    for (const auto& [flag, file] : {std::pair{"--stats", &o->stats}, std::pair{"--breaks", &o->breaks}}) {
+      if (file->empty()) continue;  // refused before the run, not after it
+      const std::filesystem::path folder = std::filesystem::absolute(*file).parent_path();
       std::error_code ec;
       if (!std::filesystem::is_directory(folder, ec))
-        throw Error("--stats: " + o->stats + ": the folder " + folder.string() + " does not exist");
+        throw Error(std::string(flag) + ": " + *file + ": the folder " + folder.string() + " does not exist");
     }
     const Scene scene = load_builtin_scene(o->scene);
     const int steps = o->steps > 0 ? o->steps : scene.steps;

@@ -4,6 +4,7 @@
 #include "params.hpp"
 
 #include "pbd/constraints/volume.hpp"
+#include "pbd/fiber_state.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/stiffness.hpp"
 
@@ -18,21 +19,66 @@ void bind_params(py::module_& m) {
       .value("pbd", StiffnessMode::pbd, "each projection scaled by k")
       .value("pbd_iteration_independent", StiffnessMode::pbd_iteration_independent,
              "scaled by k' = 1 - (1 - k)^(1/iterations)")
-      .value("xpbd", StiffnessMode::xpbd, "XPBD compliance alpha (m/N for stretch)");
+      .value("xpbd", StiffnessMode::xpbd, "XPBD compliance alpha (m/N for stretch)")
+      .value("material", StiffnessMode::material, "a fiber's stress-strain curve (Material)");
+
+  py::class_<Material>(m, "Material",
+                       "A fiber's stress-strain curve (pbd/material.hpp): a quadratic toe up to toe_strain, a linear "
+                       "part of slope stiffness (N per unit strain), yield at yield_strain with hardening (N per unit "
+                       "plastic strain), rupture at rupture_strain (total strain); inf: never.")
+      .def(py::init([](double stiffness, double toe_strain, double yield_strain, double hardening, double rupture_strain) {
+             return Material{stiffness, toe_strain, yield_strain, hardening, rupture_strain};
+           }),
+           py::arg("stiffness"), py::arg("toe_strain") = 0.0, py::arg("yield_strain") = Material::kNever,
+           py::arg("hardening") = 0.0, py::arg("rupture_strain") = Material::kNever)
+      .def_readwrite("stiffness", &Material::stiffness, "k > 0, N per unit strain: the linear part's slope (E*A)")
+      .def_readwrite("toe_strain", &Material::toe_strain, "where the toe ends (0: linear from the start)")
+      .def_readwrite("yield_strain", &Material::yield_strain, "elastic strain at which it yields (inf: never)")
+      .def_readwrite("hardening", &Material::hardening, "N per unit plastic strain: how the yield force grows")
+      .def_readwrite("rupture_strain", &Material::rupture_strain, "total strain at which it breaks (inf: never)")
+      .def("force", &Material::force, py::arg("elastic_strain"), "force in N at an elastic strain")
+      .def("loading_force", &Material::loading_force, py::arg("strain"),
+           "force in N of a fiber pulled monotonically from rest to a total strain")
+      .def("__repr__", [](const Material& x) {
+        std::ostringstream o;
+        o << "pbd.Material(stiffness=" << x.stiffness << ", toe_strain=" << x.toe_strain << ", yield_strain="
+          << x.yield_strain << ", hardening=" << x.hardening << ", rupture_strain=" << x.rupture_strain << ")";
+        return o.str();
+      });
 
   py::class_<Stiffness>(m, "Stiffness", "Stiffness of one constraint set (make one with pbd_k, iteration_independent or xpbd_compliance).")
       .def_readonly("mode", &Stiffness::mode, "formulation (StiffnessMode)")
       .def_readonly("k", &Stiffness::k, "PBD stiffness in [0, 1] (pbd modes)")
       .def_readonly("compliance", &Stiffness::compliance, "XPBD compliance alpha >= 0, inverse stiffness in SI units")
+      .def_readonly("material", &Stiffness::material, "the fibers' stress-strain curve (material mode)")
       .def_static("pbd_k", &Stiffness::pbd_k, py::arg("k"), "PBD stiffness k in [0, 1]: each projection scaled by k")
       .def_static("iteration_independent", &Stiffness::iteration_independent, py::arg("k"),
                   "PBD stiffness k in [0, 1] that a whole step achieves, whatever the iterations")
       .def_static("xpbd_compliance", &Stiffness::xpbd_compliance, py::arg("alpha"),
                   "XPBD compliance alpha >= 0 (inverse stiffness, SI units; 0 = rigid)")
+      .def_static("fiber", &Stiffness::fiber, py::arg("material"),
+                  "a stress-strain curve (Material) that the set's fibers follow, yield along and break at")
       .def("__repr__", [](const Stiffness& s) {
         std::ostringstream o;
-        if (s.mode == StiffnessMode::xpbd) o << "pbd.Stiffness.xpbd_compliance(" << s.compliance << ")";
+        if (s.mode == StiffnessMode::material) o << "pbd.Stiffness.fiber(...)";
+        else if (s.mode == StiffnessMode::xpbd) o << "pbd.Stiffness.xpbd_compliance(" << s.compliance << ")";
         else o << "pbd.Stiffness." << (s.mode == StiffnessMode::pbd ? "pbd_k(" : "iteration_independent(") << s.k << ")";
+        return o.str();
+      });
+
+  py::class_<FiberBreak>(m, "FiberBreak", "A fiber a step broke: it reached its set's rupture strain.")
+      .def_readonly("step", &FiberBreak::step, "the world's step count after that step")
+      .def_readonly("time", &FiberBreak::time, "the world's time after that step, s")
+      .def_readonly("fiber", &FiberBreak::fiber, "its index among the fibers just before it was removed")
+      .def_readonly("set", &FiberBreak::set, "its constraint set")
+      .def_readonly("a", &FiberBreak::a, "its first particle")
+      .def_readonly("b", &FiberBreak::b, "its second particle")
+      .def_readonly("strain", &FiberBreak::strain, "its total strain at the break")
+      .def_readonly("force", &FiberBreak::force, "the tension it carried at the break, N")
+      .def("__repr__", [](const FiberBreak& x) {
+        std::ostringstream o;
+        o << "pbd.FiberBreak(step=" << x.step << ", fiber=" << x.fiber << ", particles=(" << x.a << ", " << x.b
+          << "), strain=" << x.strain << ", force=" << x.force << ")";
         return o.str();
       });
 

@@ -270,6 +270,31 @@ template <class Real> void bind_world(py::module_& m, const char* name, const ch
       py::arg("forces"), "Advances the world by params.dt s with forces (N, 3) in N on the particles (releases the GIL).");
   cls.def("last_step_stats", [](W& w) { return w.get("last_step_stats").last_step_stats(); },
           "Statistics of the last step() (StepStats, a copy).");
+  cls.def(
+      "fibers",
+      [](W& w) {
+        const std::vector<FiberReading> r = w.get("fibers").fibers();
+        py::array_t<double> strain(py::ssize_t(r.size())), plastic(py::ssize_t(r.size())), force(py::ssize_t(r.size()));
+        for (std::size_t i = 0; i < r.size(); ++i) {
+          strain.mutable_at(i) = r[i].strain;
+          plastic.mutable_at(i) = r[i].plastic;
+          force.mutable_at(i) = r[i].force;
+        }
+        py::dict out;
+        out["strain"] = strain;
+        out["plastic"] = plastic;
+        out["force"] = force;
+        return out;
+      },
+      "Each fiber after the last step, in insertion order: a dict of numpy arrays 'strain' (total, l/L0 - 1), "
+      "'plastic' (plastic strain) and 'force' (tension in N, -lambda/h^2; NaN before a step or in a PBD set).");
+  cls.def(
+      "last_breaks",
+      [](W& w) {
+        const auto b = w.get("last_breaks").last_breaks();
+        return std::vector<FiberBreak>(b.begin(), b.end());
+      },
+      "The fibers the last step broke (FiberBreak list, in the order of their indices just before).");
   cls.def("set_measure_violation", [](W& w, bool on) { w.get("set_measure_violation").set_measure_violation(on); },
           py::arg("on"), "Whether step() measures each type's violation into last_step_stats().violation.");
   cls.def("validate", [](W& w) { w.get("validate").validate(); },

@@ -72,8 +72,28 @@ Eigen::Vector3d direction(const JsonObject& o, const std::string& key, const std
 
 Eigen::Vector3d vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
-// {"stiffness": k, "iteration_independent": bool} or {"compliance": α}; empty object = stiffness 1.
+// A stress–strain curve (pbd/material.hpp): {"stiffness": k (N per unit strain), "toe_strain", "yield_strain",
+// "hardening" (N per unit plastic strain), "rupture_strain"}; the strains left out are never reached (toe: 0).
+Material read_material(const JsonObject& o) {
+  Material m;
+  m.stiffness = o.number("stiffness", 0.0, kInf);
+  m.toe_strain = o.number("toe_strain", 0.0, kInf, 0.0);
+  m.yield_strain = o.number("yield_strain", 0.0, kInf, Material::kNever);
+  m.hardening = o.number("hardening", 0.0, kInf, 0.0);
+  m.rupture_strain = o.number("rupture_strain", 0.0, kInf, Material::kNever);
+  o.reject_unknown_keys();
+  if (const std::string why = m.error(); !why.empty()) o.fail(why.substr(0, why.find(' ')), why);
+  return m;
+}
+
+// {"stiffness": k, "iteration_independent": bool}, {"compliance": α} or {"material": {...}}; empty object =
+// stiffness 1.
 Stiffness read_stiffness(const JsonObject& o) {
+  if (o.has("material")) {
+    if (o.has("stiffness") || o.has("compliance") || o.has("iteration_independent"))
+      o.fail("material", "a set with a material takes no stiffness or compliance of its own");
+    return Stiffness::fiber(read_material(o.object("material")));
+  }
   const bool has_k = o.has("stiffness"), has_a = o.has("compliance");
   if (has_k && has_a) o.fail("compliance", "give either stiffness (PBD) or compliance (XPBD), not both");
   if (has_a) {

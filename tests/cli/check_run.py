@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The command line's promises, tried as a new user would: `pbd run` prints the final state hash and checks it
-(--expect-hash), writes per-step statistics (--stats), says how many threads really run; an unknown subcommand is
+(--expect-hash), writes per-step statistics (--stats) and the fibers that broke (--breaks), says how many threads really run; an unknown subcommand is
 named; a write that fails anywhere (stdout, --json, --stats, frames) ends with status 2 and a message, leaving no
 half-written file; a scene's name cannot send files outside the frame folder; a scene over the size limits is
 refused before anything is built; a value beyond float's range names the file and the key.
@@ -146,13 +146,46 @@ def check_scene_errors(pbd, out, sanitized):
     expect_error(pbd, ["run", scene], ["open.json: /bodies/0/obj", "open.obj", "edge (1, 3)", "from 1"])
 
 
+def check_breaks(pbd, out):
+    """--breaks: the ligament's fibers that broke, one CSV row each, the same rows on 1 and 2 threads; each at the
+    scene's rupture strain (14%) and at the tension its curve gives there (within 2%); a bad curve names its key."""
+    rows = {}
+    for threads in (1, 2):
+        csv = os.path.join(out, f"breaks{threads}.csv")
+        r = run(pbd, ["run", "ligament", "--threads", str(threads), "--breaks", csv])
+        if "fibers broken: " not in r.stdout:
+            fail(f"--breaks: no 'fibers broken' line in {r.stdout}")
+        with open(csv) as f:
+            lines = f.read().splitlines()
+        if lines[0] != "step,time_s,fiber,set,particle_a,particle_b,strain,force_n":
+            fail(f"--breaks: header {lines[0]}")
+        rows[threads] = lines[1:]
+    if rows[1] != rows[2] or len(rows[1]) < 7:
+        fail(f"--breaks: {len(rows[1])} rows on 1 thread, {len(rows[2])} on 2, or they differ")
+    k, toe, yield_, hard = 100.0, 0.03, 0.08, 20.0
+    for line in rows[1]:
+        strain, force = (float(v) for v in line.split(",")[6:8])
+        expected = k * (yield_ - toe / 2) + k * hard / (k + hard) * (strain - yield_)
+        if not (0.14 <= strain <= 0.1414 and abs(force - expected) <= 0.02 * expected):
+            fail(f"--breaks: row {line}: strain or force off the curve ({expected:.4g} N)")
+    expect_error(pbd, ["run", "ligament", "--breaks", "/no/such/folder/b.csv"], ["--breaks", "/no/such/folder"])
+    bad = {"name": "bad-curve", "dt": 0.01, "bodies": [{"type": "particles", "positions": [[0, 0, 0], [1, 0, 0]],
+           "fibers": {"particles": [[0, 1]], "material": {"stiffness": 10, "toe_strain": 0.2, "yield_strain": 0.1}}}]}
+    path = os.path.join(out, "bad-curve.json")
+    with open(path, "w") as f:
+        json.dump(bad, f)
+    expect_error(pbd, ["run", path], ["bad-curve.json: /bodies/0/fibers/material/yield_strain",
+                                      "yield_strain must be at least toe_strain"])
+
+
 def main(pbd, out, sanitized):
     os.makedirs(out, exist_ok=True)
+    check_breaks(pbd, out)
     check_hash_and_stats(pbd, out)
     check_threads(pbd)
     check_write_errors(pbd, out)
     check_scene_errors(pbd, out, sanitized)
-    print("ok: state hash and --expect-hash, --stats, --threads, write errors, scene names, size limits, "
+    print("ok: --breaks, state hash and --expect-hash, --stats, --threads, write errors, scene names, size limits, "
           "float range, OBJ volume errors")
 
 
