@@ -154,8 +154,13 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     if (ec) throw Error(dir.string() + ": cannot create the frame directory (" + ec.message() + ")");
     series.emplace(dir, scene.name, parse_frame_format(o.format), frame_topology(world, scene.bodies));
   }
+  bool torn = false;  // fibers broke since the last frame: its topology is made anew (the broken ones not drawn)
   auto frame = [&](int step) {
-    if (series && step % o.every == 0) series->write(world, step);
+    torn = torn || !world.last_breaks().empty();
+    if (!series || step % o.every != 0) return;
+    if (torn) series->set_topology(frame_topology(world, scene.bodies));
+    torn = false;
+    series->write(world, step);
   };
   const VolumeConstraints<Real>& volumes = world.volumes();
   std::printf("# scene %s: %u particles; constraints: %s\n", scene.name.c_str(), world.num_particles(),

@@ -19,7 +19,8 @@ std::vector<Index> particle_bodies(const FrameTopology& t, Index num_particles) 
   return body;
 }
 
-// Adds to each body, as lines, the stretch constraints with both particles in that body and neither on a triangle.
+// Adds to each body, as lines, the stretch constraints and the fibers with both particles in that body and neither
+// on a triangle.
 template <class Real> void add_lines(const World<Real>& world, FrameTopology& t) {
   std::vector<std::uint8_t> on_surface(world.num_particles(), 0);
   const std::vector<Index> body_of = particle_bodies(t, world.num_particles());
@@ -32,6 +33,13 @@ template <class Real> void add_lines(const World<Real>& world, FrameTopology& t)
     if (on_surface[a] || on_surface[b] || body_of[a] != body_of[b]) continue;
     t.bodies[body_of[a]].lines.push_back({a, b});
     t.bodies[body_of[a]].line_stretch.push_back(Index(k));
+  }
+  const auto fibers = world.template constraints<FiberConstraint<Real>>();
+  for (std::size_t k = 0; k < fibers.size(); ++k) {
+    const auto [a, b] = fibers[k].particles;
+    if (on_surface[a] || on_surface[b] || body_of[a] != body_of[b]) continue;
+    t.bodies[body_of[a]].fiber_lines.push_back({a, b});
+    t.bodies[body_of[a]].line_fiber.push_back(Index(k));
   }
 }
 
@@ -66,7 +74,7 @@ template <class Real>
 FrameTopology frame_topology(const World<Real>& world, const std::vector<SceneBody>& bodies) {
   FrameTopology t;
   for (const SceneBody& b : bodies)
-    t.bodies.push_back({b.name, b.first_particle, b.num_particles, b.triangles, {}, {}, {}, {}});
+    t.bodies.push_back({b.name, b.first_particle, b.num_particles, b.triangles, {}, {}, {}, {}, {}, {}});
   check_frame_topology(t, world.num_particles(), "frame_topology");
   add_lines(world, t);
   add_tets(world, t);
@@ -81,7 +89,7 @@ FrameTopology frame_topology(const World<Real>& world, const std::vector<std::ar
         throw Error(message("frame_topology: triangle ", i, ": particle index ", p, " out of range (the world has ",
                             world.num_particles(), " particles)"));
   FrameTopology t;
-  t.bodies.push_back({"world", 0, world.num_particles(), triangles, {}, {}, {}, {}});
+  t.bodies.push_back({"world", 0, world.num_particles(), triangles, {}, {}, {}, {}, {}, {}});
   add_lines(world, t);
   add_tets(world, t);
   return t;
@@ -106,10 +114,14 @@ void check_frame_topology(const FrameTopology& topology, Index num_particles, co
     };
     check(b.triangles, "triangle");
     check(b.lines, "line");
+    check(b.fiber_lines, "fiber line");
     check(b.tets, "tet");
     if (b.line_stretch.size() != b.lines.size())
       throw Error(message(what, ": body ", b.name, " has ", b.lines.size(), " lines but ", b.line_stretch.size(),
                           " line_stretch entries"));
+    if (b.line_fiber.size() != b.fiber_lines.size())
+      throw Error(message(what, ": body ", b.name, " has ", b.fiber_lines.size(), " fiber lines but ",
+                          b.line_fiber.size(), " line_fiber entries"));
     if (b.tet_rest.size() != b.tets.size())
       throw Error(message(what, ": body ", b.name, " has ", b.tets.size(), " tets but ", b.tet_rest.size(),
                           " tet_rest entries"));

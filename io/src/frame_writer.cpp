@@ -35,6 +35,7 @@ template <class Real> std::string obj_frame(const World<Real>& world, const Fram
       append(out, "v %.7g %.7g %.7g\n", double(x(0, i)), double(x(1, i)), double(x(2, i)));
     for (const auto& t : b.triangles) append(out, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
     for (const auto& l : b.lines) append(out, "l %u %u\n", l[0] + 1, l[1] + 1);
+    for (const auto& l : b.fiber_lines) append(out, "l %u %u\n", l[0] + 1, l[1] + 1);
   }
   return out;
 }

@@ -96,6 +96,7 @@ struct PieceCells {
   std::vector<std::int64_t> connectivity, offsets;
   std::vector<std::uint8_t> types;
   std::vector<double> stretch, area, volume_ratio, strain;
+  std::vector<double> fiber_strain, fiber_force;  // a fiber line's total strain and tension in N; NaN elsewhere
 
   // Adds a cell of VTK type `type` on world particles `corners` (numbered in the piece from its body's first particle
   // `first`) with its data.
@@ -109,6 +110,8 @@ struct PieceCells {
     area.push_back(a);
     volume_ratio.push_back(v);
     strain.push_back(e);
+    fiber_strain.push_back(kNaN);
+    fiber_force.push_back(kNaN);
   }
 };
 
@@ -170,6 +173,11 @@ void check_cell_constraints(const World<Real>& world, const FrameTopology& topol
       if (b.line_stretch[k] >= stretch.size())
         throw Error(message(what, ": body ", b.name, ": line ", k, " draws stretch constraint ", b.line_stretch[k],
                             " but the world has ", stretch.size()));
+    const std::size_t fibers = world.template constraints<FiberConstraint<Real>>().size();
+    for (std::size_t k = 0; k < b.line_fiber.size(); ++k)
+      if (b.line_fiber[k] >= fibers)
+        throw Error(message(what, ": body ", b.name, ": fiber line ", k, " draws fiber ", b.line_fiber[k],
+                            " but the world has ", fibers, " (fibers broke since the topology was made)"));
     for (std::size_t k = 0; k < b.triangles.size(); ++k, ++triangle) {
       const std::size_t tet = cells.triangle_tet[triangle];
       if (tet != VtuCellConstraints::kNoTet && tet >= b.tets.size())
@@ -193,7 +201,7 @@ double largest(const View& cs, const std::vector<Index>& index, const std::vecto
 // lines, its tets, and for a body with none of these one vertex per particle, so that ParaView draws it.
 template <class Real>
 PieceCells piece_cells(const World<Real>& world, const FrameBody& b, const VtuCellConstraints& cells,
-                       std::size_t triangle) {
+                       std::size_t triangle, const std::vector<FiberReading>& fibers) {
   const auto stretch = world.template constraints<StretchConstraint<Real>>();
   const auto area = world.template constraints<AreaConstraint<Real>>();
   const auto positions = world.positions();
@@ -211,6 +219,12 @@ PieceCells piece_cells(const World<Real>& world, const FrameBody& b, const VtuCe
   }
   for (std::size_t k = 0; k < b.lines.size(); ++k)
     c.add(b.lines[k], first, 3, violation(stretch[b.line_stretch[k]], x), kNaN, kNaN, kNaN);  // VTK_LINE
+  const auto fiber = world.template constraints<FiberConstraint<Real>>();
+  for (std::size_t k = 0; k < b.fiber_lines.size(); ++k) {  // VTK_LINE; stretch: the elastic strain
+    c.add(b.fiber_lines[k], first, 3, violation(fiber[b.line_fiber[k]], x), kNaN, kNaN, kNaN);
+    c.fiber_strain.back() = fibers[b.line_fiber[k]].strain;
+    c.fiber_force.back() = fibers[b.line_fiber[k]].force;
+  }
   for (std::size_t k = 0; k < b.tets.size(); ++k)
     c.add(b.tets[k], first, 10, kNaN, kNaN, tet[k].first, tet[k].second);  // VTK_TETRA
   if (c.types.empty())
@@ -220,10 +234,10 @@ PieceCells piece_cells(const World<Real>& world, const FrameBody& b, const VtuCe
 }
 
 // Appends body b's <Piece>: its particles with their point data, and `c` with its cell data (volume_ratio and strain
-// only `with_tets`).
+// only `with_tets`, fiber_strain and fiber_force only `with_fibers`).
 template <class Real>
 void append_piece(std::string& out, const World<Real>& world, const FrameBody& b, const PieceCells& c,
-                  bool with_tets) {
+                  bool with_tets, bool with_fibers) {
   const auto x = world.positions();
   const auto v = world.velocities();
   const auto w = world.inverse_masses();
@@ -242,6 +256,10 @@ void append_piece(std::string& out, const World<Real>& world, const FrameBody& b
   if (with_tets) {
     append_array(out, "        ", "volume_ratio", 1, std::span<const double>(c.volume_ratio));
     append_array(out, "        ", "strain", 1, std::span<const double>(c.strain));
+  }
+  if (with_fibers) {
+    append_array(out, "        ", "fiber_strain", 1, std::span<const double>(c.fiber_strain));
+    append_array(out, "        ", "fiber_force", 1, std::span<const double>(c.fiber_force));
   }
   out += "      </CellData>\n      <Points>\n";
   append_array(out, "        ", "positions", 3, std::span<const Real>(x.data() + from, count));
@@ -263,6 +281,9 @@ std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, c
   // since a reader takes the arrays of a multi-piece grid to be the same in each.
   const bool with_tets = std::any_of(topology.bodies.begin(), topology.bodies.end(),
                                      [](const FrameBody& b) { return !b.tets.empty(); });
+  const bool with_fibers = std::any_of(topology.bodies.begin(), topology.bodies.end(),
+                                       [](const FrameBody& b) { return !b.fiber_lines.empty(); });
+  const std::vector<FiberReading> fibers = with_fibers ? world.fibers() : std::vector<FiberReading>{};
   std::string out = "<?xml version=\"1.0\"?>\n";
   out += message("<!-- pbd frame: t = ", world.time(), " s, ", world.num_particles(), " particles; bodies: ",
                  topology.bodies.size(), " -->\n");
@@ -281,7 +302,7 @@ std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, c
   out += "</DataArray>\n    </FieldData>\n";
   std::size_t triangle = 0;  // the body's first triangle, numbered over all bodies as in `cells`
   for (const FrameBody& b : topology.bodies) {
-    append_piece(out, world, b, piece_cells(world, b, cells, triangle), with_tets);
+    append_piece(out, world, b, piece_cells(world, b, cells, triangle, fibers), with_tets, with_fibers);
     triangle += b.triangles.size();
   }
   out += "  </UnstructuredGrid>\n</VTKFile>\n";

@@ -274,6 +274,38 @@ def check_tet_scene(pbd, scene_file, work):
           f"(largest strain {np.max(strain):.3g}, volume ratio in [{np.min(ratio):.6f}, {np.max(ratio):.6f}])")
 
 
+def check_ligament(pbd, scene_dir, work):
+    """The ligament (fibers that break): each frame draws the fibers left as line cells, with fiber_strain (total
+    strain, recomputed here from the points and the step-0 rest lengths) and fiber_force; a frame after the breaks
+    draws as many fewer lines as `pbd run --breaks` lists breaks up to its step."""
+    out = os.path.join(work, "ligament")
+    shutil.rmtree(out, ignore_errors=True)
+    breaks = os.path.join(work, "ligament_breaks.csv")
+    r = subprocess.run([pbd, "run", os.path.join(scene_dir, "ligament.json"), "--frames", out, "--format", "vtu",
+                        "--every", "150", "--breaks", breaks], capture_output=True, text=True)
+    check(r.returncode == 0, f"ligament: exit {r.returncode}: {r.stderr}")
+    with open(breaks) as f:
+        broke_at = [int(line.split(",")[0]) for line in f.read().splitlines()[1:]]
+    check(len(broke_at) > 0, "ligament: no fiber broke")
+    rest = None
+    for step in (0, 150, 300, 450):
+        (piece,), _ = read_pieces(os.path.join(out, f"ligament_{step:05d}.vtu"))
+        x, lines = piece["points"], np.array(piece["cells"])
+        check(set(piece["types"]) == {3}, f"ligament step {step}: cell types {set(piece['types'])}")
+        expected = 140 - sum(1 for s in broke_at if s <= step)
+        check(len(lines) == expected, f"ligament step {step}: {len(lines)} lines, expected {expected}")
+        length = np.linalg.norm(x[lines[:, 0]] - x[lines[:, 1]], axis=1)
+        if rest is None:
+            rest = {tuple(l): d for l, d in zip(lines.tolist(), length)}
+        strain = piece["cell_data"]["fiber_strain"]
+        want = length / np.array([rest[tuple(l)] for l in lines.tolist()]) - 1
+        check(np.allclose(strain, want, rtol=0, atol=2e-6), f"ligament step {step}: fiber_strain off by "
+              f"{np.max(np.abs(strain - want))}")
+        force = piece["cell_data"]["fiber_force"]
+        check(np.all(np.isnan(force)) if step == 0 else np.all(np.isfinite(force)),
+              f"ligament step {step}: fiber_force {force[:3]}")
+
+
 def main():
     if len(sys.argv) != 6:
         fail(__doc__)
@@ -282,6 +314,7 @@ def main():
     for scene in (os.path.join(scene_dir, "rope.json"), os.path.join(scene_dir, "cloth.json"), test_scene):
         check_scene(pbd, scene, work)
     check_tet_scene(pbd, tet_scene, work)
+    check_ligament(pbd, scene_dir, work)
     # --every 2: steps 0 and 2 only, and the .pvd lists those two.
     out = os.path.join(work, "every")
     run(pbd, test_scene, out, "vtu", ["--every", "2"])

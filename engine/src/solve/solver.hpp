@@ -27,7 +27,12 @@
 //                           measured ρ is kept in the State, an output, never in the user's parameters);
 //                           with SweepOrder::symmetric, odd sub-steps visit each type backwards (the sub-step's
 //                           number is round(time / dt) · substeps + s: a function of the world's time, so a copy
-//                           made at any step, or a world whose time was set, sweeps the same way)
+//                           made at any step, or a world whose time was set, sweeps the same way).
+//                           A fiber in a set with a stress–strain curve is projected by its force law (material.hpp:
+//                           XPBD with the tangent compliance, so λ converges to −h²·F and a slack fiber returns its λ)
+//   4b. plastic flow        each fiber of a yielding set whose force at p is above its yield force gets the
+//                           plastic strain that puts it back on it (engine/src/fibers.hpp; each on its own, so the
+//                           order changes no bit). A step with plastic flow forks per loop (no team for its sub-steps)
 //   5. update               v = (p − x) / h, x = p; computed as v += (p − p̂)/h (p̂ = x + h·v, the prediction), so a
 //                           velocity no constraint changed keeps every digit (in float, v = (p − x)/h rounds to
 //                           multiples of ulp(x)/h, and a slow body whose damping is under half of that never
@@ -47,8 +52,11 @@
 // sub-step). Steps 1–5 are one function (engine/src/substep.cpp) run on one of two runners, chosen in one place
 // (run_substeps): a step that is only steps 1, 2, 4 and 5 (no collider, force callback or free body) holds one team
 // for all its sub-steps, steps 1–2 and 5 being the team's loops over the particles; any other step forks per loop.
-// The team's wait for its workers is retuned after each team in one place (retune_team). Everything runs in the
-// caller's tbb::task_arena, so a host decides the thread count.
+// The team's wait for its workers is retuned after each team in one place (retune_team). After the last sub-step,
+// every fiber whose total strain has reached its set's rupture strain breaks (World::last_breaks): all are judged on
+// the step's final positions, so which break depends neither on their order nor on the thread count, and they leave
+// the model as remove_constraints removes (the others keep their colors; λ moves with them, so the forces read after
+// the step stay right). Everything runs in the caller's tbb::task_arena, so a host decides the thread count.
 #include "pbd/step_params.hpp"
 #include "pbd/detail/model.hpp"
 #include "scratch.hpp"

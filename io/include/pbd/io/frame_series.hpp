@@ -45,6 +45,11 @@ class FrameSeries {
   /// multiple of its size, and a stopped run's .pvd lags by at most a second), and by finish(). Throws pbd::Error
   /// naming the file that could not be written, or the body that does not fit the world; a failed frame is not listed.
   template <class Real> void write(const World<Real>& world, long step);
+  /// Draws `topology` from the next frame on (after fibers broke: frame_topology made anew draws the ones left).
+  void set_topology(FrameTopology topology) {
+    topology_ = std::move(topology);
+    cells_.reset();
+  }
   /// Writes the .pvd if frames were listed since it was last written (call once the run is over).
   void finish();
   /// Frames after each of which the .pvd is always rewritten.

@@ -31,6 +31,9 @@ struct FrameBody {
   std::vector<std::array<Index, 2>> lines;      ///< segments of ropes and particle chains, both ends in the body
   /// Per line, the stretch constraint it draws: an index into world.constraints<StretchConstraint<Real>>().
   std::vector<Index> line_stretch;
+  std::vector<std::array<Index, 2>> fiber_lines;  ///< fibers (constraints/fiber.hpp) drawn as segments, like lines
+  /// Per fiber line, the fiber it draws: an index into world.constraints<FiberConstraint<Real>>().
+  std::vector<Index> line_fiber;
   std::vector<std::array<Index, 4>> tets;  ///< tets (corners p0..p3 of their constraint), all four in the body
   std::vector<FrameTetRest> tet_rest;      ///< per tet, its rest shape
 };
@@ -42,7 +45,8 @@ struct FrameTopology {
 };
 
 /// The bodies of a scene (scene.bodies) with their triangles, as lines every stretch constraint whose two particles
-/// are on no triangle and in the same body (a constraint joining two bodies is not drawn), and as tets every tet
+/// are on no triangle and in the same body (a constraint joining two bodies is not drawn), as fiber lines every such
+/// fiber (so a topology made after fibers broke draws only the ones left), and as tets every tet
 /// constraint's four particles when they are in the same body. Throws pbd::Error unless the bodies hold every
 /// particle of `world` once, in order, and every triangle lies in its body.
 ///
@@ -60,8 +64,8 @@ template <class Real>
 FrameTopology frame_topology(const World<Real>& world, const std::vector<std::array<Index, 3>>& triangles);
 
 /// Throws pbd::Error naming `what` unless `topology` fits a world of `num_particles` particles: its bodies hold every
-/// particle once, in order, each triangle, line and tet lies in its body, and there is one line_stretch per line and
-/// one tet_rest per tet.
+/// particle once, in order, each triangle, line and tet lies in its body, and there is one line_stretch per line, one
+/// line_fiber per fiber line and one tet_rest per tet.
 void check_frame_topology(const FrameTopology& topology, Index num_particles, const std::string& what);
 
 }  // namespace pbd
