@@ -76,10 +76,12 @@ std::string all_threads() {
 
 std::vector<std::string> default_study_scenes() {
   // Every built-in scene but `pile`, the granular scale case (10,000 grains: one of its runs takes seconds, and the
-  // study makes hundreds); `--scene pile` studies it.
+  // study makes hundreds), and `ligament`, whose fibers break: its pieces fly apart, so no reference run converges
+  // on where they end (137 mm apart at half of a 4096-sweep budget), and the error it needs, the force-strain
+  // curve's (issue 46), is not measured yet. `--scene pile` or `--scene ligament` studies them.
   std::vector<std::string> out;
   for (const std::string& name : builtin_scene_names())
-    if (name != "pile") out.push_back(name);
+    if (name != "pile" && name != "ligament") out.push_back(name);
   for (const char* scene : {"cloth30", "cloth100", "cloth300", "cloth30-rest", "chain30"}) out.push_back(scene);
   return out;
 }
