@@ -28,4 +28,10 @@ struct FiberBreak {
   double force = 0.0;     ///< the tension it carried at the break, N (as FiberReading::force)
 };
 
+/// A particle a tear added (World::add_surface): a copy of `from` that took its place on one side of the tear.
+struct TornParticle {
+  Index particle = 0;  ///< the new particle's index
+  Index from = 0;      ///< the particle it was copied from
+};
+
 }  // namespace pbd

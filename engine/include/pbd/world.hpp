@@ -196,6 +196,17 @@ public:
   /// its set's rupture strain at the step's end and has left the model (as remove_constraints<FiberConstraint>
   /// removes, so later fibers' indices moved down).
   std::span<const FiberBreak> last_breaks() const { return breaks_; }
+  /// Adds a surface that tears (engine/src/tear.hpp): when fibers on its edges break, the particles along the cut
+  /// are copied, one copy for each side, so that the surface separates; v's mass is split between the sides by
+  /// their triangle counts (momentum kept), and each constraint on a side follows its copy (a bending hinge on the
+  /// cut is removed). Returns its index. Throws naming a triangle with a particle out of range or named twice.
+  Index add_surface(std::span<const std::array<Index, 3>> triangles);
+  /// The triangles of surface s as they are now (particles renamed where it tore).
+  std::span<const std::array<Index, 3>> surface(Index s) const { return model_.surfaces.at(s).triangles; }
+  /// Number of surfaces.
+  Index num_surfaces() const { return Index(model_.surfaces.size()); }
+  /// The particles the last step's tears added, each with the one it copies (empty if none).
+  std::span<const TornParticle> last_copies() const { return copies_; }
   /// Each fiber's strains and the tension it carries after the last step (fiber_state.hpp), in insertion order.
   std::vector<FiberReading> fibers() const;
   /// Statistics of the last step().
@@ -256,6 +267,7 @@ private:
   StepParams<Real> params_;
   StepStats stats_;
   std::vector<FiberBreak> breaks_;  // the fibers the last step broke
+  std::vector<TornParticle> copies_;  // the particles its tears added
   bool measure_violation_ = false;
   bool host_wrote_ = false;     // a mutable map of positions or velocities was handed out since the last check
   ParallelConfig parallel_;

@@ -47,6 +47,12 @@ template <class Real> struct VolumeStore {
 /// The hierarchy of the stretch constraints (engine/src/solve/hierarchy.hpp), cooked when StepParams::hierarchy is on.
 template <class Real> struct HierarchyModel;
 
+/// A surface that tears (World::add_surface): its triangles (particles renamed as it tears) and its cut edges.
+struct Surface {
+  std::vector<std::array<Index, 3>> triangles;  ///< as given, each particle replaced by its copy where it tore
+  std::vector<std::array<Index, 2>> cut;        ///< edges (lower particle first) whose fiber broke, sorted
+};
+
 /// Particle ranges Model::particle_cuts are counted for: a team of M threads, M dividing it, cuts exactly there.
 inline constexpr Index kCutParts = 64;
 
@@ -64,6 +70,7 @@ template <class Real> struct Model {
   ContactBodies<Real> contact;                                   ///< contact bodies (radii, materials)
   coloring::Options coloring;                                    ///< how the colored and Jacobi solvers color
   BlockOptions blocking;                                         ///< how the block solver splits the particles
+  std::vector<Surface> surfaces;                                 ///< surfaces that tear along broken fibers
   std::uint64_t edits = 0;  ///< particles or constraints added, removed or (un)pinned so far: keys what is cooked
 
   // Cooked for the colored, Jacobi and block solvers (schedule.cpp), valid while colors_current is set.

@@ -1,0 +1,203 @@
+// Tearing surfaces along broken fibers (tear.hpp).
+#include "tear.hpp"
+
+#include "solve/schedule.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+namespace pbd::detail {
+namespace {
+
+using Edge = std::array<Index, 2>;
+Edge edge(Index a, Index b) { return a < b ? Edge{a, b} : Edge{b, a}; }
+
+bool holds(const std::array<Index, 3>& t, Index p) { return t[0] == p || t[1] == p || t[2] == p; }
+
+// Per particle, the triangles of `s` holding it (CSR: triangles[offset[p], offset[p + 1])), for particles < n.
+struct Incidence {
+  std::vector<Index> offset, triangles;
+  Incidence(const Surface& s, Index n) : offset(std::size_t(n) + 1, 0) {
+    for (const auto& t : s.triangles)
+      for (Index p : t) ++offset[p + 1];
+    std::partial_sum(offset.begin(), offset.end(), offset.begin());
+    triangles.resize(offset.back());
+    std::vector<Index> next(offset.begin(), offset.end() - 1);
+    for (Index k = 0; k < Index(s.triangles.size()); ++k)
+      for (Index p : s.triangles[k]) triangles[next[p]++] = k;
+  }
+  std::span<const Index> of(Index p) const { return {triangles.data() + offset[p], triangles.data() + offset[p + 1]}; }
+};
+
+// The groups of the fan `fan` (triangles holding v, ascending) joined across uncut shared edges (v, u): each
+// triangle's group, numbered in order of the groups' lowest triangles.
+std::vector<Index> fan_groups(const Surface& s, std::span<const Index> fan, Index v) {
+  const std::size_t k = fan.size();
+  std::vector<Index> parent(k);
+  std::iota(parent.begin(), parent.end(), Index(0));
+  auto find = [&](Index i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t j = i + 1; j < k; ++j)
+      for (Index u : s.triangles[fan[i]]) {
+        if (u == v || !holds(s.triangles[fan[j]], u)) continue;
+        if (std::binary_search(s.cut.begin(), s.cut.end(), edge(v, u))) continue;
+        const Index a = find(Index(i)), b = find(Index(j));
+        parent[std::max(a, b)] = std::min(a, b);  // the root is the group's lowest triangle
+      }
+  std::vector<Index> group(k), number(k, ~Index(0));
+  Index groups = 0;
+  for (std::size_t i = 0; i < k; ++i) {
+    const Index r = find(Index(i));
+    if (number[r] == ~Index(0)) number[r] = groups++;
+    group[i] = number[r];
+  }
+  return group;
+}
+
+// The groups a constraint on particles `ps` (one of them v) lies on: those of the fan's triangles whose corners
+// are all among ps (for two particles: that hold both). Sorted, unique.
+template <std::size_t N>
+std::vector<Index> groups_of(const Surface& s, std::span<const Index> fan, const std::vector<Index>& group,
+                             const std::array<Index, N>& ps) {
+  std::vector<Index> out;
+  if constexpr (N < 2) return out;  // on one particle (an anchor, a tether): stays with v
+  for (std::size_t i = 0; i < fan.size(); ++i) {
+    const auto& t = s.triangles[fan[i]];
+    int in = 0;
+    for (Index c : t) in += std::find(ps.begin(), ps.end(), c) != ps.end() ? 1 : 0;
+    if (in >= int(std::min<std::size_t>(3, N))) out.push_back(group[i]);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+// Where each constraint touching a particle of `touched` is: (type, user index), per touched particle.
+template <class Real> struct Touching {
+  std::vector<std::vector<std::pair<std::size_t, Index>>> at;
+  Touching(const Model<Real>& m, const std::vector<Index>& touched) : at(touched.size()) {
+    for_each_store(m.stores, [&](const auto& st, auto t) {
+      for (Index u = 0; u < Index(st.size()); ++u)
+        for (Index p : st.at(u).particles) {
+          const auto it = std::lower_bound(touched.begin(), touched.end(), p);
+          if (it != touched.end() && *it == p) at[std::size_t(it - touched.begin())].push_back({decltype(t)::value, u});
+        }
+    });
+  }
+};
+
+// Appends a copy of particle v with inverse mass w to s and m.
+template <class Real> Index add_copy(Model<Real>& m, State<Real>& s, Index v, Real w) {
+  const Index i = m.num_particles();
+  m.inverse_mass.conservativeResize(i + 1);
+  m.inverse_mass[i] = w;
+  s.x.conservativeResize(3, i + 1);
+  s.v.conservativeResize(3, i + 1);
+  s.x.col(i) = s.x.col(v);
+  s.v.col(i) = s.v.col(v);
+  if (m.colors_current && m.fixed.size() == std::size_t(i)) m.fixed.push_back(w == Real(0));
+  return i;
+}
+
+// Splits particle v of surface `sf` if its fan falls into several groups.
+template <class Real>
+void split(Model<Real>& m, State<Real>& s, Surface& sf, std::span<const Index> fan, Index v,
+           const std::vector<std::pair<std::size_t, Index>>& touching, TearResult& out) {
+  const std::vector<Index> group = fan_groups(sf, fan, v);
+  const Index groups = group.empty() ? 0 : *std::max_element(group.begin(), group.end()) + 1;
+  if (groups < 2) return;
+  // v's mass split by triangle counts (a pinned particle's copies are pinned too)
+  std::vector<Index> count(groups, 0);
+  for (Index g : group) ++count[g];
+  const Real w = m.inverse_mass[v];
+  std::vector<Index> copy(groups, v);
+  for (Index g = 1; g < groups; ++g) {
+    copy[g] = add_copy(m, s, v, w * Real(fan.size()) / Real(count[g]));
+    out.copies.push_back({copy[g], v});
+  }
+  m.inverse_mass[v] = w * Real(fan.size()) / Real(count[0]);
+  for (std::size_t i = 0; i < fan.size(); ++i)
+    for (Index& p : sf.triangles[fan[i]])
+      if (p == v) p = copy[group[i]];
+  for (const auto& [type, u] : touching)
+    for_each_store(m.stores, [&](auto& st, auto t) {
+      if (decltype(t)::value != type) return;
+      auto& c = st.items[st.stored(u)];
+      if (std::find(c.particles.begin(), c.particles.end(), v) == c.particles.end()) return;
+      // the fan's triangles still name v in the groups that kept it: look it up by v's copies too
+      std::array<Index, std::tuple_size_v<decltype(c.particles)>> ps = c.particles;
+      const std::vector<Index> on = [&] {
+        std::vector<Index> all;
+        for (Index g = 0; g < groups; ++g) {
+          for (Index& p : ps)
+            if (p == v || std::find(copy.begin(), copy.end(), p) != copy.end()) p = copy[g];
+          for (Index h : groups_of(sf, fan, group, ps))
+            if (h == g) all.push_back(g);
+        }
+        return all;
+      }();
+      if (on.size() > 1) out.remove[type].push_back(u);
+      else if (on.size() == 1 && on[0] != 0)
+        for (Index& p : c.particles)
+          if (p == v) p = copy[on[0]];
+    });
+}
+
+}  // namespace
+
+template <class Real> TearResult tear_surfaces(Model<Real>& m, State<Real>& s, std::span<const FiberBreak> breaks) {
+  TearResult out;
+  for (Surface& sf : m.surfaces) {
+    const Incidence inc(sf, m.num_particles());
+    std::vector<Index> ends;
+    for (const FiberBreak& b : breaks) {
+      bool shared = false;  // an edge of the surface: a triangle holds both
+      for (Index k : inc.of(b.a)) shared = shared || holds(sf.triangles[k], b.b);
+      if (!shared) continue;
+      const Edge e = edge(b.a, b.b);
+      const auto at = std::lower_bound(sf.cut.begin(), sf.cut.end(), e);
+      if (at == sf.cut.end() || *at != e) sf.cut.insert(at, e);
+      ends.push_back(b.a);
+      ends.push_back(b.b);
+    }
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    if (ends.empty()) continue;
+    const Touching<Real> touching(m, ends);
+    for (std::size_t i = 0; i < ends.size(); ++i) split(m, s, sf, inc.of(ends[i]), ends[i], touching.at[i], out);
+  }
+  for (auto& r : out.remove) {
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+  }
+  return out;
+}
+
+template <class Real> void lay_out_after_tear(Model<Real>& m) {
+  if (!m.colors_current) return;
+  if (m.layout == Layout::blocks) {  // the copies are in no block: partitioned anew at the next step
+    m.colors_current = false;
+    return;
+  }
+  // A constraint moved to a copy keeps its color (no color had two constraints on v); in a tail color it must be
+  // seen at the copy by the next first fit among the tail colors (constraint_store.hpp: color_tail).
+  for_each_store(m.stores, [&](auto& st, auto) {
+    if (st.tail_color == std::decay_t<decltype(st)>::kNoTail) return;
+    st.tail_used.assign(m.fixed.size(), 0);
+    for (Index c = st.tail_color; c < st.num_colors(); ++c)
+      for (Index k = st.offsets[c]; k < st.offsets[c + 1]; ++k)
+        for (Index p : st.items[k].particles)
+          if (!m.fixed[p]) st.tail_used[p] |= std::uint64_t(1) << (c - st.tail_color);
+  });
+  note_layout(m);
+}
+
+template void lay_out_after_tear(Model<float>&);
+template void lay_out_after_tear(Model<double>&);
+template TearResult tear_surfaces(Model<float>&, State<float>&, std::span<const FiberBreak>);
+template TearResult tear_surfaces(Model<double>&, State<double>&, std::span<const FiberBreak>);
+
+}  // namespace pbd::detail

@@ -1,0 +1,154 @@
+// Surfaces that tear along broken fibers (World::add_surface, engine/src/tear.hpp): a cloth of fibers pulled apart
+// separates into two pieces whose particles along the cut were copied; mass and momentum are kept; the same bits on
+// 1-4 threads under every parallel solver; validate() holds after each tear.
+#include "pbd/metrics.hpp"
+#include "pbd/world.hpp"
+#include "world_runs.hpp"
+
+#include <gtest/gtest.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <numeric>
+#include <set>
+#include <vector>
+
+namespace pbd {
+namespace {
+
+using W = World<double>;
+
+// An n x n cloth of spacing d in the x-y plane, fibers on every triangle edge (k = 50 N, rupture at 10%), bending
+// on every interior edge, a tearing surface of its triangles. Columns 0 and n - 1 pinned when `pinned`.
+struct TearCloth {
+  static constexpr Index n = 10;
+  static constexpr double d = 0.01;
+  W w;
+  std::vector<std::array<Index, 3>> triangles;
+  TearCloth(Solver solver, bool pinned) {
+    for (Index j = 0; j < n; ++j)
+      for (Index i = 0; i < n; ++i)
+        w.add_particle(W::Vec(d * double(i), d * double(j), 0), pinned && (i == 0 || i == n - 1) ? W::kPinned : 1e-3,
+                       W::Vec(pinned ? 0.0 : (i < n / 2 ? -6.0 : 6.0), 0.05, 0.0));
+    Material m;
+    m.stiffness = 50.0;
+    m.rupture_strain = 0.1;
+    const Index fibers = w.add_constraint_set(Stiffness::fiber(m));
+    const Index bending = w.add_constraint_set(Stiffness::xpbd_compliance(10.0));
+    auto id = [](Index i, Index j) { return j * n + i; };
+    for (Index j = 0; j + 1 < n; ++j)
+      for (Index i = 0; i + 1 < n; ++i) {
+        triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+        triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      }
+    for (Index j = 0; j < n; ++j)
+      for (Index i = 0; i < n; ++i) {
+        if (i + 1 < n) w.add_fiber(id(i, j), id(i + 1, j), fibers);
+        if (j + 1 < n) w.add_fiber(id(i, j), id(i, j + 1), fibers);
+        if (i + 1 < n && j + 1 < n) w.add_fiber(id(i, j), id(i + 1, j + 1), fibers);
+      }
+    for (Index j = 0; j + 1 < n; ++j)  // bending across each diagonal
+      for (Index i = 0; i + 1 < n; ++i) w.add_bending(id(i, j), id(i + 1, j + 1), id(i + 1, j), id(i, j + 1), bending);
+    w.add_surface(triangles);
+    StepParams<double> p;
+    p.dt = 1e-3;
+    p.substeps = 4;
+    p.iterations = 4;
+    p.gravity = W::Vec::Zero();
+    p.solver = solver;
+    w.set_params(p);
+  }
+  void step(bool pull) {
+    if (pull)
+      for (Index j = 0; j < n; ++j) w.positions()(0, j * n + n - 1) += 2e-4;  // the right edge away, 0.2 mm a step
+    w.step();
+  }
+};
+
+// Pieces of a surface: its triangles joined through shared particles.
+std::size_t pieces(std::span<const std::array<Index, 3>> tris, Index particles) {
+  std::vector<Index> parent(particles);
+  std::iota(parent.begin(), parent.end(), Index(0));
+  auto find = [&](Index i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const auto& t : tris) {
+    parent[find(t[1])] = find(t[0]);
+    parent[find(t[2])] = find(t[0]);
+  }
+  std::set<Index> roots;
+  for (const auto& t : tris) roots.insert(find(t[0]));
+  return roots.size();
+}
+
+TEST(Tear, APulledClothSeparatesAlongItsBrokenFibersUnderEverySolver) {
+  for (Solver solver : kSolvers) {
+    SCOPED_TRACE(name(solver));
+    TearCloth c(solver, true);
+    std::size_t copies = 0;
+    for (int step = 0; step < 400 && pieces(c.w.surface(0), c.w.num_particles()) < 2; ++step) {
+      c.step(true);
+      for (const TornParticle& t : c.w.last_copies()) {
+        EXPECT_EQ(c.w.positions().col(t.particle), c.w.positions().col(t.from));
+        ++copies;
+      }
+      c.w.validate();
+    }
+    EXPECT_GE(pieces(c.w.surface(0), c.w.num_particles()), 2u);
+    EXPECT_GE(copies, std::size_t(TearCloth::n - 2));  // the cut crosses the cloth: a copy of each inner particle on it
+    EXPECT_EQ(c.w.num_particles(), Index(TearCloth::n * TearCloth::n + copies));
+    for (int step = 0; step < 50; ++step) c.step(true);  // the pieces part: their gap grows
+    c.w.validate();
+  }
+}
+
+// A free cloth whose halves fly apart tears: its mass and momentum stay what they were, to rounding.
+TEST(Tear, AFreeClothKeepsItsMassAndMomentumAcrossATear) {
+  for (Solver solver : kSolvers) {
+    SCOPED_TRACE(name(solver));
+    TearCloth c(solver, false);
+    auto mass = [&] {
+      double m = 0;
+      for (Index i = 0; i < c.w.num_particles(); ++i) m += 1.0 / c.w.inverse_masses()[i];
+      return m;
+    };
+    const double m0 = mass();
+    const auto [p0, l0] = test::momenta(c.w);
+    std::size_t copies = 0;
+    for (int step = 0; step < 100; ++step) {
+      c.step(false);
+      copies += c.w.last_copies().size();
+      const auto [p1, l1] = test::momenta(c.w);
+      ASSERT_NEAR(mass(), m0, 1e-15 * m0 * 10) << "step " << step;
+      ASSERT_LT((p1 - p0).norm(), 1e-14) << "step " << step;
+    }
+    EXPECT_GT(copies, 0u);
+    EXPECT_GE(pieces(c.w.surface(0), c.w.num_particles()), 2u);
+  }
+}
+
+TEST(Tear, ATearGivesTheSameBitsOnOneToFourThreads) {
+  for (Solver solver : {Solver::serial_colored, Solver::colored, Solver::jacobi, Solver::block}) {
+    SCOPED_TRACE(name(solver));
+    std::vector<std::uint64_t> hashes;
+    std::vector<Index> counts;
+    for (int threads = 1; threads <= 4; ++threads) {
+      tbb::task_arena arena(threads);
+      TearCloth c(solver, true);
+      arena.execute([&] {
+        for (int step = 0; step < 250; ++step) c.step(true);
+      });
+      c.w.validate();
+      hashes.push_back(position_hash(c.w));
+      counts.push_back(c.w.num_particles());
+    }
+    EXPECT_GT(counts[0], TearCloth::n * TearCloth::n);
+    for (int i = 1; i < 4; ++i) {
+      EXPECT_EQ(hashes[i], hashes[0]) << i + 1 << " threads";
+      EXPECT_EQ(counts[i], counts[0]) << i + 1 << " threads";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pbd
