@@ -295,6 +295,27 @@ template <class Real> void bind_world(py::module_& m, const char* name, const ch
         return std::vector<FiberBreak>(b.begin(), b.end());
       },
       "The fibers the last step broke (FiberBreak list, in the order of their indices just before).");
+  cls.def(
+      "add_surface",
+      [](W& w, const std::vector<std::array<Index, 3>>& triangles) { return w.get("add_surface").add_surface(triangles); },
+      py::arg("triangles"),
+      "Adds a surface that tears: where fibers on its edges break, the particles along the cut are copied so that "
+      "it parts (mass split by the triangles on each side). Returns its index.");
+  cls.def(
+      "surface",
+      [](W& w, Index s) {
+        const auto t = w.get("surface").surface(s);
+        return std::vector<std::array<Index, 3>>(t.begin(), t.end());
+      },
+      py::arg("s"), "The triangles of surface s as they are now (particles renamed where it tore).");
+  cls.def(
+      "last_copies",
+      [](W& w) {
+        std::vector<std::pair<Index, Index>> out;
+        for (const TornParticle& t : w.get("last_copies").last_copies()) out.push_back({t.particle, t.from});
+        return out;
+      },
+      "The particles the last step's tears added, as (particle, copied from) pairs.");
   cls.def("set_measure_violation", [](W& w, bool on) { w.get("set_measure_violation").set_measure_violation(on); },
           py::arg("on"), "Whether step() measures each type's violation into last_step_stats().violation.");
   cls.def("validate", [](W& w) { w.get("validate").validate(); },

@@ -32,6 +32,23 @@ std::string Material::error() const {
   return {};
 }
 
+void check_surface(std::span<const std::array<Index, 3>> triangles, std::span<const std::array<Index, 2>> cut,
+                   std::size_t n, const char* fn) {
+  auto check = [&](const auto& items, const char* item) {
+    for (std::size_t k = 0; k < items.size(); ++k)
+      for (std::size_t i = 0; i < items[k].size(); ++i) {
+        if (items[k][i] >= n)
+          throw Error(detail::message(fn, ": ", item, " ", k, ": particle index ", items[k][i], " out of range (", n,
+                                      " particles)"));
+        for (std::size_t j = 0; j < i; ++j)
+          if (items[k][i] == items[k][j])
+            throw Error(detail::message(fn, ": ", item, " ", k, ": names particle ", items[k][i], " twice"));
+      }
+  };
+  check(triangles, "triangle");
+  check(cut, "cut edge");
+}
+
 void check_stiffness(const Stiffness& s, const std::string& what) {
   if (s.mode == StiffnessMode::material) {
     if (const std::string why = s.material.error(); !why.empty()) throw Error(detail::message(what, ": ", why));

@@ -198,15 +198,15 @@ void World<Real>::remove(std::span<const Index> indices, const char* what) {
   else if (model_.colors_current) detail::note_layout(model_);
 }
 
-template <class Real> Index World<Real>::add_surface(std::span<const std::array<Index, 3>> triangles) {
-  const char* item = "add_surface: triangle";
-  for (std::size_t k = 0; k < triangles.size(); ++k) {
-    const auto& t = triangles[k];
-    for (Index p : t) check_particle(p, item, k);
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
-      throw Error(detail::message(item, " ", k, ": names a particle twice"));
-  }
-  model_.surfaces.push_back({{triangles.begin(), triangles.end()}, {}});
+template <class Real>
+Index World<Real>::add_surface(std::span<const std::array<Index, 3>> triangles,
+                               std::span<const std::array<Index, 2>> cut) {
+  check_surface(triangles, cut, std::size_t(num_particles()), "add_surface");
+  detail::Surface s{{triangles.begin(), triangles.end()}, {}};
+  for (const auto& e : cut) s.cut.push_back({std::min(e[0], e[1]), std::max(e[0], e[1])});
+  std::sort(s.cut.begin(), s.cut.end());
+  s.cut.erase(std::unique(s.cut.begin(), s.cut.end()), s.cut.end());
+  model_.surfaces.push_back(std::move(s));
   return Index(model_.surfaces.size() - 1);
 }
 
@@ -360,7 +360,8 @@ template <class Real, class... C> auto members_of_each_type(std::tuple<C...>*) {
   template Index World<Real>::add_volume(std::span<const std::array<Index, 3>>, Index, const PressureSchedule&, \
                                          std::optional<Real>);                                      \
   template std::size_t World<Real>::num_constraints() const;                                       \
-  template Index World<Real>::add_surface(std::span<const std::array<Index, 3>>);                  \
+  template Index World<Real>::add_surface(std::span<const std::array<Index, 3>>,                   \
+                                          std::span<const std::array<Index, 2>>);                  \
   template void World<Real>::add_plane(const Vec3<Real>&, Real, const ContactMaterial<Real>&);     \
   template void World<Real>::add_sphere(const Vec3<Real>&, Real, const ContactMaterial<Real>&);    \
   template Index World<Real>::add_contact_body(const ContactBody<Real>&);                           \

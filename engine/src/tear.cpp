@@ -146,6 +146,60 @@ void split(Model<Real>& m, State<Real>& s, Surface& sf, std::span<const Index> f
     });
 }
 
+// The edges that still have a fiber or a stretch constraint, lower particle first, sorted.
+template <class Real> std::vector<Edge> held_edges(const Model<Real>& m) {
+  std::vector<Edge> out;
+  for (const auto& c : m.template store<FiberConstraint<Real>>().items) out.push_back(edge(c.particles[0], c.particles[1]));
+  for (const auto& c : m.template store<StretchConstraint<Real>>().items) out.push_back(edge(c.particles[0], c.particles[1]));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Drops the triangles among `touched` (indices into sf.triangles) that have two or more edges with no fiber or
+// stretch constraint left: a flap held by one edge at most, or a triangle left at a particle copy that no fiber
+// holds. Each constraint of three or more particles lying on a dropped triangle (three of its particles are the
+// triangle's: its area, a bending through it) is removed too.
+template <class Real> void drop_flaps(const Model<Real>& m, Surface& sf, std::vector<Index> touched, TearResult& out) {
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  const std::vector<Edge> held = held_edges(m);
+  auto is_held = [&](Index a, Index b) { return std::binary_search(held.begin(), held.end(), edge(a, b)); };
+  std::vector<std::array<Index, 3>> dropped;
+  std::vector<std::uint8_t> drop(sf.triangles.size(), 0);
+  for (Index k : touched) {
+    const auto& t = sf.triangles[k];
+    const int open = int(!is_held(t[0], t[1])) + int(!is_held(t[1], t[2])) + int(!is_held(t[0], t[2]));
+    if (open < 2) continue;
+    drop[k] = 1;
+    std::array<Index, 3> key = t;
+    std::sort(key.begin(), key.end());
+    dropped.push_back(key);
+  }
+  if (dropped.empty()) return;
+  std::sort(dropped.begin(), dropped.end());
+  for_each_store(m.stores, [&](const auto& st, auto type) {
+    constexpr std::size_t n = std::tuple_size_v<decltype(st.items[0].particles)>;
+    if constexpr (n >= 3) {
+      for (Index u = 0; u < Index(st.size()); ++u) {
+        const auto& ps = st.at(u).particles;
+        bool on = false;
+        for (std::size_t a = 0; a < n && !on; ++a)
+          for (std::size_t b = a + 1; b < n && !on; ++b)
+            for (std::size_t c = b + 1; c < n && !on; ++c) {
+              std::array<Index, 3> key{ps[a], ps[b], ps[c]};
+              std::sort(key.begin(), key.end());
+              on = std::binary_search(dropped.begin(), dropped.end(), key);
+            }
+        if (on) out.remove[decltype(type)::value].push_back(u);
+      }
+    }
+  });
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < sf.triangles.size(); ++k)
+    if (!drop[k]) sf.triangles[kept++] = sf.triangles[k];
+  sf.triangles.resize(kept);
+}
+
 }  // namespace
 
 template <class Real> TearResult tear_surfaces(Model<Real>& m, State<Real>& s, std::span<const FiberBreak> breaks) {
@@ -167,7 +221,12 @@ template <class Real> TearResult tear_surfaces(Model<Real>& m, State<Real>& s, s
     ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
     if (ends.empty()) continue;
     const Touching<Real> touching(m, ends);
-    for (std::size_t i = 0; i < ends.size(); ++i) split(m, s, sf, inc.of(ends[i]), ends[i], touching.at[i], out);
+    std::vector<Index> fans;  // the triangles at the cut's ends: where flaps may be left
+    for (std::size_t i = 0; i < ends.size(); ++i) {
+      split(m, s, sf, inc.of(ends[i]), ends[i], touching.at[i], out);
+      fans.insert(fans.end(), inc.of(ends[i]).begin(), inc.of(ends[i]).end());
+    }
+    drop_flaps(m, sf, fans, out);
   }
   for (auto& r : out.remove) {
     std::sort(r.begin(), r.end());

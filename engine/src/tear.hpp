@@ -8,7 +8,9 @@
 // v whose corners are all among its particles, or for a two-particle one, that hold both: an edge). A constraint
 // lying on two groups (a bending hinge on the cut) is removed; one on no triangle (an anchor) stays with v. The
 // particles are visited in increasing order, the surfaces in order: the result depends only on which fibers broke,
-// not on the thread count nor on the order of the breaks.
+// not on the thread count nor on the order of the breaks. Last, a triangle at a cut's end that has two or more
+// edges with no fiber (or stretch constraint) left, a flap that nothing holds, leaves the surface with the
+// constraints of three or more particles on it (its area, a bending through it).
 #include "pbd/detail/model.hpp"
 #include "pbd/fiber_state.hpp"
 
@@ -22,7 +24,12 @@ namespace pbd::detail {
 struct TearResult {
   std::vector<TornParticle> copies;                        ///< each particle added, and the one it copies
   std::array<std::vector<Index>, kNumBuiltinTypes> remove;  ///< constraints that lay across a tear
-  bool changed() const { return !copies.empty(); }          ///< particles were added
+  bool changed() const {  ///< particles were added or constraints are to go
+    if (!copies.empty()) return true;
+    for (const auto& r : remove)
+      if (!r.empty()) return true;
+    return false;
+  }
 };
 
 /// Cuts each surface of `m` along the fibers of `breaks` and splits the particles the cuts separate (file comment);

@@ -193,8 +193,9 @@ template <class Real> void World<Real>::break_fibers() {
   remove_constraints<FiberConstraint<Real>>(gone);
   if (model_.surfaces.empty()) return;
   detail::TearResult torn = detail::tear_surfaces(model_, state_, breaks_);
+  const bool changed = torn.changed();
   copies_ = std::move(torn.copies);
-  if (copies_.empty()) return;
+  if (!changed) return;
   ++model_.edits;  // free bodies, the hierarchy: found again
   detail::lay_out_after_tear(model_);
   detail::for_each_store(model_.stores, [&](const auto& st, auto t) {

@@ -100,6 +100,7 @@ template <class Real> World<Real> build_world(const WorldDescription& d) {
     for (const C& c : list) w.add(convert_constraint<Real>(c));
   });
   for (const VolumeDescription& v : d.volumes) w.add_volume(v.triangles, v.set, v.pressure, Real(v.rest));
+  for (const SurfaceDescription& s : d.surfaces) w.add_surface(s.triangles, s.cut);
   for (const PlaneDescription& p : d.planes)
     w.add_plane(Vec3<Real>(p.normal.cast<Real>()), Real(p.offset), cast_material<Real>(p.material));
   for (const SphereDescription& s : d.spheres)

@@ -26,6 +26,8 @@ template <class Real> WorldDescription describe_world(const World<Real>& w) {
   for (const auto& c : volumes.items)
     d.volumes.push_back({{volumes.triangles.begin() + c.triangle_begin, volumes.triangles.begin() + c.triangle_end},
                          c.set, double(c.rest), c.pressure});
+  for (Index s = 0; s < w.num_surfaces(); ++s)
+    d.surfaces.push_back({{w.surface(s).begin(), w.surface(s).end()}, {w.surface_cut(s).begin(), w.surface_cut(s).end()}});
   for (const auto& p : w.colliders().planes)
     d.planes.push_back({p.normal.template cast<double>(), double(p.offset), to_double(p.material)});
   for (const auto& s : w.colliders().spheres)

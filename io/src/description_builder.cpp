@@ -11,6 +11,12 @@
 // (tests/io/description_builder_test.cpp compares the two).
 namespace pbd {
 
+void DescriptionBuilder::set_mass(Index particle, double mass) {
+  if (particle >= num_particles()) detail::fail_particle_index("set_mass: particle", particle, num_particles());
+  check_mass(mass, "set_mass", particle);
+  d_.inverse_masses[particle] = inverse_mass_of(mass);
+}
+
 Index DescriptionBuilder::add_particles(const Positions& positions, const VectorX<double>& masses) {
   const Index first = num_particles();
   check_particles(positions, masses, "add_particles", first);

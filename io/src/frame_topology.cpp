@@ -72,9 +72,30 @@ template <class Real> void add_tets(const World<Real>& world, FrameTopology& t) 
 
 template <class Real>
 FrameTopology frame_topology(const World<Real>& world, const std::vector<SceneBody>& bodies) {
+  // A surface that tore draws its triangles as they are now; once a tear has added particles (at the end of the
+  // world, past every body), one body "world" holds them all, with every body's triangles.
+  auto triangles_of = [&](const SceneBody& b) {
+    if (b.surface == SceneBody::kNoSurface || b.surface >= world.num_surfaces()) return b.triangles;
+    const auto now = world.surface(b.surface);
+    return std::vector<std::array<Index, 3>>(now.begin(), now.end());
+  };
+  Index held = 0;
+  bool tears = false;
+  for (const SceneBody& b : bodies) {
+    held += b.num_particles;
+    tears = tears || b.surface != SceneBody::kNoSurface;
+  }
+  if (tears && held < world.num_particles()) {
+    std::vector<std::array<Index, 3>> all;
+    for (const SceneBody& b : bodies) {
+      const auto tris = triangles_of(b);
+      all.insert(all.end(), tris.begin(), tris.end());
+    }
+    return frame_topology(world, all);
+  }
   FrameTopology t;
   for (const SceneBody& b : bodies)
-    t.bodies.push_back({b.name, b.first_particle, b.num_particles, b.triangles, {}, {}, {}, {}, {}, {}});
+    t.bodies.push_back({b.name, b.first_particle, b.num_particles, triangles_of(b), {}, {}, {}, {}, {}, {}});
   check_frame_topology(t, world.num_particles(), "frame_topology");
   add_lines(world, t);
   add_tets(world, t);

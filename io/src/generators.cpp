@@ -42,11 +42,12 @@ template <class Target> Body add_cloth(Target& world, const ClothOptions& o, std
     }
   if (stretch_set) {
     for (Index j = 0; j < n; ++j)
-      for (Index i = 0; i + 1 < n; ++i) world.add_stretch(id(i, j), id(i + 1, j), *stretch_set);
+      for (Index i = 0; i + 1 < n; ++i) add_edge(world, id(i, j), id(i + 1, j), *stretch_set);
     for (Index j = 0; j + 1 < n; ++j)
-      for (Index i = 0; i < n; ++i) world.add_stretch(id(i, j), id(i, j + 1), *stretch_set);
+      for (Index i = 0; i < n; ++i) add_edge(world, id(i, j), id(i, j + 1), *stretch_set);
     for (Index j = 0; j + 1 < n; ++j)
-      for (Index i = 0; i + 1 < n; ++i) world.add_stretch(id(i, j), id(i + 1, j + 1), *stretch_set);
+      for (Index i = 0; i + 1 < n; ++i) add_edge(world, id(i, j), id(i + 1, j + 1), *stretch_set);
+    if (world.constraint_sets()[*stretch_set].mode == StiffnessMode::material) world.add_surface(body.triangles);
   }
   return body;
 }
@@ -74,7 +75,7 @@ template <class Target> Body add_rope(Target& world, const RopeOptions& o, std::
   body.num_particles = n;
   if (stretch_set)
     for (Index i = 0; i + 1 < n; ++i)
-      world.add_stretch(body.first_particle + i, body.first_particle + i + 1, *stretch_set);
+      add_edge(world, body.first_particle + i, body.first_particle + i + 1, *stretch_set);
   return body;
 }
 

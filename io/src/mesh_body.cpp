@@ -1,4 +1,5 @@
 #include "pbd/io/mesh_body.hpp"
+#include "pbd/io/generators.hpp"
 
 #include "edge_table.hpp"
 #include "pbd/detail/message.hpp"
@@ -28,8 +29,9 @@ void add_mesh_constraints(Target& world, std::span<const std::array<Index, 3>> t
     reserve_more<StretchConstraint>(world, edges.size());
     for (std::size_t e = 0; e < edges.size(); ++e) {
       const auto [a, b] = edges.edge(triangles, e);
-      world.add_stretch(a, b, *sets.stretch);
+      add_edge(world, a, b, *sets.stretch);
     }
+    if (world.constraint_sets()[*sets.stretch].mode == StiffnessMode::material) world.add_surface(triangles);
   }
   if (sets.bending) {
     std::size_t interior = 0;

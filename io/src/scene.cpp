@@ -441,7 +441,7 @@ Body read_particles(const JsonObject& o, DescriptionBuilder& world) {
       const Index a = local_index((*pair)[0], o.file(), path + "/0", n);
       const Index c = local_index((*pair)[1], o.file(), path + "/1", n);
       if (a == c) detail::json_fail(o.file(), path, message("names particle ", a, " twice"));
-      world.add_stretch(b.first_particle + a, b.first_particle + c, set);
+      add_edge(world, b.first_particle + a, b.first_particle + c, set);
     }
     s.reject_unknown_keys();
   }
@@ -511,6 +511,26 @@ template <class C> void read_listed(const JsonObject& body, DescriptionBuilder& 
     at_path(o.file(), path, [&, &c = c] { world.add(c, given); });
   }
   o.reject_unknown_keys();
+}
+
+// A body's "grips": [{"particles": [local indices], "mass": kg, "velocity": [x, y, z]}, ...]: those particles get
+// that velocity, and that mass (each) or, without one, are pinned: a pinned particle moves at its velocity whatever
+// acts on it, so a grip pulls at exactly that speed. Read right after the body is made, before its listed
+// constraints, tethers and contact body.
+void read_grips(const JsonObject& body, DescriptionBuilder& world, const Body& b) {
+  if (!body.has("grips")) return;
+  for (const auto& [v, path] : body.array("grips")) {
+    const JsonObject g(*v, body.file(), path);
+    const double mass = g.has("mass") ? g.number("mass", 0.0, kInf) : DescriptionBuilder::kPinned;
+    if (!(mass > 0.0)) g.fail("mass", "must be > 0");
+    const Eigen::Vector3d velocity = vec(g.vec3("velocity", {0.0, 0.0, 0.0}));
+    for (const auto& [p, at] : g.array("particles")) {
+      const Index i = b.first_particle + local_index(*p, g.file(), at, b.num_particles);
+      world.set_mass(i, mass);
+      world.velocities().col(i) = velocity;
+    }
+    g.reject_unknown_keys();
+  }
 }
 
 // A body's "tethers" (pbd/tethers.hpp): true, false, or {"to": "nearest"|"all", "length": "euclidean"|"geodesic",
@@ -643,6 +663,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
     at_path(f, path, [&, &v = v, &path = path] {
       const JsonObject b(*v, f, path);
       const std::string type = b.string("type");
+      const std::size_t surfaces = world.description().surfaces.size();
       Body body;
       if (type == "cloth") body = read_cloth(b, world);
       else if (type == "rope") body = read_rope(b, world);
@@ -652,13 +673,15 @@ Scene parse_scene(const std::string& text, const std::string& source) {
       else if (type == "tets") body = read_tets(b, world);
       else b.fail("type", message("unknown body type ", detail::quoted(type),
                                   " (expected \"cloth\", \"rope\", \"particles\", \"mesh\", \"grains\" or \"tets\")"));
+      read_grips(b, world, body);
       read_listed_types(b, world, body);
       read_tethers(b, type, world, body);
       detail::read_contact_body(b, body, world);
       b.reject_unknown_keys();
       scene.triangles.insert(scene.triangles.end(), body.triangles.begin(), body.triangles.end());
       scene.bodies.push_back({message(type, "_", scene.bodies.size()), body.first_particle, body.num_particles,
-                              std::move(body.triangles)});
+                              std::move(body.triangles),
+                              world.description().surfaces.size() > surfaces ? Index(surfaces) : SceneBody::kNoSurface});
     });
   }
   if (o.has("colliders"))

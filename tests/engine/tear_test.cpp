@@ -127,6 +127,26 @@ TEST(Tear, AFreeClothKeepsItsMassAndMomentumAcrossATear) {
   }
 }
 
+// A pinned particle moves at its own velocity whatever acts on it (the scenes' grips): gravity, a fiber pulling it.
+TEST(Tear, APinnedParticleMovesAtItsVelocityWhateverActsOnIt) {
+  for (Solver solver : kSolvers) {
+    W w;
+    w.add_particle(W::Vec(0, 0, 0), W::kPinned, W::Vec(0.5, -0.25, 0.125));
+    w.add_particle(W::Vec(0.01, 0, 0), 1e-3);
+    w.add_fiber(0, 1, w.add_constraint_set(Stiffness::fiber([] { Material m; m.stiffness = 100; return m; }())));
+    StepParams<double> p;
+    p.dt = 1e-3;
+    p.solver = solver;
+    w.set_params(p);
+    for (int step = 0; step < 100; ++step) w.step();
+    EXPECT_NEAR(w.positions()(0, 0), 0.05, 1e-14) << name(solver);
+    EXPECT_NEAR(w.positions()(1, 0), -0.025, 1e-14) << name(solver);
+    EXPECT_NEAR(w.positions()(2, 0), 0.0125, 1e-14) << name(solver);
+    EXPECT_EQ(w.velocities().col(0), W::Vec(0.5, -0.25, 0.125)) << name(solver);
+    EXPECT_GT(w.fibers()[0].force, 0.0) << name(solver);  // the fiber pulls it, in vain
+  }
+}
+
 TEST(Tear, ATearGivesTheSameBitsOnOneToFourThreads) {
   for (Solver solver : {Solver::serial_colored, Solver::colored, Solver::jacobi, Solver::block}) {
     SCOPED_TRACE(name(solver));

@@ -60,3 +60,39 @@ def test_a_bad_curve_and_a_stretch_in_a_curved_set_are_refused_by_name():
     w.add_particle((1, 0, 0), 1.0)
     with pytest.raises(pbd.Error, match="add_stretch: stretch constraint 0: set 0 has a stress-strain curve"):
         w.add_stretch(0, 1, s)
+
+
+def test_a_cloth_of_fibers_tears_and_its_surface_shows_the_copies():
+    """A 6 x 6 cloth of fibers with its triangles as a surface, its two top corners pulled apart (pinned particles
+    move at their velocity): it tears, the surface's triangles name the copies, and the copies sit where the
+    particles they copy were."""
+    n, d = 6, 0.01
+    w = pbd.WorldDouble()
+    for j in range(n):
+        for i in range(n):
+            w.add_particle((d * i, d * j, 0), math.inf if j == n - 1 else 1e-3)
+    s = w.add_constraint_set(pbd.Stiffness.fiber(pbd.Material(20.0, rupture_strain=0.1)))
+    tris = []
+    for j in range(n - 1):
+        for i in range(n - 1):
+            a = j * n + i
+            tris += [(a, a + 1, a + n + 1), (a, a + n + 1, a + n)]
+    for a, b, c in tris:
+        for e in ((a, b), (b, c), (a, c)):
+            if e[0] < e[1] and (e[1] - e[0] in (1, n, n + 1)):
+                w.add_fiber(e[0], e[1], s)
+    assert w.add_surface(tris) == 0
+    v = w.velocities()
+    for i in range(n):
+        v[(n - 1) * n + i] = (-0.2 if i < n // 2 else 0.2, 0, 0)   # the top row's halves move apart
+    p = w.params
+    p.dt, p.substeps, p.iterations, p.gravity = 1e-3, 10, 4, (0, -9.81, 0)
+    w.params = p
+    copies = []
+    for _ in range(200):
+        w.step()
+        copies += w.last_copies()
+    assert copies and w.num_particles == n * n + len(copies)
+    named = {q for t in w.surface(0) for q in t}
+    assert any(c in named for c, _ in copies)
+    w.validate()

@@ -14,6 +14,7 @@
 #include "pbd/types.hpp"
 
 #include <cmath>
+#include <array>
 #include <cstddef>
 #include <span>
 #include <string>
@@ -60,6 +61,11 @@ std::string constraint_item(const char* name, const char* noun, std::size_t inde
 /// Throws "<item>: <what>".
 [[noreturn]] void fail_constraint(const std::string& item, const std::string& what);
 }  // namespace detail
+
+/// A tearing surface (World::add_surface) on n particles: every triangle's particles exist and are distinct, every
+/// cut edge's too; throws pbd::Error naming `fn` and the first bad triangle or edge.
+void check_surface(std::span<const std::array<Index, 3>> triangles, std::span<const std::array<Index, 2>> cut,
+                   std::size_t n, const char* fn);
 
 /// Throws "add_<kName>: <kNoun> <index>: particle index i out of range ..." unless particle i < n.
 template <class C> void check_particle_of(Index i, std::size_t n, std::size_t index) {

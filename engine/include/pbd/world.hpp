@@ -46,7 +46,8 @@ public:
   using Vec = Vec3<Real>;            ///< 3-vector
   using Positions = Matrix3X<Real>;  ///< 3×N particle data
 
-  /// Mass value meaning "pinned": inverse mass 0, never moved by the solver.
+  /// Mass value meaning "pinned": inverse mass 0, never moved by the solver nor by forces. A pinned particle moves
+  /// at its own velocity (0 unless set: a host or a scene's grip sets one to pull at a constant speed).
   static constexpr Real kPinned = std::numeric_limits<Real>::infinity();
 
   World();                                   ///< an empty world with default parameters
@@ -199,10 +200,13 @@ public:
   /// Adds a surface that tears (engine/src/tear.hpp): when fibers on its edges break, the particles along the cut
   /// are copied, one copy for each side, so that the surface separates; v's mass is split between the sides by
   /// their triangle counts (momentum kept), and each constraint on a side follows its copy (a bending hinge on the
-  /// cut is removed). Returns its index. Throws naming a triangle with a particle out of range or named twice.
-  Index add_surface(std::span<const std::array<Index, 3>> triangles);
+  /// cut is removed). `cut`: edges already cut (a described world's, surface_cut). Returns its index. Throws naming
+  /// a triangle or edge with a particle out of range or named twice.
+  Index add_surface(std::span<const std::array<Index, 3>> triangles, std::span<const std::array<Index, 2>> cut = {});
   /// The triangles of surface s as they are now (particles renamed where it tore).
   std::span<const std::array<Index, 3>> surface(Index s) const { return model_.surfaces.at(s).triangles; }
+  /// The edges of surface s that are cut (each lower particle first, sorted).
+  std::span<const std::array<Index, 2>> surface_cut(Index s) const { return model_.surfaces.at(s).cut; }
   /// Number of surfaces.
   Index num_surfaces() const { return Index(model_.surfaces.size()); }
   /// The particles the last step's tears added, each with the one it copies (empty if none).

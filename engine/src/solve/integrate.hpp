@@ -47,7 +47,7 @@ private:
   }
   template <class Damp, class Force, class Padded> void run(Index b, Index e, Damp, Force, Padded) const {
     for (Index i = b; i < e; ++i) {
-      const bool pinned = w[i] == Real(0);  // pinned particles keep v = 0
+      const bool pinned = w[i] == Real(0);  // pinned particles keep their velocity (0 unless a host set one)
       for (int d = 0; d < 3; ++d) {
         const std::size_t j = 3 * std::size_t(i) + d;
         Real vd = v[j];
@@ -55,7 +55,7 @@ private:
         if constexpr (Damp::value) vd *= keep;
         vd += hg[d];
         if constexpr (Force::value) vd += h * (w[i] * f[j]);  // external force: a = w·f
-        vd = pinned ? Real(0) : vd;
+        vd = pinned ? v[j] : vd;
         v[j] = vd;
         if constexpr (Padded::value) q[4 * std::size_t(i) + d] = x[j] + h * vd;
         else p[j] = x[j] + h * vd;

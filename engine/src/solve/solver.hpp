@@ -7,7 +7,8 @@
 // colored, into tail colors; everything is recolored after pins change, a particle is removed or the coloring
 // options change), and every tether whose pin is pinned takes the pin's position as its target (tether.hpp: a host
 // may move pins between steps). Each sub-step then runs, in order:
-//   1. damping and forces   v ← v·max(0, 1 − damping·h), then v += h·(g + w·f); pinned particles keep v = 0
+//   1. damping and forces   v ← v·max(0, 1 − damping·h), then v += h·(g + w·f); a pinned particle keeps its v
+//                           (0 unless a host or a scene's grip set one: it then moves at it, a kinematic grip)
 //                           (damping first: a body at rest under gravity then sags by the whole of g)
 //   2. predict              p = x + h·v
 //   3. contacts             one inequality per (movable particle, collider) whose path x → p enters the collider or
@@ -56,7 +57,9 @@
 // every fiber whose total strain has reached its set's rupture strain breaks (World::last_breaks): all are judged on
 // the step's final positions, so which break depends neither on their order nor on the thread count, and they leave
 // the model as remove_constraints removes (the others keep their colors; λ moves with them, so the forces read after
-// the step stay right). Everything runs in the caller's tbb::task_arena, so a host decides the thread count.
+// the step stay right). Then each surface that tears (World::add_surface) is cut along them and the particles each
+// cut separates are copied (engine/src/tear.hpp), the other constraints keeping their colors. Everything runs in
+// the caller's tbb::task_arena, so a host decides the thread count.
 #include "pbd/step_params.hpp"
 #include "pbd/detail/model.hpp"
 #include "scratch.hpp"

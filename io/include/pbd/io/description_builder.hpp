@@ -25,6 +25,8 @@ public:
 
   /// As World::add_particles: masses > 0 or kPinned, all validated first; returns the index of the first particle.
   Index add_particles(const Positions& positions, const VectorX<double>& masses);
+  /// As World::set_mass: mass in kg, > 0 (kPinned pins it).
+  void set_mass(Index particle, double mass);
   /// As World::add_constraint_set.
   Index add_constraint_set(const Stiffness& stiffness);
   /// As World::add<C>: a constraint of built-in type C (in double, e.g. StretchConstraint<double>) with the rest
@@ -45,6 +47,12 @@ public:
   /// As World::add_volume: a closed, consistently oriented mesh; rest in the 6V unit, by default the current one.
   Index add_volume(std::span<const std::array<Index, 3>> triangles, Index set, const PressureSchedule& pressure = {},
                    std::optional<double> rest = std::nullopt);
+  /// As World::add_surface: a surface that tears along broken fibers.
+  Index add_surface(std::span<const std::array<Index, 3>> triangles) {
+    check_surface(triangles, {}, std::size_t(d_.num_particles()), "add_surface");
+    d_.surfaces.push_back({{triangles.begin(), triangles.end()}, {}});
+    return Index(d_.surfaces.size() - 1);
+  }
   /// As World::add_tethers: tethers from `body`'s movable particles to its pinned or anchored ones, in a new set of
   /// XPBD compliance options.compliance; returns how many (0 and no set when the body has no such particle).
   Index add_tethers(std::span<const Index> body, const TetherOptions& options = {});

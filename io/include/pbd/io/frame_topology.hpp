@@ -54,6 +54,9 @@ struct FrameTopology {
 /// corners (with its rest volume and Dm⁻¹), then each tet volume constraint's (its rest volume, no Dm⁻¹) whose four
 /// particles no tet before it has. So a tet is drawn once however many constraints it has (the same four particles in
 /// any order), in the order of its first constraint, with the corner order of that constraint.
+///
+/// A body whose triangles are a surface that tears (SceneBody::surface) draws them as they are now; once a tear has
+/// added particles (past every body), the frame is one body "world" holding every particle and every triangle.
 template <class Real>
 FrameTopology frame_topology(const World<Real>& world, const std::vector<SceneBody>& bodies);
 

@@ -19,6 +19,16 @@ struct Body {
   std::vector<std::array<Index, 3>> triangles;  ///< its surface triangles (world particle indices), if any
 };
 
+/// One edge of a generated body between particles a and b: a stretch constraint in `set`, or a fiber (rest length
+/// measured, no plastic strain) when the set has a stress–strain curve (docs/fibers.md). Returns its index among
+/// its type.
+template <class Target> Index add_edge(Target& world, Index a, Index b, Index set) {
+  using Real = typename Target::Positions::Scalar;
+  if (world.constraint_sets()[set].mode == StiffnessMode::material)
+    return world.add(FiberConstraint<Real>{{a, b}, set, Real(0), Real(0)}, FieldMask(2));
+  return world.add_stretch(a, b, set);
+}
+
 /// Which cloth particles are pinned (inverse mass 0).
 enum class ClothPin { none, corners, edge };
 
@@ -33,7 +43,8 @@ struct ClothOptions {
 };
 
 /// Adds a cloth; with `stretch_set`, a stretch constraint on every unique triangle edge (rows, columns, diagonals,
-/// in that order). Particle (i, j) is first_particle + j·N + i.
+/// in that order): a fiber when the set has a stress–strain curve (add_edge), and then its triangles are a surface
+/// that tears along them (World::add_surface). Particle (i, j) is first_particle + j·N + i.
 template <class Target> Body add_cloth(Target& world, const ClothOptions& options, std::optional<Index> stretch_set);
 
 /// M particles on a straight line from `origin` along `direction`, the first one pinned.

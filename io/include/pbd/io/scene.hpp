@@ -23,6 +23,8 @@ struct SceneBody {
   Index first_particle = 0;                     ///< world index of its first particle
   Index num_particles = 0;                      ///< number of consecutive particles it has
   std::vector<std::array<Index, 3>> triangles;  ///< its surface triangles (world particle indices), if any
+  static constexpr Index kNoSurface = ~Index(0);  ///< a body whose triangles do not tear
+  Index surface = kNoSurface;  ///< the world's surface (World::add_surface) its triangles are, when they tear
 };
 
 /// A loaded scene: the world it describes, without a precision (build it with build_world<Real>(scene.world),

@@ -29,6 +29,12 @@ struct VolumeDescription {
   PressureSchedule pressure;                    ///< the target's factor over time
 };
 
+/// A surface that tears (World::add_surface).
+struct SurfaceDescription {
+  std::vector<std::array<Index, 3>> triangles;  ///< its triangles (particle indices)
+  std::vector<std::array<Index, 2>> cut;        ///< edges already cut
+};
+
 /// A half-space n·x ≥ offset.
 struct PlaneDescription {
   Eigen::Vector3d normal;              ///< unit normal, pointing out of the solid
@@ -51,6 +57,7 @@ struct WorldDescription {
   std::vector<Stiffness> sets;                 ///< stiffness of each constraint set
   ConstraintLists constraint_lists;            ///< built-in fixed-arity constraints, per type, in insertion order
   std::vector<VolumeDescription> volumes;      ///< volume constraints, in insertion order
+  std::vector<SurfaceDescription> surfaces;    ///< surfaces that tear, in the order added
   std::vector<PlaneDescription> planes;        ///< plane colliders
   std::vector<SphereDescription> spheres;      ///< sphere colliders
   /// Contact bodies (contacts.hpp: particle runs with a radius in m, a material and self-collision), in the order
