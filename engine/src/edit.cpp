@@ -280,6 +280,12 @@ template <class Real> void World<Real>::validate() const {
   const Index n = num_particles();
   if (state_.v.cols() != n || model_.inverse_mass.size() != n)
     throw Error("validate: positions, velocities and inverse masses disagree on the particle count");
+  for (std::size_t s = 0; s < model_.surfaces.size(); ++s) {  // tears rename particles: each must still exist
+    check_surface(model_.surfaces[s].triangles, model_.surfaces[s].cut, std::size_t(n),
+                  detail::message("validate: surface ", s).c_str());
+    if (!std::is_sorted(model_.surfaces[s].cut.begin(), model_.surfaces[s].cut.end()))
+      throw Error(detail::message("validate: surface ", s, ": its cut edges are not sorted"));
+  }
   const std::vector<std::uint8_t> fixed =
       model_.colors_current ? model_.fixed : detail::pinned_flags(model_.inverse_mass);
   // λ is only ever written where α̃ ≠ 0: while no set is compliant, every λ is 0. (Per constraint it cannot be

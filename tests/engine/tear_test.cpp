@@ -1,6 +1,8 @@
 // Surfaces that tear along broken fibers (World::add_surface, engine/src/tear.hpp): a cloth of fibers pulled apart
 // separates into two pieces whose particles along the cut were copied; mass and momentum are kept; the same bits on
 // 1-4 threads under every parallel solver; validate() holds after each tear.
+#include "pbd/io/build_world.hpp"
+#include "pbd/io/describe_world.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
 #include "world_runs.hpp"
@@ -125,6 +127,29 @@ TEST(Tear, AFreeClothKeepsItsMassAndMomentumAcrossATear) {
     EXPECT_GT(copies, 0u);
     EXPECT_GE(pieces(c.w.surface(0), c.w.num_particles()), 2u);
   }
+}
+
+// A torn world described and built again (describe_world: the surfaces as they are, with their cut edges) steps on
+// as the original does, tears included, bit for bit: under the serial solver, whose order is the insertion order
+// the description keeps (a colored solver's bits follow its colors, which a rebuilt world makes afresh).
+TEST(Tear, ATornWorldRebuiltFromItsDescriptionTearsOnAlike) {
+  TearCloth c(Solver::serial, true);
+  int step = 0;
+  for (; step < 400 && c.w.num_particles() == TearCloth::n * TearCloth::n; ++step) c.step(true);
+  ASSERT_GT(c.w.num_particles(), TearCloth::n * TearCloth::n);
+  W copy = build_world<double>(describe_world(c.w));
+  EXPECT_EQ(copy.num_particles(), c.w.num_particles());
+  ASSERT_EQ(copy.num_surfaces(), 1u);
+  EXPECT_TRUE(std::ranges::equal(copy.surface(0), c.w.surface(0)));
+  EXPECT_TRUE(std::ranges::equal(copy.surface_cut(0), c.w.surface_cut(0)));
+  for (int k = 0; k < 100; ++k) {
+    for (W* w : {&c.w, &copy}) {
+      for (Index j = 0; j < TearCloth::n; ++j) w->positions()(0, j * TearCloth::n + TearCloth::n - 1) += 2e-4;
+      w->step();
+    }
+  }
+  EXPECT_EQ(copy.num_particles(), c.w.num_particles());
+  EXPECT_EQ(position_hash(copy), position_hash(c.w));
 }
 
 // A pinned particle moves at its own velocity whatever acts on it (the scenes' grips): gravity, a fiber pulling it.
