@@ -146,11 +146,16 @@ void split(Model<Real>& m, State<Real>& s, Surface& sf, std::span<const Index> f
     });
 }
 
-// The edges that still have a fiber or a stretch constraint, lower particle first, sorted.
-template <class Real> std::vector<Edge> held_edges(const Model<Real>& m) {
+// Of the edges `wanted` (lower particle first, sorted), those that still have a fiber or a stretch constraint: one
+// pass over the two stores, no sort of them.
+template <class Real> std::vector<Edge> held_edges(const Model<Real>& m, const std::vector<Edge>& wanted) {
   std::vector<Edge> out;
-  for (const auto& c : m.template store<FiberConstraint<Real>>().items) out.push_back(edge(c.particles[0], c.particles[1]));
-  for (const auto& c : m.template store<StretchConstraint<Real>>().items) out.push_back(edge(c.particles[0], c.particles[1]));
+  auto look = [&](Index a, Index b) {
+    const Edge e = edge(a, b);
+    if (std::binary_search(wanted.begin(), wanted.end(), e)) out.push_back(e);
+  };
+  for (const auto& c : m.template store<FiberConstraint<Real>>().items) look(c.particles[0], c.particles[1]);
+  for (const auto& c : m.template store<StretchConstraint<Real>>().items) look(c.particles[0], c.particles[1]);
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -162,7 +167,12 @@ template <class Real> std::vector<Edge> held_edges(const Model<Real>& m) {
 template <class Real> void drop_flaps(const Model<Real>& m, Surface& sf, std::vector<Index> touched, TearResult& out) {
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  const std::vector<Edge> held = held_edges(m);
+  std::vector<Edge> wanted;
+  for (Index k : touched)
+    for (int i = 0; i < 3; ++i) wanted.push_back(edge(sf.triangles[k][i], sf.triangles[k][(i + 1) % 3]));
+  std::sort(wanted.begin(), wanted.end());
+  wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+  const std::vector<Edge> held = held_edges(m, wanted);
   auto is_held = [&](Index a, Index b) { return std::binary_search(held.begin(), held.end(), edge(a, b)); };
   std::vector<std::array<Index, 3>> dropped;
   std::vector<std::uint8_t> drop(sf.triangles.size(), 0);
