@@ -29,8 +29,8 @@ template <class Real> World<Real>::World(World&&) noexcept = default;
 template <class Real> World<Real>& World<Real>::operator=(World&&) noexcept = default;
 template <class Real>
 World<Real>::World(const World& o)
-    : model_(o.model_), state_(o.state_), params_(o.params_), stats_(o.stats_),
-      measure_violation_(o.measure_violation_), host_wrote_(o.host_wrote_), parallel_(o.parallel_),
+    : model_(o.model_), state_(o.state_), params_(o.params_), stats_(o.stats_), breaks_(o.breaks_),
+      copies_(o.copies_), measure_violation_(o.measure_violation_), host_wrote_(o.host_wrote_), parallel_(o.parallel_),
       force_callback_(o.force_callback_) {}
 template <class Real> World<Real>& World<Real>::operator=(const World& o) {
   if (this != &o) {
