@@ -43,13 +43,7 @@ struct Tension {
       w.add_particle(W::Vec(kRest * double(i), 0, 0), i == 0 || i == kFibers ? W::kPinned : 1e-3);
     const Index set = w.add_constraint_set(Stiffness::fiber(m));
     for (Index i = 0; i < kFibers; ++i) w.add_fiber(i, i + 1, set);
-    StepParams<double> p;
-    p.dt = 1e-3;
-    p.substeps = 10;
-    p.iterations = solver == Solver::jacobi ? 40 : 10;
-    p.gravity = W::Vec::Zero();
-    p.solver = solver;
-    w.set_params(p);
+    w.set_params(test::weightless<double>(solver, 10, solver == Solver::jacobi ? 40 : 10));
   }
   double grip() const { return w.positions()(0, kFibers); }
   // The chain's total strain: the grips' distance over the rest length.
@@ -186,13 +180,7 @@ struct Strip {
         if (r + 1 < kRows) w.add_fiber(at(r, c), at(r + 1, c), set);
         if (r + 1 < kRows && c + 1 < kCols) w.add_fiber(at(r, c), at(r + 1, c + 1), set);
       }
-    StepParams<double> p;
-    p.dt = 1e-3;
-    p.substeps = 4;
-    p.iterations = 4;
-    p.gravity = W::Vec::Zero();
-    p.solver = solver;
-    w.set_params(p);
+    w.set_params(test::weightless<double>(solver, 4, 4));
   }
   void step() {  // the bottom row down by 0.2 mm a step
     for (Index c = 0; c < kCols; ++c) w.positions()(1, bottom + c) -= 2e-4;
@@ -242,13 +230,7 @@ TEST(Fiber, AFreeBodyKeepsItsMomentaAcrossATear) {
                      W::Vec(5.0 * (double(i) - 2.5) + 0.3, 0.1, -0.2 * double(i % 2)));
     const Index set = w.add_constraint_set(Stiffness::fiber(ligament()));
     for (Index i = 0; i + 1 < n; ++i) w.add_fiber(i, i + 1, set);
-    StepParams<double> p;
-    p.dt = 1e-3;
-    p.substeps = 4;
-    p.iterations = 4;
-    p.gravity = W::Vec::Zero();
-    p.solver = solver;
-    w.set_params(p);
+    w.set_params(test::weightless<double>(solver, 4, 4));
     const auto [p0, l0] = test::momenta(w);
     const double scale = 1e-3 * 3 * 15.0 * double(n);  // Σ m|v| bounds the sums' rounding
     std::size_t broken = 0;

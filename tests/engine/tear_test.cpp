@@ -51,13 +51,7 @@ struct TearCloth {
     for (Index j = 0; j + 1 < n; ++j)  // bending across each diagonal
       for (Index i = 0; i + 1 < n; ++i) w.add_bending(id(i, j), id(i + 1, j + 1), id(i + 1, j), id(i, j + 1), bending);
     w.add_surface(triangles);
-    StepParams<double> p;
-    p.dt = 1e-3;
-    p.substeps = 4;
-    p.iterations = 4;
-    p.gravity = W::Vec::Zero();
-    p.solver = solver;
-    w.set_params(p);
+    w.set_params(test::weightless<double>(solver, 4, 4));
   }
   void step(bool pull) {
     if (pull)

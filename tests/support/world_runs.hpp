@@ -26,6 +26,17 @@ std::pair<Vec3<double>, Vec3<double>> momenta(const World<Real>& w, Index begin 
   return {p, l};
 }
 
+/// Step parameters of the fiber and tear tests: 1 ms steps of `substeps` × `iterations` under `solver`, no gravity.
+template <class Real> StepParams<Real> weightless(Solver solver, int substeps, int iterations) {
+  StepParams<Real> p;
+  p.dt = Real(1e-3);
+  p.substeps = substeps;
+  p.iterations = iterations;
+  p.gravity = Vec3<Real>::Zero();
+  p.solver = solver;
+  return p;
+}
+
 /// Steps a copy of `w` `steps` times in a task_arena of `threads` threads, validates it and returns its position hash.
 template <class Real> std::uint64_t run_on(World<Real> w, int threads, int steps) {
   tbb::task_arena arena(threads);
