@@ -27,20 +27,17 @@ template <class Real> void add_lines(const World<Real>& world, FrameTopology& t)
   for (const FrameBody& body : t.bodies)
     for (const auto& tri : body.triangles)
       for (Index i : tri) on_surface[i] = 1;
-  const auto stretch = world.template constraints<StretchConstraint<Real>>();
-  for (std::size_t k = 0; k < stretch.size(); ++k) {
-    const auto [a, b] = stretch[k].particles;
-    if (on_surface[a] || on_surface[b] || body_of[a] != body_of[b]) continue;
-    t.bodies[body_of[a]].lines.push_back({a, b});
-    t.bodies[body_of[a]].line_stretch.push_back(Index(k));
-  }
-  const auto fibers = world.template constraints<FiberConstraint<Real>>();
-  for (std::size_t k = 0; k < fibers.size(); ++k) {
-    const auto [a, b] = fibers[k].particles;
-    if (on_surface[a] || on_surface[b] || body_of[a] != body_of[b]) continue;
-    t.bodies[body_of[a]].fiber_lines.push_back({a, b});
-    t.bodies[body_of[a]].line_fiber.push_back(Index(k));
-  }
+  // Each constraint of `view` off the surface and inside one body: a segment in `lines`, its index in `index`.
+  auto draw = [&](const auto& view, auto lines, auto index) {
+    for (std::size_t k = 0; k < view.size(); ++k) {
+      const auto [a, b] = view[k].particles;
+      if (on_surface[a] || on_surface[b] || body_of[a] != body_of[b]) continue;
+      (t.bodies[body_of[a]].*lines).push_back({a, b});
+      (t.bodies[body_of[a]].*index).push_back(Index(k));
+    }
+  };
+  draw(world.template constraints<StretchConstraint<Real>>(), &FrameBody::lines, &FrameBody::line_stretch);
+  draw(world.template constraints<FiberConstraint<Real>>(), &FrameBody::fiber_lines, &FrameBody::line_fiber);
 }
 
 // Adds to each body the tets of the tet constraints with all four corners in it, each once (frame_topology.hpp):
