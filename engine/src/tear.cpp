@@ -122,7 +122,9 @@ void split(Model<Real>& m, State<Real>& s, Surface& sf, std::span<const Index> f
   for (std::size_t i = 0; i < fan.size(); ++i)
     for (Index& p : sf.triangles[fan[i]])
       if (p == v) p = copy[group[i]];
-  for (const auto& [type, u] : touching)
+  for (const auto& touched : touching) {
+    const auto type = touched.first;
+    const auto u = touched.second;
     for_each_store(m.stores, [&](auto& st, auto t) {
       if (decltype(t)::value != type) return;
       auto& c = st.items[st.stored(u)];
@@ -144,6 +146,7 @@ void split(Model<Real>& m, State<Real>& s, Surface& sf, std::span<const Index> f
         for (Index& p : c.particles)
           if (p == v) p = copy[on[0]];
     });
+  }
 }
 
 // Of the edges `wanted` (lower particle first, sorted), those that still have a fiber or a stretch constraint: one
