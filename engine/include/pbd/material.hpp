@@ -21,8 +21,12 @@
 /// (h the sub-step; C = l − L0·(1 + ε_p)). Linearizing that in Newton's way gives the projection
 ///   Δλ = −(h²·F + λ) / (1 + h²·F′·Σ w_i |∇C_i|²),    F′ = dF/dl,
 /// which for a linear F = C/α is XPBD's Δλ = (−C − α̃λ)/(Σw + α̃): the compliance becomes the strain-dependent
-/// tangent one, 1/F′. Written this way, a slack fiber (F = F′ = 0) just returns its λ (Δλ = −λ) with no division by
-/// zero, and the force a fiber carries after a step is −λ/h² (World::fibers).
+/// tangent one, 1/F′. Written this way a slack fiber (F = F′ = 0) has no division by zero, and the force a fiber
+/// carries after a step is −λ/h² (World::fibers). One such step is not enough at the slack end: from a fiber gone
+/// slack it returns all of λ at once (Δλ = −λ), which moves the particles apart by h²·F′·Σw times the strain the
+/// tension held, and a stiff cloth of fibers swept many times blew up from it. So each projection takes Newton
+/// steps on the fiber's own equation until it holds (fiber.hpp: fiber_newton); the equation is increasing and
+/// convex in λ, so they converge, and on the linear part one step is exact, as above.
 #include <cmath>
 #include <limits>
 #include <string>

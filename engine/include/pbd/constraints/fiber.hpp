@@ -13,6 +13,7 @@
 #include "pbd/types.hpp"
 
 #include <array>
+#include <cmath>
 
 namespace pbd {
 
@@ -56,8 +57,30 @@ inline bool evaluate(const FiberConstraint<Real>& c, const Vec3<Real> (&p)[2], R
   return true;
 }
 
-/// The correction: in a set with a curve, the force-law projection of material.hpp
-/// (Δλ = −(h²·F + λ)/(1 + h²·F′·(w0 + w1)), F′ = F'(e)/L0); otherwise the stretch projection with k and α̃.
+/// The fiber's own equation in a set with a curve (material.hpp): the Δλ with r(λ0 + Δλ) = 0, where
+/// r(λ) = h²·F(e(λ)) + λ and e(λ) = (l + Σw·(λ − λ0))/L0 − 1 − ε_p is the elastic strain once the two particles
+/// have moved by Δλ along the fiber. By Newton's method from λ0, up to kFiberNewtonSteps steps: r is increasing and
+/// convex, so after the first step the iterates come down to the root from above, and a step that starts and ends
+/// on the linear part is exact (then it stops).
+inline double fiber_newton(const Material& m, double rest, double plastic, double len, double wsum, double h2,
+                           double lambda0) {
+  constexpr int kFiberNewtonSteps = 8;
+  auto strain = [&](double lambda) { return (len + wsum * (lambda - lambda0)) / rest - 1.0 - plastic; };
+  double lambda = lambda0;
+  double e = strain(lambda);
+  for (int i = 0; i < kFiberNewtonSteps; ++i) {
+    const double step = (h2 * m.force(e) + lambda) / (1.0 + h2 * wsum * m.slope(e) / rest);
+    lambda -= step;
+    const double before = e;
+    e = strain(lambda);
+    const bool linear = before >= m.toe_strain && e >= m.toe_strain && before > 0.0;
+    if (linear || !(std::abs(step) > 1e-12 * std::abs(lambda))) break;
+  }
+  return lambda - lambda0;
+}
+
+/// The correction: in a set with a curve, the solution of the fiber's own equation (fiber_newton; its first
+/// Newton step is the force-law projection of material.hpp); otherwise the stretch projection with k and α̃.
 template <class Real>
 inline bool correction(const FiberConstraint<Real>& c, const Vec3<Real> (&p)[2], const Real (&w)[2],
                        SolveCoefficients<Real> coeff, Real lambda, Vec3<Real> (&dp)[2], Real& dlambda) {
@@ -68,11 +91,8 @@ inline bool correction(const FiberConstraint<Real>& c, const Vec3<Real> (&p)[2],
   const Real len = std::sqrt(len2);
   if (coeff.material) {
     if (!(wsum > Real(0))) return false;
-    const Material& m = *coeff.material;
-    const double e = double(len) / double(c.rest) - 1.0 - double(c.plastic);
-    const Real force = Real(m.force(e));
-    const Real slope = Real(m.slope(e) / double(c.rest));
-    dlambda = -(coeff.h2 * force + lambda) / (Real(1) + coeff.h2 * slope * wsum);
+    dlambda = Real(fiber_newton(*coeff.material, double(c.rest), double(c.plastic), double(len), double(wsum),
+                                double(coeff.h2), double(lambda)));
   } else {
     const Real denom = coeff.alpha_tilde + wsum;
     if (!(denom > Real(0))) return false;
