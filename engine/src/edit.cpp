@@ -7,6 +7,8 @@
 #include "pbd/closed_mesh.hpp"
 #include "solve/hierarchy.hpp"
 #include "solve/schedule.hpp"
+#include "fibers.hpp"
+#include "tear.hpp"
 
 #include <pbd/graph_coloring/validate.hpp>
 
@@ -168,7 +170,7 @@ Index World<Real>::add_volume(std::span<const std::array<Index, 3>> triangles, I
 
 template <class Real>
 template <class C>
-void World<Real>::remove(std::span<const Index> indices, const char* what) {
+void World<Real>::remove(std::span<const Index> indices, const char* what, bool lay_out) {
   ++model_.edits;  // free bodies are found again (free_bodies.hpp)
   auto& store = model_.template store<C>();
   std::vector<std::uint8_t> drop(store.size(), 0);
@@ -195,7 +197,40 @@ void World<Real>::remove(std::span<const Index> indices, const char* what) {
       for (Index j = 0; j < kMul; ++j) lambda[std::size_t(kMul) * store.stored(v) + j] = kept[std::size_t(kMul) * v + j];
   }
   if (!kept_colors) model_.colors_current = false;
-  else if (model_.colors_current) detail::note_layout(model_);
+  else if (model_.colors_current && lay_out) detail::note_layout(model_);
+}
+
+// After a step: the fibers at their rupture strain leave the model (fibers.hpp: find_breaks), reported by
+// last_breaks(); removed as remove_constraints removes them, so the colors of the others are kept. Surfaces are
+// torn along the broken edges (tear.hpp), which may remove more constraints. The arrays every color walks are
+// laid out once, after all the removals: each layout is a pass over the whole model.
+template <class Real> void World<Real>::break_fibers() {
+  breaks_.clear();
+  copies_.clear();
+  if (model_.template store<FiberConstraint<Real>>().empty()) return;
+  breaks_ = detail::find_breaks(model_, state_, std::llround(state_.time / double(params_.dt)));
+  if (breaks_.empty()) return;
+  std::vector<Index> gone;
+  gone.reserve(breaks_.size());
+  for (const FiberBreak& b : breaks_) gone.push_back(b.fiber);
+  remove<FiberConstraint<Real>>(gone, "break fibers", false);
+  bool torn = false;
+  if (!model_.surfaces.empty()) {
+    detail::TearResult tear = detail::tear_surfaces(model_, state_, breaks_);
+    torn = tear.changed();
+    copies_ = std::move(tear.copies);
+    if (torn) {
+      ++model_.edits;  // free bodies, the hierarchy: found again
+      detail::for_each_store(model_.stores, [&](const auto& st, auto t) {
+        using C = typename std::decay_t<decltype(st)>::value_type;
+        const std::vector<Index>& r = tear.remove[decltype(t)::value];
+        if (!r.empty()) remove<C>(r, "tear", false);
+      });
+    }
+  }
+  if (!model_.colors_current) return;
+  if (torn) detail::lay_out_after_tear(model_);
+  else detail::note_layout(model_);
 }
 
 template <class Real>
@@ -377,10 +412,11 @@ template <class Real, class... C> auto members_of_each_type(std::tuple<C...>*) {
   template void World<Real>::set_time(double);                               \
   template std::vector<coloring::NamedStats> World<Real>::color_statistics(const coloring::Options&) const; \
   template void World<Real>::validate() const;                                                     \
-  template void World<Real>::remove<StretchConstraint<Real>>(std::span<const Index>, const char*); \
-  template void World<Real>::remove<AnchorConstraint<Real>>(std::span<const Index>, const char*);  \
-  template void World<Real>::remove<BendingConstraint<Real>>(std::span<const Index>, const char*); \
-  template void World<Real>::remove<AreaConstraint<Real>>(std::span<const Index>, const char*);    \
+  template void World<Real>::break_fibers();                                                       \
+  template void World<Real>::remove<StretchConstraint<Real>>(std::span<const Index>, const char*, bool); \
+  template void World<Real>::remove<AnchorConstraint<Real>>(std::span<const Index>, const char*, bool);  \
+  template void World<Real>::remove<BendingConstraint<Real>>(std::span<const Index>, const char*, bool); \
+  template void World<Real>::remove<AreaConstraint<Real>>(std::span<const Index>, const char*, bool);    \
   template auto members_of_each_type<Real>(BuiltinConstraintTypes<Real>*);
 PBD_EDIT_INSTANTIATE(float)
 PBD_EDIT_INSTANTIATE(double)

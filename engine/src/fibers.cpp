@@ -30,9 +30,11 @@ template <class Real> double strain_of(const FiberConstraint<Real>& c, const Rea
 template <class Real> double force_of(const Model<Real>& m, const State<Real>& s, const FiberConstraint<Real>& c, Index i) {
   const Stiffness& st = m.sets[c.set];
   const bool kept = st.mode == StiffnessMode::material || (st.mode == StiffnessMode::xpbd && st.compliance != 0.0);
-  const auto& lam = kFiber < s.lambda.size() ? s.lambda[kFiber] : std::vector<Real>{};
-  if (!kept || !(s.lambda_h2 > 0.0) || std::size_t(i) >= lam.size()) return std::numeric_limits<double>::quiet_NaN();
-  return -double(lam[i]) / s.lambda_h2;
+  // (by pointer: a conditional between the store's λ and an empty vector would copy all of them each call)
+  const std::vector<Real>* lam = kFiber < s.lambda.size() ? &s.lambda[kFiber] : nullptr;
+  if (!kept || !(s.lambda_h2 > 0.0) || !lam || std::size_t(i) >= lam->size())
+    return std::numeric_limits<double>::quiet_NaN();
+  return -double((*lam)[i]) / s.lambda_h2;
 }
 
 }  // namespace

@@ -76,15 +76,17 @@ std::vector<Index> groups_of(const Surface& s, std::span<const Index> fan, const
 }
 
 // Where each constraint touching a particle of `touched` is: (type, user index), per touched particle.
+// One pass over every store, each particle looked up in a table of the touched ones.
 template <class Real> struct Touching {
   std::vector<std::vector<std::pair<std::size_t, Index>>> at;
   Touching(const Model<Real>& m, const std::vector<Index>& touched) : at(touched.size()) {
+    constexpr Index kNone = ~Index(0);
+    std::vector<Index> slot(std::size_t(m.num_particles()), kNone);
+    for (std::size_t i = 0; i < touched.size(); ++i) slot[touched[i]] = Index(i);
     for_each_store(m.stores, [&](const auto& st, auto t) {
       for (Index u = 0; u < Index(st.size()); ++u)
-        for (Index p : st.at(u).particles) {
-          const auto it = std::lower_bound(touched.begin(), touched.end(), p);
-          if (it != touched.end() && *it == p) at[std::size_t(it - touched.begin())].push_back({decltype(t)::value, u});
-        }
+        for (Index p : st.at(u).particles)
+          if (slot[p] != kNone) at[slot[p]].push_back({decltype(t)::value, u});
     });
   }
 };
@@ -150,10 +152,13 @@ void split(Model<Real>& m, State<Real>& s, Surface& sf, std::span<const Index> f
 }
 
 // Of the edges `wanted` (lower particle first, sorted), those that still have a fiber or a stretch constraint: one
-// pass over the two stores, no sort of them.
+// pass over the two stores, no sort of them, searching only for constraints between two particles of wanted edges.
 template <class Real> std::vector<Edge> held_edges(const Model<Real>& m, const std::vector<Edge>& wanted) {
   std::vector<Edge> out;
+  std::vector<std::uint8_t> on(std::size_t(m.num_particles()), 0);  // a particle of a wanted edge
+  for (const Edge& e : wanted) on[e[0]] = on[e[1]] = 1;
   auto look = [&](Index a, Index b) {
+    if (!on[a] || !on[b]) return;
     const Edge e = edge(a, b);
     if (std::binary_search(wanted.begin(), wanted.end(), e)) out.push_back(e);
   };

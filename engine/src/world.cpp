@@ -8,7 +8,6 @@
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
 #include "fibers.hpp"
-#include "tear.hpp"
 #include "substep.hpp"
 
 #include <chrono>
@@ -177,31 +176,6 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   stats_.chebyshev_rho = params_.chebyshev.enabled ? double(rho) : 0.0;
   if (measure_violation_) stats_.violation = constraint_violations(*this);
   stats_.seconds = seconds_since(t0);
-}
-
-// After a step: the fibers at their rupture strain leave the model (fibers.hpp: find_breaks), reported by
-// last_breaks(). Removed as remove_constraints removes them, so the colors of the others are kept.
-template <class Real> void World<Real>::break_fibers() {
-  breaks_.clear();
-  copies_.clear();
-  if (model_.template store<FiberConstraint<Real>>().empty()) return;
-  breaks_ = detail::find_breaks(model_, state_, std::llround(state_.time / double(params_.dt)));
-  if (breaks_.empty()) return;
-  std::vector<Index> gone;
-  gone.reserve(breaks_.size());
-  for (const FiberBreak& b : breaks_) gone.push_back(b.fiber);
-  remove_constraints<FiberConstraint<Real>>(gone);
-  if (model_.surfaces.empty()) return;
-  detail::TearResult torn = detail::tear_surfaces(model_, state_, breaks_);
-  const bool changed = torn.changed();
-  copies_ = std::move(torn.copies);
-  if (!changed) return;
-  ++model_.edits;  // free bodies, the hierarchy: found again
-  detail::lay_out_after_tear(model_);
-  detail::for_each_store(model_.stores, [&](const auto& st, auto t) {
-    using C = typename std::decay_t<decltype(st)>::value_type;
-    if (!torn.remove[decltype(t)::value].empty()) remove_constraints<C>(torn.remove[decltype(t)::value]);
-  });
 }
 
 template <class Real> std::vector<FiberReading> World<Real>::fibers() const { return detail::read_fibers(model_, state_); }

@@ -258,7 +258,9 @@ public:
 private:
   void check_particle(Index i, const char* item, std::size_t index) const;  // throws naming "item index"
   void check_set(Index set, const char* item, std::size_t index) const;
-  template <class C> void remove(std::span<const Index> indices, const char* what);
+  // Removes the constraints of type C at `indices` (user indices); lay_out false leaves the colors' arrays to the
+  // caller, which lays them out once after several removals (break_fibers).
+  template <class C> void remove(std::span<const Index> indices, const char* what, bool lay_out = true);
   void ensure_colored();
   void break_fibers();
   void advance(const Real* forces);
