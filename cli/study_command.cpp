@@ -106,8 +106,8 @@ void add_study_command(CLI::App& app) {
                   "machine's cores)");
   cmd->add_option("--budgets", o->budgets,
                   "Comma-separated sweeps per step N; each runs every split S x I with S x I = N up to 8, and N x 1 "
-                  "above (default 1,2,4,8,16,32,64,128,256, up to 8 on scenes other than the generated ones; "
-                  "--quick 2,4)");
+                  "above (default 1,2,4,8,16,32,64,128,256, up to 8 on scenes other than the generated ones and those "
+                  "whose fibers have a curve; --quick 2,4)");
   cmd->add_option("--split", o->split, "SUBSTEPSxITERATIONS of --scaling (default 1x10)");
   cmd->add_option("--steps", o->steps, "Steps per run (default: each scene's own; --quick at most 20)")
       ->check(CLI::Range(1, 100000000));

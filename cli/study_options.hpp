@@ -62,8 +62,9 @@ struct StudyPlan {
   int max_steps = 0;                     ///< cap on each scene's own steps (0: none; --quick: 20)
   bool double_precision = false;         ///< World<double> instead of World<float>
   int repeats = 3;                       ///< timed runs per combination after one warm-up run
-  bool default_budgets = true;           ///< --budgets not given: scenes other than the generated ones stop at
-                                         ///< kOtherSceneBudget sweeps (their steps with contacts cost the most)
+  bool default_budgets = true;           ///< --budgets not given: scenes other than the generated ones and those
+                                         ///< whose fibers have a curve (their error needs ~100 sweeps a step) stop
+                                         ///< at kOtherSceneBudget sweeps (their steps with contacts cost the most)
   bool default_solvers = true;           ///< --solvers not given: one-thread solvers only where affordable, the
                                          ///< large cloths with the colored solver alone, variants without serial
   std::vector<std::string> variants;     ///< --variants (empty: every one that applies to each scene)

@@ -123,6 +123,8 @@ constexpr double kLongSampleSeconds = 0.25;
 // The errors of a state: each type's measure, and a quasi-static scene's error against its closed form.
 template <class Real> Errors state_errors(const World<Real>& world, const KnownAnswer& known) {
   Errors e = errors_of(constraint_violations(world));
+  if (known.kind == "curve")
+    for (const auto& [key, value] : curve_errors(world)) e[key] = value;
   if (!known.kind.empty())
     for (const auto& [key, value] : known_answer_errors(known, world.positions().template cast<double>()))
       e[key] = value;
@@ -204,7 +206,7 @@ template <class Real> struct Member {
 template <class Real>
 std::vector<double> error_runs(std::vector<Member<Real>>& members, const SceneInfo& info,
                                const std::function<void()>& progress) {
-  const KnownAnswer known = known_answer(info.base);
+  const KnownAnswer known = known_answer(info);
   std::map<std::string, std::size_t> runner;  // solver → the member that runs its errors
   for (std::size_t i = 0; i < members.size(); ++i) {
     const auto it = runner.find(members[i].c.solver.name);
@@ -223,7 +225,7 @@ std::vector<double> error_runs(std::vector<Member<Real>>& members, const SceneIn
     r.primary_error_final = primary_of(run.final, info.primary_error);
     r.energy_drift = run.drift;
     r.final_positions = run.positions;
-    if (!known.kind.empty()) {
+    if (known.settled_motion > 0.0) {  // a quasi-static scene: it must have settled
       r.settle_motion_mm = 1e3 * run.motion;
       r.settled = run.motion < known.settled_motion;
     }
@@ -385,6 +387,13 @@ SceneInfo scene_info(const Scene& scene, int steps, const std::string& base, con
     info.measures.push_back(measure_of(v.type).first);
   }
   for (const auto& [key, value] : known_answer_errors(known, world.positions())) info.measures.push_back(key);
+  if (known.kind.empty() && has_curve(world)) {  // fibers on a curve: judged by their forces on it, no reference
+    info.known_answer = "curve";
+    info.average_from = 1;
+    info.measures.push_back("curve_pct");
+    info.primary_error = "curve_pct";
+    return info;
+  }
   std::string primary = scene.primary_error == "penetration" ? "collision"
                         : scene.primary_error == "overlap"   ? "particle contact"
                                                              : scene.primary_error;
@@ -423,7 +432,7 @@ ReferenceRun reference_run(const Scene& scene, const SceneInfo& info, const Stud
     const std::vector<int> samples = sampled ? sample_steps(info.steps) : std::vector<int>();
     Rms step_change;
     std::optional<ReferenceSample> pending;  // a sample waiting for the positions after its step
-    const RunResult run = error_run(initial, info, known_answer(info.base), [&](int s, World<double>& world) {
+    const RunResult run = error_run(initial, info, known_answer(info), [&](int s, World<double>& world) {
       if (progress && s > 0) progress(s);
       if (pending) {
         pending->x_after = world.positions();

@@ -217,6 +217,55 @@ KnownAnswer known_answer(const std::string& name) {
   return a;
 }
 
+KnownAnswer known_answer(const SceneInfo& info) {
+  if (info.known_answer == "curve") return KnownAnswer{"curve"};
+  return known_answer(info.base);
+}
+
+namespace {
+
+const Material* curve_of(std::span<const Stiffness> sets, Index set) {
+  return sets[set].mode == StiffnessMode::material ? &sets[set].material : nullptr;
+}
+
+double force_scale(const Material& m) {
+  if (m.yield_strain < Material::kNever) return m.force(m.yield_strain);
+  if (m.rupture_strain < Material::kNever) return m.force(m.rupture_strain);
+  return m.stiffness;
+}
+
+}  // namespace
+
+template <class Real> bool has_curve(const World<Real>& world) {
+  for (const FiberConstraint<Real>& c : world.template constraints<FiberConstraint<Real>>())
+    if (curve_of(world.constraint_sets(), c.set)) return true;
+  return false;
+}
+
+template <class Real> Errors curve_errors(const World<Real>& world) {
+  const auto& fibers = world.template constraints<FiberConstraint<Real>>();
+  const std::vector<FiberReading> readings = world.fibers();
+  double sum2 = 0.0, max = 0.0;
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < fibers.size(); ++k) {
+    const Material* m = curve_of(world.constraint_sets(), fibers[k].set);
+    const FiberReading& r = readings[k];
+    if (!m || std::isnan(r.force)) continue;
+    const double e = 100.0 * std::abs(r.force - m->force(r.strain - r.plastic)) / force_scale(*m);
+    sum2 += e * e;
+    max = std::max(max, std::isfinite(e) ? e : INFINITY);
+    ++n;
+  }
+  Errors out;
+  out["curve_pct"] = {n ? std::sqrt(sum2 / double(n)) : 0.0, max};
+  return out;
+}
+
+template bool has_curve(const World<float>&);
+template bool has_curve(const World<double>&);
+template Errors curve_errors(const World<float>&);
+template Errors curve_errors(const World<double>&);
+
 Errors known_answer_errors(const KnownAnswer& a, const Matrix3X<double>& x) {
   Errors out;
   if (a.kind != "chain" || x.cols() < a.links + 1) return out;
@@ -235,7 +284,8 @@ Errors known_answer_errors(const KnownAnswer& a, const Matrix3X<double>& x) {
 }
 
 std::vector<ExtraMeasure> known_answer_measures() {
-  return {{"extension_pct", "link extension error", "% of alpha*T"}};
+  return {{"extension_pct", "link extension error", "% of alpha*T"},
+          {"curve_pct", "fiber force off its curve", "% of the yield force"}};
 }
 
 }  // namespace pbd::cli

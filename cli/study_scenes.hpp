@@ -9,6 +9,8 @@
 #include "scene_dir.hpp"
 #include "study_record.hpp"
 
+#include "pbd/world.hpp"
+
 #include <string>
 #include <vector>
 
@@ -46,7 +48,8 @@ void check_study_scene(const std::string& name_or_file);
 /// The closed-form answer of a quasi-static generated scene ("" kind: none): what its error is measured against,
 /// and from which step on it is averaged (the settled part of the run).
 struct KnownAnswer {
-  std::string kind;          ///< "rest" (cloth<N>-rest: stretch → 0), "chain" (chain30: extension α·T_k), or ""
+  std::string kind;          ///< "rest" (cloth<N>-rest: stretch → 0), "chain" (chain30: extension α·T_k), "curve"
+                             ///< (a scene with fibers on a stress–strain curve: their forces on it), or ""
   int links = 0;             ///< chain: links (the particles below the pin)
   double compliance = 0.0;   ///< chain: α, m/N
   double link_mass = 0.0;    ///< chain: mass of each particle, kg
@@ -57,6 +60,15 @@ struct KnownAnswer {
 
 /// The known answer of a scene by its name (kind "" for a scene that has none).
 KnownAnswer known_answer(const std::string& name);
+/// The known answer of a scene the study runs: its name's, or "curve" where scene_info found fibers on a curve.
+KnownAnswer known_answer(const SceneInfo& info);
+
+/// Whether `world` has fibers in a set with a stress–strain curve: its error is then the curve's (curve_errors).
+template <class Real> bool has_curve(const World<Real>& world);
+/// Each such fiber's tension (from λ, World::fibers) against its curve's force at its elastic strain, in % of its
+/// set's force scale (the force at yield, else at rupture, else at unit strain), as the measure "curve_pct" (RMS and
+/// maximum over the fibers that have a force; 0 when none is left). Before a step a fiber has no force.
+template <class Real> Errors curve_errors(const World<Real>& world);
 
 /// For a chain: each link's extension against α·T_k, in % of α·T_k (RMS and maximum over the links), as the
 /// measure "extension_pct"; nothing for other kinds. `x` holds the chain's particles first, the pin first.

@@ -103,7 +103,7 @@ std::vector<Task> plan_tasks(const StudyPlan& plan, const std::vector<StudyScene
     else
       for (int b : plan.budgets)
         if (!plan.default_budgets ||
-            ((b <= kOtherSceneBudget || is_generated_scene(info.base)) &&
+            ((b <= kOtherSceneBudget || is_generated_scene(info.base) || info.known_answer == "curve") &&
              (info.particles <= kLargeScene ||
               (b >= kLargeSceneFirstBudget && (info.variant == "plain" || b <= kLargeVariantLastBudget)))))
           for (Split s : splits_for(info, b)) splits.push_back(s);

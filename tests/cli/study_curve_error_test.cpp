@@ -1,0 +1,51 @@
+// The study's error for fibers on a curve (cli/study_scenes.hpp: curve_errors): each fiber's tension from λ against
+// its curve's force at its strain, in % of its set's force at yield.
+#include "study_scenes.hpp"
+
+#include <gtest/gtest.h>
+
+namespace pbd::cli {
+namespace {
+
+// One fiber of 1 cm from a pinned particle to a free one of 1 t (so that one step leaves it stretched), started at
+// 5% strain, no gravity: k = 1000 N, yield at 10% (F_y = 100 N).
+World<double> one_fiber() {
+  World<double> w;
+  w.add_particle({0, 0, 0}, World<double>::kPinned);
+  w.add_particle({0.0105, 0, 0}, 1e3);
+  Material m;
+  m.stiffness = 1000.0;
+  m.yield_strain = 0.1;
+  w.add_fiber(0, 1, w.add_constraint_set(Stiffness::fiber(m)), 0.01);
+  StepParams<double> p;
+  p.gravity.setZero();
+  p.iterations = 4;
+  w.set_params(p);
+  return w;
+}
+
+TEST(StudyCurveError, ASolvedFiberIsOnItsCurveAndOneMovedOffItIsOffByKTimesTheStrain) {
+  World<double> w = one_fiber();
+  EXPECT_TRUE(has_curve(w));
+  EXPECT_EQ(curve_errors(w).at("curve_pct").rms, 0.0);  // before a step a fiber has no force: nothing measured
+  w.step();
+  // One fiber is solved exactly in one projection: its tension is the curve's at its strain.
+  EXPECT_LT(curve_errors(w).at("curve_pct").max, 1e-9);
+  EXPECT_GT(w.fibers()[0].force, 40.0);
+  // 0.1 mm further: 1% more strain, 10 N more on the curve, and the same λ: 10% of F_y off.
+  w.positions()(0, 1) += 1e-4;
+  const ErrorValue e = curve_errors(w).at("curve_pct");
+  EXPECT_NEAR(e.rms, 10.0, 1e-6);
+  EXPECT_NEAR(e.max, 10.0, 1e-6);
+}
+
+TEST(StudyCurveError, AWorldWithoutACurveHasNone) {
+  World<double> w;
+  w.add_particle({0, 0, 0}, World<double>::kPinned);
+  w.add_particle({0.01, 0, 0}, 1e-3);
+  w.add_fiber(0, 1, w.add_constraint_set(Stiffness::xpbd_compliance(1e-6)));
+  EXPECT_FALSE(has_curve(w));
+}
+
+}  // namespace
+}  // namespace pbd::cli
