@@ -28,7 +28,7 @@ using pbd::Index;
 
 struct Options {
   int n = 300;            // particles per side
-  int steps = 60;         // steps of each world after the warm-up
+  int steps = 60;         // steps of each world (the first, which colors both, is left out of the figures)
   int substeps = 10;
   int iterations = 4;
   double speed = 0.3;     // m/s of the top row away from the bottom row
