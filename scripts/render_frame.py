@@ -72,7 +72,8 @@ def draw(ax, v, f, l, floor, spheres, centre, half):
                                              zorder=2))
     if len(l):
         ax.add_collection3d(Line3DCollection(v[l], colors=(0.2, 0.3, 0.6), linewidths=1.5, zorder=2))
-        ax.scatter(v[:, 0], v[:, 1], v[:, 2], s=4, color=(0.2, 0.3, 0.6), zorder=3)
+        ends = v[np.unique(l)]
+        ax.scatter(ends[:, 0], ends[:, 1], ends[:, 2], s=4, color=(0.2, 0.3, 0.6), zorder=3)
     if not len(f) and not len(l):
         ax.scatter(v[:, 0], v[:, 1], v[:, 2], s=4, zorder=2)
 
@@ -91,8 +92,11 @@ def main():
     frames, out = a.files[:-1], a.files[-1]
     meshes = [read_obj(p) for p in frames]
     floor, spheres = colliders(a.scene)
-    lo = np.min([m[0].min(axis=0) for m in meshes], axis=0)
-    hi = np.max([m[0].max(axis=0) for m in meshes], axis=0)
+    # The view holds what is drawn: a frame with triangles or lines, the particles on them (a torn body's loose
+    # particles, on neither, may fly far); else every particle.
+    drawn = [v[np.unique(np.r_[f.ravel(), l.ravel()])] if len(f) or len(l) else v for v, f, l in meshes]
+    lo = np.min([d.min(axis=0) for d in drawn], axis=0)
+    hi = np.max([d.max(axis=0) for d in drawn], axis=0)
     for c, r in spheres:
         lo, hi = np.minimum(lo, c - r), np.maximum(hi, c + r)
     if floor is not None:

@@ -9,6 +9,7 @@
 #include "solve/schedule.hpp"
 #include "fibers.hpp"
 #include "tear.hpp"
+#include "tear_cells.hpp"
 
 #include <pbd/graph_coloring/validate.hpp>
 
@@ -201,8 +202,9 @@ void World<Real>::remove(std::span<const Index> indices, const char* what, bool 
 }
 
 // After a step: the fibers at their rupture strain leave the model (fibers.hpp: find_breaks), reported by
-// last_breaks(); removed as remove_constraints removes them, so the colors of the others are kept. Surfaces are
-// torn along the broken edges (tear.hpp), which may remove more constraints. The arrays every color walks are
+// last_breaks(); removed as remove_constraints removes them, so the colors of the others are kept. The tets on a
+// broken fiber's two ends break with it (tear_cells.hpp); surfaces are torn along the broken edges (tear.hpp), which
+// may remove more constraints. The arrays every color walks are
 // laid out once, after all the removals: each layout is a pass over the whole model.
 template <class Real> void World<Real>::break_fibers() {
   breaks_.clear();
@@ -214,6 +216,12 @@ template <class Real> void World<Real>::break_fibers() {
   gone.reserve(breaks_.size());
   for (const FiberBreak& b : breaks_) gone.push_back(b.fiber);
   remove<FiberConstraint<Real>>(gone, "break fibers", false);
+  const auto cells = detail::cells_on_broken_fibers(model_, breaks_);
+  detail::for_each_store(model_.stores, [&](const auto& st, auto t) {
+    using C = typename std::decay_t<decltype(st)>::value_type;
+    const std::vector<Index>& r = cells[decltype(t)::value];
+    if (!r.empty()) remove<C>(r, "tear", false);
+  });
   bool torn = false;
   if (!model_.surfaces.empty()) {
     detail::TearResult tear = detail::tear_surfaces(model_, state_, breaks_);

@@ -1,6 +1,7 @@
 #include "pbd/io/frame_topology.hpp"
 
 #include "pbd/detail/message.hpp"
+#include "pbd/io/tet_mesh.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -65,6 +66,25 @@ template <class Real> void add_tets(const World<Real>& world, FrameTopology& t) 
   for (const auto& c : world.template constraints<TetVolumeConstraint<Real>>()) add(c.particles, {double(c.rest), {}});
 }
 
+// Drops from b the lines and fiber lines with both ends on its tets.
+void drop_lines_in_tets(FrameBody& b) {
+  std::vector<std::uint8_t> in_tet(std::size_t(b.num_particles), 0);
+  for (const auto& q : b.tets)
+    for (Index p : q) in_tet[p - b.first_particle] = 1;
+  auto keep = [&](std::vector<std::array<Index, 2>>& lines, std::vector<Index>& index) {
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      if (in_tet[lines[k][0] - b.first_particle] && in_tet[lines[k][1] - b.first_particle]) continue;
+      lines[kept] = lines[k];
+      index[kept++] = index[k];
+    }
+    lines.resize(kept);
+    index.resize(kept);
+  };
+  keep(b.lines, b.line_stretch);
+  keep(b.fiber_lines, b.line_fiber);
+}
+
 }  // namespace
 
 template <class Real>
@@ -96,6 +116,15 @@ FrameTopology frame_topology(const World<Real>& world, const std::vector<SceneBo
   check_frame_topology(t, world.num_particles(), "frame_topology");
   add_lines(world, t);
   add_tets(world, t);
+  // A body of tets draws the boundary of the tets it has now: the tets torn along broken fibers are gone
+  // (traits.hpp: breaks_with_fibers), and the crack's faces show. Before any tear that is the body's own boundary,
+  // in the same order (its triangles were made by tet_mesh_surface from the same tets, in the same order).
+  // Its stretch constraints and fibers along the tets' edges are drawn as the tets, not as lines.
+  for (FrameBody& b : t.bodies)
+    if (!b.tets.empty()) {
+      b.triangles = tet_mesh_surface(TetMesh{{}, b.tets});
+      drop_lines_in_tets(b);
+    }
   return t;
 }
 

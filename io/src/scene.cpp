@@ -304,7 +304,7 @@ TetMesh read_tet_mesh(const JsonObject& o, const DescriptionBuilder& world) {
 
 // A volumetric body: {"type": "tets", mesh (read_tet_mesh), "vertex_order", "origin", "scale", "density", "pinned": [...],
 // "clamped": face, "tet_volume": stiffness, "neo_hookean": {"young": E, "poisson": nu},
-// "shape_matching": {stiffness..., "beta": β}}.
+// "shape_matching": {stiffness..., "beta": β}, "stretch": stiffness or {"material": curve} on every edge}.
 Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
   TetMesh mesh = read_tet_mesh(o, world);
   const std::string order = o.has("vertex_order") ? o.string("vertex_order") : "mesh";
@@ -342,6 +342,7 @@ Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
   if (!sets.volume && !sets.neo_hookean && !sets.shape_match)
     o.fail("generator", "a tet body needs \"neo_hookean\", \"tet_volume\" or \"shape_matching\": without one "
                         "nothing holds it");
+  sets.stretch = read_stretch_set(o, world);  // on every edge: fibers when it has a curve (they tear the tets)
   try {
     return add_tet_body(world, mesh, opts, sets);
   } catch (const Error& e) {

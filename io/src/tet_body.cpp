@@ -88,6 +88,15 @@ Body add_tet_body(Target& world, const TetMesh& mesh, const TetBodyOptions& o, c
       world.add(c, kBeta);
     }
   }
+  if (sets.stretch) {
+    std::vector<std::array<Index, 2>> edges;
+    for (const auto& t : mesh.tets)
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) edges.push_back({std::min(t[i], t[j]), std::max(t[i], t[j])});
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    for (const auto& e : edges) add_edge(world, e[0] + body.first_particle, e[1] + body.first_particle, *sets.stretch);
+  }
   return body;
 }
 

@@ -306,6 +306,63 @@ def check_ligament(pbd, scene_dir, work):
               f"ligament step {step}: fiber_force {force[:3]}")
 
 
+def check_tet_tear(pbd, scene_dir, work):
+    """The tet-tear scene (a block of tets reinforced by fibers on every edge, torn by its grips): each frame draws
+    the tets that hold no broken fiber's two ends (`pbd run --breaks` up to its step) and, as its triangles, their
+    boundary (each a face of exactly one of them); by the end the tets left are in two pieces, one on each grip."""
+    out = os.path.join(work, "tet_tear")
+    shutil.rmtree(out, ignore_errors=True)
+    breaks = os.path.join(work, "tet_tear_breaks.csv")
+    scene_file = os.path.join(scene_dir, "tet-tear.json")
+    with open(scene_file) as f:
+        scene = json.load(f)
+    last = scene["steps"]
+    r = subprocess.run([pbd, "run", scene_file, "--frames", out, "--format", "vtu", "--every", str(last // 3),
+                        "--breaks", breaks], capture_output=True, text=True)
+    check(r.returncode == 0, f"tet-tear: exit {r.returncode}: {r.stderr}")
+    with open(breaks) as f:
+        rows = [line.split(",") for line in f.read().splitlines()[1:]]
+    broke = [(int(row[0]), int(row[4]), int(row[5])) for row in rows]
+    check(len(broke) > 0, "tet-tear: no fiber broke")
+    all_tets = None
+    for step in range(0, last + 1, last // 3):
+        (piece,), _ = read_pieces(os.path.join(out, f"tet-tear_{step:05d}.vtu"))
+        cells, types = piece["cells"], np.array(piece["types"])
+        tets = [tuple(c) for c, t in zip(cells, types) if t == 10]
+        triangles = [tuple(c) for c, t in zip(cells, types) if t == 5]
+        if all_tets is None:
+            all_tets = tets
+        gone = {tuple(sorted((a, b))) for s, a, b in broke if s <= step}
+        want = [t for t in all_tets if not any(tuple(sorted((t[i], t[j]))) in gone
+                                              for i in range(4) for j in range(i + 1, 4))]
+        check(tets == want, f"tet-tear step {step}: {len(tets)} tets drawn, {len(want)} hold no broken fiber")
+        faces = {}
+        for t in tets:
+            for face in ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)):
+                key = tuple(sorted(t[i] for i in face))
+                faces[key] = faces.get(key, 0) + 1
+        boundary = sorted(k for k, n in faces.items() if n == 1)
+        check(sorted(tuple(sorted(t)) for t in triangles) == boundary,
+              f"tet-tear step {step}: the triangles are not the boundary of the tets drawn")
+    parent = list(range(len(piece["points"])))
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+    for t in tets:
+        for p in t[1:]:
+            parent[find(p)] = find(t[0])
+    body = scene["bodies"][0]
+    left = {find(p) for p in body["grips"][0]["particles"]}
+    right = {find(p) for p in body["grips"][1]["particles"]}
+    check(len(left) == 1 and len(right) == 1 and left != right,
+          f"tet-tear: at step {last} the grips are in pieces {left} and {right}: not torn in two")
+    print(f"check_frames: tet-tear: {len(broke)} fibers broke, {len(all_tets) - len(tets)} of {len(all_tets)} tets "
+          f"went with them, torn in two")
+
+
 def main():
     if len(sys.argv) != 6:
         fail(__doc__)
@@ -315,6 +372,7 @@ def main():
         check_scene(pbd, scene, work)
     check_tet_scene(pbd, tet_scene, work)
     check_ligament(pbd, scene_dir, work)
+    check_tet_tear(pbd, scene_dir, work)
     # --every 2: steps 0 and 2 only, and the .pvd lists those two.
     out = os.path.join(work, "every")
     run(pbd, test_scene, out, "vtu", ["--every", "2"])

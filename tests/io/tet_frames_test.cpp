@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
@@ -227,6 +228,50 @@ TEST(TetFrames, ObjFrameOfATetBodyHasEveryParticleAndTheSurfaceTriangles) {
   EXPECT_EQ(v, 12u);
   EXPECT_EQ(f, body.triangles.size()) << "the boundary surface: OBJ has no volume cells";
   EXPECT_EQ(other, 0u);
+}
+
+// A tet body draws the boundary of the tets it has now: its own boundary, in its order, while every tet is there;
+// once the tets on an edge are gone (as a fiber that breaks takes them, engine/src/tear_cells.hpp), the boundary of
+// those left, the crack's faces with it. Its fibers along the tets' edges are drawn as the tets; a fiber left with
+// an end on no tet is a line.
+TEST(TetFrames, ATetBodyDrawsTheBoundaryOfTheTetsItHasNow) {
+  World<double> w;
+  TetConstraintSets sets;
+  sets.neo_hookean = w.add_constraint_set(Stiffness::xpbd_compliance(1e-6));
+  sets.ratio = 0.5;
+  Material m;
+  m.stiffness = 5.0;
+  sets.stretch = w.add_constraint_set(Stiffness::fiber(m));
+  const TetMesh mesh = tet_box_mesh({2, 1, 1}, {0.2, 0.1, 0.1});
+  const Body b = add_tet_body(w, mesh, TetBodyOptions{}, sets);
+  const std::vector<SceneBody> bodies{{"tets_0", b.first_particle, b.num_particles, b.triangles}};
+  const FrameTopology whole = frame_topology(w, bodies);
+  EXPECT_EQ(whole.bodies[0].triangles, b.triangles);
+  EXPECT_TRUE(whole.bodies[0].fiber_lines.empty());
+  // The tets holding particles 0 and 1 (an edge of the first cube) leave, as a break of the fiber there would take them.
+  std::vector<Index> gone;
+  std::vector<std::array<Index, 4>> left;
+  const auto tets = w.constraints<NeoHookeanConstraint<double>>();
+  for (Index k = 0; k < Index(tets.size()); ++k) {
+    const auto& q = tets[k].particles;
+    const bool on = std::count(q.begin(), q.end(), Index(0)) && std::count(q.begin(), q.end(), Index(1));
+    if (on) gone.push_back(k);
+    else left.push_back(q);
+  }
+  ASSERT_FALSE(gone.empty());
+  w.remove_constraints<NeoHookeanConstraint<double>>(gone);
+  const FrameTopology torn = frame_topology(w, bodies);
+  EXPECT_EQ(torn.bodies[0].tets, left);
+  EXPECT_EQ(torn.bodies[0].triangles, tet_mesh_surface(TetMesh{{}, left}));
+  EXPECT_NE(torn.bodies[0].triangles, b.triangles);
+  for (const auto& line : torn.bodies[0].fiber_lines) {  // drawn only with an end on no tet left
+    bool both = true;
+    for (Index p : line)
+      both = both && std::any_of(left.begin(), left.end(), [&](const auto& q) {
+               return std::count(q.begin(), q.end(), p) > 0;
+             });
+    EXPECT_FALSE(both) << line[0] << "-" << line[1];
+  }
 }
 
 }  // namespace

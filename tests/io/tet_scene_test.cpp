@@ -50,6 +50,32 @@ TEST(TetScene, ABoxBarIsBuiltWithItsTetsClampedFaceAndMasses) {
   EXPECT_NEAR(w.constraint_sets()[c.set].compliance, 2.6 / 1e6, 1e-18);
 }
 
+// "stretch" on a tet body: a constraint on every edge of its tets, each once (a cube of the box has 12 edges, 6
+// face diagonals and its long diagonal: 4 cells in a row share 4 x-faces of 4 edges and 1 diagonal each): stretch
+// constraints from a stiffness, fibers from a curve.
+TEST(TetScene, StretchOnATetBodyPutsOneConstraintOnEveryEdge) {
+  const std::size_t edges = 4 * 19 - 3 * 5;
+  const Scene plain = parse_scene(replaced(kBar, R"("tet_volume": {"compliance": 1e-9})",
+                                           R"("tet_volume": {"compliance": 1e-9}, "stretch": {"compliance": 0})"),
+                                  "bar.json");
+  const World<double> a = build_world<double>(plain.world);
+  EXPECT_EQ(a.constraints<StretchConstraint<double>>().size(), edges);
+  EXPECT_EQ(a.constraints<FiberConstraint<double>>().size(), 0u);
+  const Scene fibers = parse_scene(
+      replaced(kBar, R"("tet_volume": {"compliance": 1e-9})",
+               R"("tet_volume": {"compliance": 1e-9}, "stretch": {"material": {"stiffness": 5, "rupture_strain": 0.2}})"),
+      "bar.json");
+  const World<double> b = build_world<double>(fibers.world);
+  ASSERT_EQ(b.constraints<FiberConstraint<double>>().size(), edges);
+  std::vector<std::array<Index, 2>> seen;
+  for (const auto& c : b.constraints<FiberConstraint<double>>()) {
+    EXPECT_LT(c.particles[0], c.particles[1]);
+    seen.push_back(c.particles);
+  }
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_EQ(std::adjacent_find(seen.begin(), seen.end()), seen.end());
+}
+
 // A tet body's contact body: its inner particles (on none of its boundary faces) are points (ContactBody::interior),
 // so it touches other bodies and itself through its surface only: in a box of 4 × 2 × 2 cells, the 3 vertices off
 // every face.

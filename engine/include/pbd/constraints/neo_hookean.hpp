@@ -56,6 +56,7 @@ template <class Real> struct NeoHookeanConstraint {
   static constexpr int kArity = 4;                     ///< particles per constraint
   static constexpr bool kInequality = false;           ///< an equality
   static constexpr int kMultipliers = 2;               ///< λ_D, λ_H: the coupled solve above
+  static constexpr bool kBreaksWithFibers = true;      ///< torn when a fiber along an edge breaks (traits.hpp)
   static constexpr bool kColoredInteriors = true;      ///< block solver: interiors color by color (traits.hpp)
   static constexpr const char* kNoun = "Neo-Hookean tet";                            ///< the item in messages
   static constexpr std::array<const char*, 4> kParticleNames{"p0", "p1", "p2", "p3"};  ///< argument names (Python)

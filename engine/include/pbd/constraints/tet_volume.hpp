@@ -25,6 +25,7 @@ template <class Real> struct TetVolumeConstraint {
   static constexpr const char* kSceneKey = "tet_volume";    ///< a tet body's key: one on each of its tets
   static constexpr SceneForm kSceneForm = SceneForm::mesh;  ///< made by the body's generator
   static constexpr bool kTiesToWorld = false;               ///< between four particles
+  static constexpr bool kBreaksWithFibers = true;           ///< torn when a fiber along an edge breaks (traits.hpp)
   static constexpr bool kColoredInteriors = true;           ///< block solver: interiors color by color (traits.hpp)
   static constexpr Measure kMeasure{"tet_volume_pct", "tet volume error", "%", 100.0};  ///< |V − V0| / V0, in %
   std::array<Index, 4> particles;  ///< the corners p0..p3, positively oriented at rest

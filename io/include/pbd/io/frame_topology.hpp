@@ -57,6 +57,9 @@ struct FrameTopology {
 ///
 /// A body whose triangles are a surface that tears (SceneBody::surface) draws them as they are now; once a tear has
 /// added particles (past every body), the frame is one body "world" holding every particle and every triangle.
+/// A body with tets draws as its triangles the boundary of the tets it has now (tet_mesh_surface): the same as its
+/// own until fibers along its edges tear some tets away (constraints/traits.hpp: breaks_with_fibers). Its lines and
+/// fiber lines with both ends on its tets (a tet body's edges) are drawn as the tets, not as lines.
 template <class Real>
 FrameTopology frame_topology(const World<Real>& world, const std::vector<SceneBody>& bodies);
 

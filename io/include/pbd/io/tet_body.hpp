@@ -18,6 +18,9 @@ struct TetConstraintSets {
   double ratio = 0.0;                ///< μ/λ of the Neo-Hookean tets (NeoHookeanMaterial::ratio)
   std::optional<Index> shape_match;  ///< shape matching on every vertex's cluster (shape_match_clusters.hpp)
   double beta = 0.0;                 ///< its mode: 0 rigid, up to 1 linear (constraints/shape_match.hpp)
+  /// A constraint on every edge of the tets (add_edge: a fiber when the set has a stress–strain curve, else a
+  /// stretch constraint). Fibers tear the tets they run along when they break (traits.hpp: breaks_with_fibers).
+  std::optional<Index> stretch;
 };
 
 /// Where the body goes and how heavy it is.
@@ -33,7 +36,8 @@ struct TetBodyOptions {
 std::vector<Index> tet_mesh_face_vertices(const TetMesh& mesh, int axis, bool max);
 
 /// Adds the mesh's vertices as particles and a constraint of each requested kind on every tet (volume first, then
-/// Neo-Hookean, each in tet order), then a shape-matching cluster per vertex if asked. Checks first (check_tet_mesh with source "add_tet_body", every vertex on some
+/// Neo-Hookean, each in tet order), then a shape-matching cluster per vertex if asked, then one on each edge (edges
+/// in increasing order of their two vertices) if asked. Checks first (check_tet_mesh with source "add_tet_body", every vertex on some
 /// tet, options, pinned indices), so a bad mesh adds nothing. Returns the body with its boundary triangles
 /// (tet_mesh_surface) in world indices.
 template <class Target>
