@@ -122,7 +122,8 @@ template <class Real> void bind_tet_body(py::module_& m, const char* name) {
       "add_tet_body",
       [](W& w, const TetMesh& mesh, const std::optional<NeoHookeanMaterial>& neo_hookean,
          const std::optional<Stiffness>& tet_volume, double density, double scale, const std::array<double, 3>& origin,
-         const std::vector<std::int64_t>& pinned, const std::optional<std::string>& clamped) {
+         const std::vector<std::int64_t>& pinned, const std::optional<std::string>& clamped,
+         const std::optional<Stiffness>& stretch) {
         World<Real>& world = w.get("add_tet_body");
         w.check_no_views("add_tet_body");
         if (!neo_hookean && !tet_volume)
@@ -141,6 +142,7 @@ template <class Real> void bind_tet_body(py::module_& m, const char* name) {
         }
         // Everything checked before anything is added (the design note above).
         if (tet_volume) check_stiffness(*tet_volume, "add_tet_body: tet_volume");
+        if (stretch) check_stiffness(*stretch, "add_tet_body: stretch");
         TetConstraintSets sets;
         if (neo_hookean) {
           check_stiffness(Stiffness::xpbd_compliance(neo_hookean->compliance()), "add_tet_body: neo_hookean");
@@ -154,12 +156,14 @@ template <class Real> void bind_tet_body(py::module_& m, const char* name) {
         if (tet_volume) sets.volume = world.add_constraint_set(*tet_volume);
         if (neo_hookean)
           sets.neo_hookean = world.add_constraint_set(Stiffness::xpbd_compliance(neo_hookean->compliance()));
+        if (stretch) sets.stretch = world.add_constraint_set(*stretch);
         return add_tet_body(world, mesh, options, sets);
       },
       py::arg("mesh"), py::kw_only(), py::arg("neo_hookean") = py::none(), py::arg("tet_volume") = py::none(),
       py::arg("density") = 1000.0, py::arg("scale") = 1.0,
       py::arg_v("origin", std::array<double, 3>{0.0, 0.0, 0.0}, "(0.0, 0.0, 0.0)"),
       py::arg_v("pinned", std::vector<std::int64_t>{}, "()"), py::arg("clamped") = py::none(),
+      py::arg("stretch") = py::none(),
       "Adds a TetMesh as a volumetric body and returns it (Body: first_particle, num_particles, its boundary "
       "triangles in world indices). Its vertices, scaled by `scale` and moved by `origin` (m), become particles "
       "with lumped masses (each tet gives density x volume / 4 kg to each corner; density in kg/m^3); `pinned` "
@@ -168,7 +172,9 @@ template <class Real> void bind_tet_body(py::module_& m, const char* name) {
       "scene's \"tets\" body makes them: tet_volume=Stiffness puts a tet volume constraint on every tet in a new set "
       "of that stiffness; neo_hookean=NeoHookeanMaterial (e.g. young_poisson(E, nu)) puts a Neo-Hookean tet on every "
       "tet in a new set of Stiffness.xpbd_compliance(material.compliance()), each tet's ratio = material.ratio(). "
-      "At least one is needed. Everything is checked first, so a bad argument raises pbd.Error and adds nothing.");
+      "At least one is needed. stretch=Stiffness puts one on every tet edge in a new set, after them: fibers when it "
+      "is Stiffness.fiber(material), which tear the tets (a fiber that breaks takes the tets holding both its ends), "
+      "else stretch constraints. Everything is checked first, so a bad argument raises pbd.Error and adds nothing.");
 }
 
 }  // namespace

@@ -232,6 +232,34 @@ def test_total_mass_is_density_times_volume():
     assert math.isclose((1 / w.inverse_masses()).sum(), 800.0 * 0.3 * 0.2 * 0.2 * 8)
 
 
+def test_fibers_on_the_edges_tear_the_tets(world_type):
+    """stretch=Stiffness.fiber(material): a fiber on every tet edge (4 cubes in a row: 4 x 19 edges, 3 x 5 shared);
+    its far end pinned and moving away, fibers break and take tets with them; no particle is added or changed."""
+    mesh = pbd.tet_box_mesh((4, 1, 1), (0.04, 0.01, 0.01))
+    w = world_type()
+    far = [i for i in range(mesh.num_vertices) if mesh.positions[i, 0] > 0.039]
+    body = w.add_tet_body(mesh, neo_hookean=pbd.young_poisson(1e4, 0.3), clamped="x_min", pinned=far,
+                          stretch=pbd.Stiffness.fiber(pbd.Material(20.0, rupture_strain=0.1)))
+    fibers = w.fibers()
+    assert len(fibers["strain"]) == 4 * 19 - 3 * 5 and pbd.neo_hookean_violation(w).count == 24
+    end = [body.first_particle + i for i in far]
+    v = w.velocities()
+    v[end] = (0.5, 0.0, 0.0)
+    m = w.inverse_masses()
+    del v
+    p = w.params
+    p.dt, p.gravity = 1e-3, (0.0, 0.0, 0.0)
+    w.params = p
+    broken = []
+    for _ in range(40):
+        w.step()
+        broken += w.last_breaks()
+    assert broken and len(w.fibers()["strain"]) == 61 - len(broken)
+    assert pbd.neo_hookean_violation(w).count < 24
+    assert np.array_equal(w.inverse_masses(), m) and w.num_particles == body.num_particles
+    w.validate()
+
+
 @pytest.mark.parametrize("kwargs, error, message", [
     ({}, pbd.Error, "add_tet_body: a tet body needs neo_hookean or tet_volume"),
     ({"tet_volume": pbd.Stiffness.pbd_k(1.5)}, pbd.Error, r"add_tet_body: tet_volume: stiffness k must be in \[0, 1\]"),
@@ -241,6 +269,7 @@ def test_total_mass_is_density_times_volume():
     ({"density": 0.0}, pbd.Error, "add_tet_body: density must be finite and > 0"),
     ({"scale": -1.0}, pbd.Error, "add_tet_body: scale must be finite and > 0"),
     ({"origin": (0.0, math.inf, 0.0)}, pbd.Error, "add_tet_body: origin must be finite"),
+    ({"stretch": pbd.Stiffness.pbd_k(2.0)}, pbd.Error, r"add_tet_body: stretch: stiffness k must be in \[0, 1\]"),
 ])
 def test_bad_bodies_raise_and_add_nothing(world_type, kwargs, error, message):
     mesh = pbd.tet_box_mesh((2, 1, 1), (1.0, 0.5, 0.5))
@@ -273,7 +302,8 @@ def test_a_live_view_refuses_a_body(world_type):
     (pbd.World.add_tet_body,
      "add_tet_body(self: pbd.World, mesh: pbd.TetMesh, *, neo_hookean: Optional[pbd.NeoHookeanMaterial] = None, "
      "tet_volume: Optional[pbd.Stiffness] = None, density: float = 1000.0, scale: float = 1.0, "
-     "origin: List[float[3]] = (0.0, 0.0, 0.0), pinned: List[int] = (), clamped: Optional[str] = None) -> pbd.Body"),
+     "origin: List[float[3]] = (0.0, 0.0, 0.0), pinned: List[int] = (), clamped: Optional[str] = None, "
+     "stretch: Optional[pbd.Stiffness] = None) -> pbd.Body"),
     (pbd.WorldDouble.add_tet_body, "add_tet_body(self: pbd.WorldDouble, mesh: pbd.TetMesh, *, neo_hookean: "),
     (pbd.TetMesh.__init__, "__init__(self: pbd.TetMesh, positions: numpy.ndarray[numpy.float64[n, 3]], "
                            "tets: numpy.ndarray[numpy.int64[m, 4]]) -> None"),
