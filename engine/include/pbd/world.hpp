@@ -195,7 +195,8 @@ public:
   void set_force_callback(ForceCallback callback) { force_callback_ = std::move(callback); }
   /// The fibers the last step() broke (empty if none), in the order of their indices just before: each reached
   /// its set's rupture strain at the step's end and has left the model (as remove_constraints<FiberConstraint>
-  /// removes, so later fibers' indices moved down).
+  /// removes, so later fibers' indices moved down). The constraints of a type that breaks with fibers (the tet
+  /// types: constraints/traits.hpp) holding both ends of one of them left with it.
   std::span<const FiberBreak> last_breaks() const { return breaks_; }
   /// Adds a surface that tears (engine/src/tear.hpp): when fibers on its edges break, the particles along the cut
   /// are copied, one copy for each side, so that the surface separates; v's mass is split between the sides by

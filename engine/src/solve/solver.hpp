@@ -57,8 +57,9 @@
 // every fiber whose total strain has reached its set's rupture strain breaks (World::last_breaks): all are judged on
 // the step's final positions, so which break depends neither on their order nor on the thread count, and they leave
 // the model as remove_constraints removes (the others keep their colors; λ moves with them, so the forces read after
-// the step stay right). Then each surface that tears (World::add_surface) is cut along them and the particles each
-// cut separates are copied (engine/src/tear.hpp), the other constraints keeping their colors. Everything runs in
+// the step stay right). The tets holding both ends of a broken fiber break with it (engine/src/tear_cells.hpp). Then
+// each surface that tears (World::add_surface) is cut along them and the particles each cut separates are copied
+// (engine/src/tear.hpp), the other constraints keeping their colors. Everything runs in
 // the caller's tbb::task_arena, so a host decides the thread count.
 #include "pbd/step_params.hpp"
 #include "pbd/detail/model.hpp"

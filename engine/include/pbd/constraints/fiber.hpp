@@ -6,7 +6,8 @@
 ///
 /// What a step does with fibers (engine/src/solve/solver.hpp): each projection is the force-law one of
 /// material.hpp; after each sub-step's sweeps the plastic strains flow (engine/src/fibers.hpp); after the step the
-/// fibers strained to their rupture strain break and leave the model (World::last_breaks). The plastic strain is a
+/// fibers strained to their rupture strain break and leave the model (World::last_breaks), with the tets holding
+/// both their ends (traits.hpp: breaks_with_fibers), and surfaces tear along them. The plastic strain is a
 /// rest value, so a world described with its fibers (pbd::io) is rebuilt with the rest lengths they have grown to.
 #include "pbd/constraints/traits.hpp"
 #include "pbd/stiffness.hpp"
