@@ -4,6 +4,7 @@
 #include "pbd/io/tet_body.hpp"
 #include "pbd/io/tet_mesh.hpp"
 #include "pbd/world.hpp"
+#include "pieces.hpp"
 #include "world_runs.hpp"
 
 #include <gtest/gtest.h>
@@ -66,20 +67,7 @@ bool holds(const Tet& t, Index a, Index b) {
   return std::find(t.begin(), t.end(), a) != t.end() && std::find(t.begin(), t.end(), b) != t.end();
 }
 
-// Pieces of a set of tets: joined through shared particles.
-std::size_t pieces(const std::set<Tet>& tets, Index particles) {
-  std::vector<Index> parent(particles);
-  std::iota(parent.begin(), parent.end(), Index(0));
-  auto find = [&](Index i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (const Tet& t : tets)
-    for (int k = 1; k < 4; ++k) parent[find(t[k])] = find(t[0]);
-  std::set<Index> roots;
-  for (const Tet& t : tets) roots.insert(find(t[0]));
-  return roots.size();
-}
+using test::pieces;
 
 // Each step, the tets that left the model are exactly those that held both ends of a fiber the step broke: both
 // tet types of each, and no other constraint than the broken fibers (the fibers along the torn tets' other edges

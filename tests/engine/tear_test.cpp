@@ -5,6 +5,7 @@
 #include "pbd/io/describe_world.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
+#include "pieces.hpp"
 #include "world_runs.hpp"
 
 #include <gtest/gtest.h>
@@ -60,22 +61,7 @@ struct TearCloth {
   }
 };
 
-// Pieces of a surface: its triangles joined through shared particles.
-std::size_t pieces(std::span<const std::array<Index, 3>> tris, Index particles) {
-  std::vector<Index> parent(particles);
-  std::iota(parent.begin(), parent.end(), Index(0));
-  auto find = [&](Index i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (const auto& t : tris) {
-    parent[find(t[1])] = find(t[0]);
-    parent[find(t[2])] = find(t[0]);
-  }
-  std::set<Index> roots;
-  for (const auto& t : tris) roots.insert(find(t[0]));
-  return roots.size();
-}
+using test::pieces;
 
 TEST(Tear, APulledClothSeparatesAlongItsBrokenFibersUnderEverySolver) {
   for (Solver solver : kSolvers) {
