@@ -224,10 +224,6 @@ KnownAnswer known_answer(const SceneInfo& info) {
 
 namespace {
 
-const Material* curve_of(std::span<const Stiffness> sets, Index set) {
-  return sets[set].mode == StiffnessMode::material ? &sets[set].material : nullptr;
-}
-
 double force_scale(const Material& m) {
   if (m.yield_strain < Material::kNever) return m.force(m.yield_strain);
   if (m.rupture_strain < Material::kNever) return m.force(m.rupture_strain);
@@ -238,7 +234,7 @@ double force_scale(const Material& m) {
 
 template <class Real> bool has_curve(const World<Real>& world) {
   for (const FiberConstraint<Real>& c : world.template constraints<FiberConstraint<Real>>())
-    if (curve_of(world.constraint_sets(), c.set)) return true;
+    if (world.constraint_sets()[c.set].curve()) return true;
   return false;
 }
 
@@ -248,7 +244,7 @@ template <class Real> Errors curve_errors(const World<Real>& world) {
   double sum2 = 0.0, max = 0.0;
   std::size_t n = 0;
   for (std::size_t k = 0; k < fibers.size(); ++k) {
-    const Material* m = curve_of(world.constraint_sets(), fibers[k].set);
+    const Material* m = world.constraint_sets()[fibers[k].set].curve();
     const FiberReading& r = readings[k];
     if (!m || std::isnan(r.force)) continue;
     const double e = 100.0 * std::abs(r.force - m->force(r.strain - r.plastic)) / force_scale(*m);

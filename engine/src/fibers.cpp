@@ -13,11 +13,6 @@ template <class Real> const Store<FiberConstraint<Real>>& fibers_of(const Model<
   return m.template store<FiberConstraint<Real>>();
 }
 
-// The curve of set s, or nullptr when the set has none.
-inline const Material* curve(const std::vector<Stiffness>& sets, Index s) {
-  return sets[s].mode == StiffnessMode::material ? &sets[s].material : nullptr;
-}
-
 // Total strain of fiber c at positions x (3 per particle).
 template <class Real> double strain_of(const FiberConstraint<Real>& c, const Real* x) {
   const Real* a = x + 3 * std::size_t(c.particles[0]);
@@ -48,7 +43,7 @@ template <class Real> bool fibers_flow(const Model<Real>& m) {
 
 template <class Real> void flow_fibers(Model<Real>& m, const Real* p) {
   for (FiberConstraint<Real>& c : m.template store<FiberConstraint<Real>>().items) {
-    const Material* curve_of = curve(m.sets, c.set);
+    const Material* curve_of = m.sets[c.set].curve();
     if (!curve_of) continue;
     c.plastic = Real(curve_of->plastic_after(strain_of(c, p), double(c.plastic)));
   }
@@ -60,7 +55,7 @@ template <class Real> std::vector<FiberBreak> find_breaks(const Model<Real>& m, 
   const Real* x = s.x.data();
   for (Index u = 0; u < Index(st.size()); ++u) {
     const FiberConstraint<Real>& c = st.at(u);
-    const Material* curve_of = curve(m.sets, c.set);
+    const Material* curve_of = m.sets[c.set].curve();
     if (!curve_of || !(curve_of->rupture_strain < Material::kNever)) continue;
     const double strain = strain_of(c, x);
     if (!(strain >= curve_of->rupture_strain)) continue;

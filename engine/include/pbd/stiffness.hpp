@@ -28,6 +28,8 @@ struct Stiffness {
   static Stiffness iteration_independent(double k) { return {StiffnessMode::pbd_iteration_independent, k, 0.0}; }  ///< k'
   static Stiffness xpbd_compliance(double a) { return {StiffnessMode::xpbd, 1.0, a}; }          ///< XPBD with α
   static Stiffness fiber(const Material& m) { return {StiffnessMode::material, 1.0, 0.0, m}; }    ///< a material
+  /// Its stress–strain curve, or nullptr when it has none (not a material set).
+  const Material* curve() const { return mode == StiffnessMode::material ? &material : nullptr; }
 };
 
 /// Per-(sub)step coefficients of one constraint set as the projection uses them:
