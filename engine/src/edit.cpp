@@ -204,8 +204,8 @@ void World<Real>::remove(std::span<const Index> indices, const char* what, bool 
 // After a step: the fibers at their rupture strain leave the model (fibers.hpp: find_breaks), reported by
 // last_breaks(); removed as remove_constraints removes them, so the colors of the others are kept. The tets on a
 // broken fiber's two ends break with it (tear_cells.hpp); surfaces are torn along the broken edges (tear.hpp), which
-// may remove more constraints. The arrays every color walks are
-// laid out once, after all the removals: each layout is a pass over the whole model.
+// may remove more constraints. The arrays every color walks are laid out once, after all the removals: each layout
+// is a pass over the whole model.
 template <class Real> void World<Real>::break_fibers() {
   breaks_.clear();
   copies_.clear();
@@ -216,12 +216,15 @@ template <class Real> void World<Real>::break_fibers() {
   gone.reserve(breaks_.size());
   for (const FiberBreak& b : breaks_) gone.push_back(b.fiber);
   remove<FiberConstraint<Real>>(gone, "break fibers", false);
-  const auto cells = detail::cells_on_broken_fibers(model_, breaks_);
-  detail::for_each_store(model_.stores, [&](const auto& st, auto t) {
-    using C = typename std::decay_t<decltype(st)>::value_type;
-    const std::vector<Index>& r = cells[decltype(t)::value];
-    if (!r.empty()) remove<C>(r, "tear", false);
-  });
+  // Per built-in type, the constraints a tear takes (user indices, ascending), laid out later.
+  auto remove_torn = [&](const std::array<std::vector<Index>, kNumBuiltinTypes>& torn_ones) {
+    detail::for_each_store(model_.stores, [&](const auto& st, auto t) {
+      using C = typename std::decay_t<decltype(st)>::value_type;
+      const std::vector<Index>& r = torn_ones[decltype(t)::value];
+      if (!r.empty()) remove<C>(r, "tear", false);
+    });
+  };
+  remove_torn(detail::cells_on_broken_fibers(model_, breaks_));
   bool torn = false;
   if (!model_.surfaces.empty()) {
     detail::TearResult tear = detail::tear_surfaces(model_, state_, breaks_);
@@ -229,11 +232,7 @@ template <class Real> void World<Real>::break_fibers() {
     copies_ = std::move(tear.copies);
     if (torn) {
       ++model_.edits;  // free bodies, the hierarchy: found again
-      detail::for_each_store(model_.stores, [&](const auto& st, auto t) {
-        using C = typename std::decay_t<decltype(st)>::value_type;
-        const std::vector<Index>& r = tear.remove[decltype(t)::value];
-        if (!r.empty()) remove<C>(r, "tear", false);
-      });
+      remove_torn(tear.remove);
     }
   }
   if (!model_.colors_current) return;
