@@ -64,12 +64,18 @@ void stats_row(std::ostringstream& csv, int step, double time, const StepStats& 
 }
 
 // One CSV row per fiber a step broke (the header is kBreaksHeader): World::last_breaks.
-constexpr const char* kBreaksHeader = "step,time_s,fiber,set,particle_a,particle_b,strain,force_n\n";
+// A fiber's row leaves particle_c and particle_d empty; its force is in N, a tet fiber's (a stress) in Pa.
+constexpr const char* kBreaksHeader =
+    "step,time_s,type,index,set,particle_a,particle_b,particle_c,particle_d,strain,force,force_unit\n";
 void break_rows(std::ostringstream& csv, std::span<const FiberBreak> breaks) {
   for (const FiberBreak& b : breaks) {
-    char line[200];
-    std::snprintf(line, sizeof line, "%lld,%.9g,%u,%u,%u,%u,%.9g,%.9g\n", static_cast<long long>(b.step), b.time,
-                  unsigned(b.fiber), unsigned(b.set), unsigned(b.a), unsigned(b.b), b.strain, b.force);
+    char line[300];
+    int n = std::snprintf(line, sizeof line, "%lld,%.9g,%s,%u,%u", static_cast<long long>(b.step), b.time, b.type,
+                          unsigned(b.fiber), unsigned(b.set));
+    for (std::size_t i = 0; i < 4; ++i)
+      n += i < std::size_t(b.arity) ? std::snprintf(line + n, sizeof line - std::size_t(n), ",%u", unsigned(b.particles[i]))
+                                    : std::snprintf(line + n, sizeof line - std::size_t(n), ",");
+    std::snprintf(line + n, sizeof line - std::size_t(n), ",%.9g,%.9g,%s\n", b.strain, b.force, b.arity == 2 ? "N" : "Pa");
     csv << line;
   }
 }

@@ -66,19 +66,28 @@ void bind_params(py::module_& m) {
         return o.str();
       });
 
-  py::class_<FiberBreak>(m, "FiberBreak", "A fiber a step broke: it reached its set's rupture strain.")
+  py::class_<FiberBreak>(m, "FiberBreak", "A fiber or tet fiber a step broke: it reached its set's rupture strain.")
       .def_readonly("step", &FiberBreak::step, "the world's step count after that step")
       .def_readonly("time", &FiberBreak::time, "the world's time after that step, s")
-      .def_readonly("fiber", &FiberBreak::fiber, "its index among the fibers just before it was removed")
+      .def_property_readonly("type", [](const FiberBreak& x) { return std::string(x.type); },
+                             "its constraint type: 'fiber' or 'tet_fiber'")
+      .def_readonly("fiber", &FiberBreak::fiber, "its index among the constraints of its type just before it was removed")
       .def_readonly("set", &FiberBreak::set, "its constraint set")
-      .def_readonly("a", &FiberBreak::a, "its first particle")
-      .def_readonly("b", &FiberBreak::b, "its second particle")
+      .def_property_readonly("particles",
+                             [](const FiberBreak& x) {
+                               return std::vector<Index>(x.particles.begin(), x.particles.begin() + x.arity);
+                             },
+                             "its particles (2 for a fiber, 4 for a tet fiber)")
+      .def_property_readonly("a", [](const FiberBreak& x) { return x.particles[0]; }, "its first particle")
+      .def_property_readonly("b", [](const FiberBreak& x) { return x.particles[1]; }, "its second particle")
       .def_readonly("strain", &FiberBreak::strain, "its total strain at the break")
-      .def_readonly("force", &FiberBreak::force, "the tension it carried at the break, N")
+      .def_readonly("force", &FiberBreak::force,
+                    "what it carried at the break: a fiber's tension in N, a tet fiber's stress in Pa")
       .def("__repr__", [](const FiberBreak& x) {
         std::ostringstream o;
-        o << "pbd.FiberBreak(step=" << x.step << ", fiber=" << x.fiber << ", particles=(" << x.a << ", " << x.b
-          << "), strain=" << x.strain << ", force=" << x.force << ")";
+        o << "pbd.FiberBreak(step=" << x.step << ", type='" << x.type << "', fiber=" << x.fiber << ", particles=(";
+        for (int i = 0; i < x.arity; ++i) o << (i ? ", " : "") << x.particles[std::size_t(i)];
+        o << "), strain=" << x.strain << ", force=" << x.force << ")";
         return o.str();
       });
 

@@ -123,7 +123,8 @@ template <class Real> void bind_tet_body(py::module_& m, const char* name) {
       [](W& w, const TetMesh& mesh, const std::optional<NeoHookeanMaterial>& neo_hookean,
          const std::optional<Stiffness>& tet_volume, double density, double scale, const std::array<double, 3>& origin,
          const std::vector<std::int64_t>& pinned, const std::optional<std::string>& clamped,
-         const std::optional<Stiffness>& stretch) {
+         const std::optional<Stiffness>& stretch, const std::optional<Stiffness>& tet_fibers,
+         const std::array<double, 3>& fiber_direction) {
         World<Real>& world = w.get("add_tet_body");
         w.check_no_views("add_tet_body");
         if (!neo_hookean && !tet_volume)
@@ -143,7 +144,9 @@ template <class Real> void bind_tet_body(py::module_& m, const char* name) {
         // Everything checked before anything is added (the design note above).
         if (tet_volume) check_stiffness(*tet_volume, "add_tet_body: tet_volume");
         if (stretch) check_stiffness(*stretch, "add_tet_body: stretch");
+        if (tet_fibers) check_stiffness(*tet_fibers, "add_tet_body: tet_fibers");
         TetConstraintSets sets;
+        sets.direction = fiber_direction;
         if (neo_hookean) {
           check_stiffness(Stiffness::xpbd_compliance(neo_hookean->compliance()), "add_tet_body: neo_hookean");
           sets.ratio = neo_hookean->ratio();
@@ -151,19 +154,24 @@ template <class Real> void bind_tet_body(py::module_& m, const char* name) {
             throw Error(detail::message("add_tet_body: ratio mu/lambda must be finite and >= 0, got ", sets.ratio));
         }
         DescriptionBuilder dry;
-        add_tet_body(dry, mesh, options, TetConstraintSets{});
+        TetConstraintSets direction_only;  // with the tet fibers, so that their direction is checked too
+        direction_only.direction = fiber_direction;
+        if (tet_fibers) direction_only.fibers = dry.add_constraint_set(*tet_fibers);
+        add_tet_body(dry, mesh, options, direction_only);
         // The sets in the scene reader's order: tet volume, then Neo-Hookean.
         if (tet_volume) sets.volume = world.add_constraint_set(*tet_volume);
         if (neo_hookean)
           sets.neo_hookean = world.add_constraint_set(Stiffness::xpbd_compliance(neo_hookean->compliance()));
         if (stretch) sets.stretch = world.add_constraint_set(*stretch);
+        if (tet_fibers) sets.fibers = world.add_constraint_set(*tet_fibers);
         return add_tet_body(world, mesh, options, sets);
       },
       py::arg("mesh"), py::kw_only(), py::arg("neo_hookean") = py::none(), py::arg("tet_volume") = py::none(),
       py::arg("density") = 1000.0, py::arg("scale") = 1.0,
       py::arg_v("origin", std::array<double, 3>{0.0, 0.0, 0.0}, "(0.0, 0.0, 0.0)"),
       py::arg_v("pinned", std::vector<std::int64_t>{}, "()"), py::arg("clamped") = py::none(),
-      py::arg("stretch") = py::none(),
+      py::arg("stretch") = py::none(), py::arg("tet_fibers") = py::none(),
+      py::arg_v("fiber_direction", std::array<double, 3>{1.0, 0.0, 0.0}, "(1.0, 0.0, 0.0)"),
       "Adds a TetMesh as a volumetric body and returns it (Body: first_particle, num_particles, its boundary "
       "triangles in world indices). Its vertices, scaled by `scale` and moved by `origin` (m), become particles "
       "with lumped masses (each tet gives density x volume / 4 kg to each corner; density in kg/m^3); `pinned` "
@@ -174,7 +182,10 @@ template <class Real> void bind_tet_body(py::module_& m, const char* name) {
       "tet in a new set of Stiffness.xpbd_compliance(material.compliance()), each tet's ratio = material.ratio(). "
       "At least one is needed. stretch=Stiffness puts one on every tet edge in a new set, after them: fibers when it "
       "is Stiffness.fiber(material), which tear the tets (a fiber that breaks takes the tets holding both its ends), "
-      "else stretch constraints. Everything is checked first, so a bad argument raises pbd.Error and adds nothing.");
+      "else stretch constraints. tet_fibers=Stiffness puts a tet fiber on every tet along fiber_direction (in the "
+      "mesh's frame) in a new set, last: with Stiffness.fiber(material) its curve is a stress in Pa (stiffness = "
+      "Young's modulus E of the fibers), they yield, and a tet whose fibers break leaves the body (tet_fibers() "
+      "reads their strains and stresses). Everything is checked first, so a bad argument raises pbd.Error and adds nothing.");
 }
 
 }  // namespace

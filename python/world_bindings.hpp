@@ -270,31 +270,40 @@ template <class Real> void bind_world(py::module_& m, const char* name, const ch
       py::arg("forces"), "Advances the world by params.dt s with forces (N, 3) in N on the particles (releases the GIL).");
   cls.def("last_step_stats", [](W& w) { return w.get("last_step_stats").last_step_stats(); },
           "Statistics of the last step() (StepStats, a copy).");
+  // Readings of a type that follows a curve (World::material_readings) as a dict of numpy arrays.
+  auto readings = [](const std::vector<FiberReading>& r) {
+    py::array_t<double> strain(py::ssize_t(r.size())), plastic(py::ssize_t(r.size())), force(py::ssize_t(r.size()));
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      strain.mutable_at(i) = r[i].strain;
+      plastic.mutable_at(i) = r[i].plastic;
+      force.mutable_at(i) = r[i].force;
+    }
+    py::dict out;
+    out["strain"] = strain;
+    out["plastic"] = plastic;
+    out["force"] = force;
+    return out;
+  };
   cls.def(
-      "fibers",
-      [](W& w) {
-        const std::vector<FiberReading> r = w.get("fibers").fibers();
-        py::array_t<double> strain(py::ssize_t(r.size())), plastic(py::ssize_t(r.size())), force(py::ssize_t(r.size()));
-        for (std::size_t i = 0; i < r.size(); ++i) {
-          strain.mutable_at(i) = r[i].strain;
-          plastic.mutable_at(i) = r[i].plastic;
-          force.mutable_at(i) = r[i].force;
-        }
-        py::dict out;
-        out["strain"] = strain;
-        out["plastic"] = plastic;
-        out["force"] = force;
-        return out;
-      },
+      "fibers", [readings](W& w) { return readings(w.get("fibers").fibers()); },
       "Each fiber after the last step, in insertion order: a dict of numpy arrays 'strain' (total, l/L0 - 1), "
       "'plastic' (plastic strain) and 'force' (tension in N, -lambda/h^2; NaN before a step or in a PBD set).");
+  cls.def(
+      "tet_fibers",
+      [readings](W& w) {
+        return readings(w.get("tet_fibers").template material_readings<TetFiberConstraint<Real>>());
+      },
+      "Each tet fiber after the last step, in insertion order: a dict of numpy arrays 'strain' (total, |F a0| - 1), "
+      "'plastic' (plastic strain) and 'force' (the stress along it in Pa, -lambda/(h^2 V0); NaN before a step or in "
+      "a PBD set).");
   cls.def(
       "last_breaks",
       [](W& w) {
         const auto b = w.get("last_breaks").last_breaks();
         return std::vector<FiberBreak>(b.begin(), b.end());
       },
-      "The fibers the last step broke (FiberBreak list, in the order of their indices just before).");
+      "The fibers and tet fibers the last step broke (FiberBreak list: fibers first, each type in the order of their "
+      "indices just before).");
   cls.def(
       "add_surface",
       [](W& w, const std::vector<std::array<Index, 3>>& triangles) { return w.get("add_surface").add_surface(triangles); },

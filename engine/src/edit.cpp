@@ -30,8 +30,8 @@ template <class Real> void World<Real>::check_particle(Index i, const char* item
 
 template <class Real> void World<Real>::check_set(Index set, const char* item, std::size_t index) const {
   if (set >= model_.sets.size()) detail::fail_set_index(detail::message(item, " ", index), set, model_.sets.size());
-  if (model_.sets[set].mode == StiffnessMode::material)  // only fibers take a curve (checked_constraint)
-    throw Error(detail::message(item, " ", index, ": set ", set, " has a stress-strain curve, which only fibers take"));
+  if (model_.sets[set].mode == StiffnessMode::material)  // only fibers and tet fibers take a curve (checked_constraint)
+    throw Error(detail::message(item, " ", index, ": set ", set, " has a stress-strain curve, which only fibers and tet fibers take"));
 }
 
 // ---- particles ----
@@ -209,13 +209,18 @@ void World<Real>::remove(std::span<const Index> indices, const char* what, bool 
 template <class Real> void World<Real>::break_fibers() {
   breaks_.clear();
   copies_.clear();
-  if (model_.template store<FiberConstraint<Real>>().empty()) return;
+  if (!detail::fibers_break(model_)) return;
   breaks_ = detail::find_breaks(model_, state_, std::llround(state_.time / double(params_.dt)));
   if (breaks_.empty()) return;
-  std::vector<Index> gone;
-  gone.reserve(breaks_.size());
-  for (const FiberBreak& b : breaks_) gone.push_back(b.fiber);
-  remove<FiberConstraint<Real>>(gone, "break fibers", false);
+  detail::for_each_store(model_.stores, [&](const auto& st, auto) {  // the broken ones, type by type
+    using C = typename std::decay_t<decltype(st)>::value_type;
+    if constexpr (takes_material<C>()) {
+      std::vector<Index> gone;
+      for (const FiberBreak& b : breaks_)
+        if (std::string_view(b.type) == C::kName) gone.push_back(b.fiber);
+      if (!gone.empty()) remove<C>(gone, "break fibers", false);
+    }
+  });
   // Per built-in type, the constraints a tear takes (user indices, ascending), laid out later.
   auto remove_torn = [&](const std::array<std::vector<Index>, kNumBuiltinTypes>& torn_ones) {
     detail::for_each_store(model_.stores, [&](const auto& st, auto t) {

@@ -226,14 +226,16 @@ template <class Real> TearResult tear_surfaces(Model<Real>& m, State<Real>& s, s
     const Incidence inc(sf, m.num_particles());
     std::vector<Index> ends;
     for (const FiberBreak& b : breaks) {
+      if (b.arity != 2) continue;  // a surface tears along broken fibers, not tets
+      const Index a = b.particles[0], c = b.particles[1];
       bool shared = false;  // an edge of the surface: a triangle holds both
-      for (Index k : inc.of(b.a)) shared = shared || holds(sf.triangles[k], b.b);
+      for (Index k : inc.of(a)) shared = shared || holds(sf.triangles[k], c);
       if (!shared) continue;
-      const Edge e = edge(b.a, b.b);
+      const Edge e = edge(a, c);
       const auto at = std::lower_bound(sf.cut.begin(), sf.cut.end(), e);
       if (at == sf.cut.end() || *at != e) sf.cut.insert(at, e);
-      ends.push_back(b.a);
-      ends.push_back(b.b);
+      ends.push_back(a);
+      ends.push_back(c);
     }
     std::sort(ends.begin(), ends.end());
     ends.erase(std::unique(ends.begin(), ends.end()), ends.end());

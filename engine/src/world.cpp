@@ -143,9 +143,8 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   const long long first_substep = std::llround(state_.time / double(params_.dt)) * params_.substeps;
   detail::StepContext<Real> context{model_, state_, k, params_, parallel_, forces, &force_callback_, h, first_substep};
   context.flow = detail::fibers_flow(model_);
-  // Plastic flow changes the fibers during the sub-steps: kept too, when a later sub-step may fail.
-  std::vector<FiberConstraint<Real>> rollback_fibers;
-  if (rollback && context.flow) rollback_fibers = model_.template store<FiberConstraint<Real>>().items;
+  // Plastic flow changes the plastic strains during the sub-steps: kept too, when a later sub-step may fail.
+  detail::PlasticRollback<Real> rollback_plastic(model_, rollback && context.flow);
   detail::SubstepsReport run;
   try {
     run = detail::run_substeps(context);
@@ -153,7 +152,7 @@ template <class Real> void World<Real>::advance(const Real* forces) {
     if (rollback) {
       state_.x = k.rollback_x;  // copied back, not swapped: maps the host holds on positions() stay valid
       state_.v = k.rollback_v;
-      if (context.flow) model_.template store<FiberConstraint<Real>>().items = std::move(rollback_fibers);
+      rollback_plastic.restore(model_);
     }
     keep_storage();
     throw;
@@ -178,7 +177,14 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   stats_.seconds = seconds_since(t0);
 }
 
-template <class Real> std::vector<FiberReading> World<Real>::fibers() const { return detail::read_fibers(model_, state_); }
+template <class Real> template <class C> std::vector<FiberReading> World<Real>::material_readings() const {
+  static_assert(takes_material<C>(), "material_readings: a type that takes a stress-strain curve");
+  return detail::read_fibers<C>(model_, state_);
+}
+template std::vector<FiberReading> World<float>::material_readings<FiberConstraint<float>>() const;
+template std::vector<FiberReading> World<float>::material_readings<TetFiberConstraint<float>>() const;
+template std::vector<FiberReading> World<double>::material_readings<FiberConstraint<double>>() const;
+template std::vector<FiberReading> World<double>::material_readings<TetFiberConstraint<double>>() const;
 
 template class World<float>;
 template class World<double>;

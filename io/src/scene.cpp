@@ -304,7 +304,8 @@ TetMesh read_tet_mesh(const JsonObject& o, const DescriptionBuilder& world) {
 
 // A volumetric body: {"type": "tets", mesh (read_tet_mesh), "vertex_order", "origin", "scale", "density", "pinned": [...],
 // "clamped": face, "tet_volume": stiffness, "neo_hookean": {"young": E, "poisson": nu},
-// "shape_matching": {stiffness..., "beta": β}, "stretch": stiffness or {"material": curve} on every edge}.
+// "shape_matching": {stiffness..., "beta": β}, "stretch": stiffness or {"material": curve} on every edge,
+// "tet_fibers": {"direction": a0, stiffness or {"material": curve, stiffness E in Pa}} on every tet}.
 Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
   TetMesh mesh = read_tet_mesh(o, world);
   const std::string order = o.has("vertex_order") ? o.string("vertex_order") : "mesh";
@@ -343,6 +344,13 @@ Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
     o.fail("generator", "a tet body needs \"neo_hookean\", \"tet_volume\" or \"shape_matching\": without one "
                         "nothing holds it");
   sets.stretch = read_stretch_set(o, world);  // on every edge: fibers when it has a curve (they tear the tets)
+  if (o.has(TetFiberConstraint<double>::kSceneKey)) {  // {"direction": a0, stiffness or {"material": curve in Pa}}
+    const JsonObject f = o.object(TetFiberConstraint<double>::kSceneKey);
+    const Eigen::Vector3d a = direction(f, "direction", f.vec3("direction"));
+    sets.direction = {a.x(), a.y(), a.z()};
+    sets.fibers = world.add_constraint_set(read_stiffness(f));
+    f.reject_unknown_keys();
+  }
   try {
     return add_tet_body(world, mesh, opts, sets);
   } catch (const Error& e) {

@@ -37,6 +37,11 @@ Body add_tet_body(Target& world, const TetMesh& mesh, const TetBodyOptions& o, c
     throw Error(detail::message("add_tet_body: ratio mu/lambda must be finite and >= 0, got ", sets.ratio));
   for (Index i : o.pinned)
     if (i >= n) throw Error(detail::message("add_tet_body: pinned vertex ", i, " out of range (", n, " vertices)"));
+  if (sets.fibers) {
+    const double length = std::hypot(sets.direction[0], sets.direction[1], sets.direction[2]);
+    if (!(length > 0.0) || !std::isfinite(length))
+      throw Error("add_tet_body: the tet fibers' direction must be finite and not zero");
+  }
   // Lumped masses: a quarter of each tet's mass at each corner (scaled volumes: scale³).
   Eigen::VectorXd mass = Eigen::VectorXd::Zero(n);
   const double s3 = o.scale * o.scale * o.scale;
@@ -96,6 +101,16 @@ Body add_tet_body(Target& world, const TetMesh& mesh, const TetBodyOptions& o, c
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     for (const auto& e : edges) add_edge(world, e[0] + body.first_particle, e[1] + body.first_particle, *sets.stretch);
+  }
+  if (sets.fibers) {
+    constexpr FieldMask kDirection = 2u;  // V0 and b measured, ε_p 0
+    for (const auto& t : mesh.tets) {
+      TetFiberConstraint<Real> c = blank_constraint<TetFiberConstraint<Real>>();
+      c.particles = corners(t);
+      c.set = *sets.fibers;
+      c.direction = Vec3<Real>(Real(sets.direction[0]), Real(sets.direction[1]), Real(sets.direction[2]));
+      world.add(c, kDirection);
+    }
   }
   return body;
 }

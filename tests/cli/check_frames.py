@@ -322,7 +322,8 @@ def check_tet_tear(pbd, scene_dir, work):
     check(r.returncode == 0, f"tet-tear: exit {r.returncode}: {r.stderr}")
     with open(breaks) as f:
         rows = [line.split(",") for line in f.read().splitlines()[1:]]
-    broke = [(int(row[0]), int(row[4]), int(row[5])) for row in rows]
+    check(all(row[2] == "fiber" for row in rows), "tet-tear: a break that is not a fiber's")
+    broke = [(int(row[0]), int(row[5]), int(row[6])) for row in rows]
     check(len(broke) > 0, "tet-tear: no fiber broke")
     all_tets = None
     for step in range(0, last + 1, last // 3):

@@ -157,14 +157,18 @@ def check_breaks(pbd, out):
             fail(f"--breaks: no 'fibers broken' line in {r.stdout}")
         with open(csv) as f:
             lines = f.read().splitlines()
-        if lines[0] != "step,time_s,fiber,set,particle_a,particle_b,strain,force_n":
+        if lines[0] != ("step,time_s,type,index,set,particle_a,particle_b,particle_c,particle_d,strain,force,"
+                        "force_unit"):
             fail(f"--breaks: header {lines[0]}")
         rows[threads] = lines[1:]
     if rows[1] != rows[2] or len(rows[1]) < 7:
         fail(f"--breaks: {len(rows[1])} rows on 1 thread, {len(rows[2])} on 2, or they differ")
     k, toe, yield_, hard = 100.0, 0.03, 0.08, 20.0
     for line in rows[1]:
-        strain, force = (float(v) for v in line.split(",")[6:8])
+        cells = line.split(",")
+        if cells[2] != "fiber" or cells[7:9] != ["", ""] or cells[11] != "N":
+            fail(f"--breaks: row {line}: not a fiber's (type fiber, two particles, force in N)")
+        strain, force = (float(v) for v in cells[9:11])
         expected = k * (yield_ - toe / 2) + k * hard / (k + hard) * (strain - yield_)
         if not (0.14 <= strain <= 0.1414 and abs(force - expected) <= 0.02 * expected):
             fail(f"--breaks: row {line}: strain or force off the curve ({expected:.4g} N)")

@@ -332,7 +332,7 @@ TEST(Fiber, ACurveThatCannotBeIsRefusedAndOnlyFibersTakeOne) {
   bad.stiffness = -1;
   test::expect_words(test::error_of([&] { w.add_constraint_set(Stiffness::fiber(bad)); }), {"stiffness must be finite and > 0"});
   const Index set = w.add_constraint_set(Stiffness::fiber(ligament()));
-  test::expect_words(test::error_of([&] { w.add_stretch(0, 1, set); }), {"add_stretch: stretch constraint 0: set 0 has a stress-strain curve, which only fibers take"});
+  test::expect_words(test::error_of([&] { w.add_stretch(0, 1, set); }), {"add_stretch: stretch constraint 0: set 0 has a stress-strain curve, which only fibers and tet fibers take"});
   w.add_particle(W::Vec(1, 0, 0), 1);
   test::expect_words(test::error_of([&] { w.add_fiber(1, 2, set); }), {"add_fiber: fiber 0: the particles coincide"});
   EXPECT_EQ(w.add_fiber(0, 1, set), 0u);

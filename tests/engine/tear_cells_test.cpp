@@ -87,7 +87,7 @@ TEST(TearCells, ABrokenFiberTakesTheTetsOnItsEdgeAndNoOthersUnderEverySolver) {
       std::set<Tet> expected;
       for (const Tet& t : before) {
         bool torn = false;
-        for (const FiberBreak& f : b.w.last_breaks()) torn = torn || holds(t, f.a, f.b);
+        for (const FiberBreak& f : b.w.last_breaks()) torn = torn || holds(t, f.particles[0], f.particles[1]);
         if (!torn) expected.insert(t);
       }
       ASSERT_EQ(after, expected) << "step " << step;

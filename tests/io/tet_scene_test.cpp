@@ -76,6 +76,37 @@ TEST(TetScene, StretchOnATetBodyPutsOneConstraintOnEveryEdge) {
   EXPECT_EQ(std::adjacent_find(seen.begin(), seen.end()), seen.end());
 }
 
+// "tet_fibers": {"direction", a stiffness or a material}: one tet fiber on every tet, in the body's tet order, along
+// that direction (its unit vector: b = Dm⁻¹·a0); a missing or zero direction names the key.
+TEST(TetScene, TetFibersPutOneOnEveryTetAlongTheirDirection) {
+  const Scene s = parse_scene(
+      replaced(kBar, R"("tet_volume": {"compliance": 1e-9})",
+               R"("tet_volume": {"compliance": 1e-9}, "tet_fibers": {"direction": [0, 3, 0], "material": {"stiffness": 2e4, "rupture_strain": 0.2}})"),
+      "bar.json");
+  const World<double> w = build_world<double>(s.world);
+  const auto& tets = w.constraints<TetVolumeConstraint<double>>();
+  const auto& fibers = w.constraints<TetFiberConstraint<double>>();
+  ASSERT_EQ(fibers.size(), tets.size());
+  for (std::size_t i = 0; i < fibers.size(); ++i) {
+    EXPECT_EQ(fibers[i].particles, tets[i].particles);
+    EXPECT_NEAR(fibers[i].volume, tets[i].rest, 1e-15);
+    Eigen::Matrix3d dm;
+    const auto& p = fibers[i].particles;
+    dm << w.positions().col(p[1]) - w.positions().col(p[0]), w.positions().col(p[2]) - w.positions().col(p[0]),
+        w.positions().col(p[3]) - w.positions().col(p[0]);
+    EXPECT_LT((dm * fibers[i].weights - Eigen::Vector3d(0, 1, 0)).norm(), 1e-12);  // F·a0 = a0 at rest
+  }
+  EXPECT_EQ(w.constraint_sets()[fibers[0].set].mode, StiffnessMode::material);
+  for (const char* bad : {R"("tet_fibers": {"compliance": 0})", R"("tet_fibers": {"direction": [0, 0, 0]})"}) {
+    const std::string e = error_of([&] {
+      parse_scene(replaced(kBar, R"("tet_volume": {"compliance": 1e-9})",
+                           std::string(R"("tet_volume": {"compliance": 1e-9}, )") + bad),
+                  "bar.json");
+    });
+    EXPECT_NE(e.find("bar.json: /bodies/0/tet_fibers"), std::string::npos) << e;
+  }
+}
+
 // A tet body's contact body: its inner particles (on none of its boundary faces) are points (ContactBody::interior),
 // so it touches other bodies and itself through its surface only: in a box of 4 × 2 × 2 cells, the 3 vertices off
 // every face.

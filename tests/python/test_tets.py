@@ -260,6 +260,41 @@ def test_fibers_on_the_edges_tear_the_tets(world_type):
     w.validate()
 
 
+def test_tet_fibers_follow_their_curve_in_pascals_and_tear_their_tets(world_type):
+    """tet_fibers=Stiffness.fiber(material): a tet fiber on every tet along fiber_direction (24 for 4 cubes). Pulled
+    along it, tet_fibers() reads the stress of the curve in Pa (E = 20 kPa, linear from the start) at the strain it
+    reads; past the rupture strain they break (type 'tet_fiber', four particles) and take their tets with them."""
+    mesh = pbd.tet_box_mesh((4, 1, 1), (0.04, 0.01, 0.01))
+    w = world_type()
+    far = [i for i in range(mesh.num_vertices) if mesh.positions[i, 0] > 0.039]
+    body = w.add_tet_body(mesh, neo_hookean=pbd.young_poisson(1e3, 0.3), clamped="x_min", pinned=far,
+                          tet_fibers=pbd.Stiffness.fiber(pbd.Material(2e4, rupture_strain=0.1)),
+                          fiber_direction=(2.0, 0.0, 0.0))
+    assert len(w.tet_fibers()["strain"]) == 24 and np.isnan(w.tet_fibers()["force"]).all()
+    end = [body.first_particle + i for i in far]
+    p = w.params
+    p.dt, p.gravity, p.substeps, p.iterations = 1e-3, (0.0, 0.0, 0.0), 4, 8
+    w.params = p
+    broken = []
+    for step in range(1, 200):
+        x = w.positions()
+        x[end, 0] = 0.04 * (1.0 + 2e-3 * step)  # 0.2% strain a step
+        del x
+        w.step()
+        broken += w.last_breaks()
+        if step == 20:  # 4% strain at the grips: each tet fiber's stress is E times its own strain
+            r = w.tet_fibers()
+            assert abs(r["strain"].mean() - 0.04) < 0.004
+            assert np.allclose(r["force"], 2e4 * r["strain"], rtol=0.02)
+        if broken:
+            break
+    assert {b.type for b in broken} == {"tet_fiber"} and all(len(b.particles) == 4 for b in broken)
+    assert all(abs(b.strain - 0.1) < 0.005 for b in broken)
+    assert len(w.tet_fibers()["strain"]) == 24 - len(broken) and pbd.neo_hookean_violation(w).count == 24 - len(broken)
+    assert "type='tet_fiber'" in repr(broken[0])
+    w.validate()
+
+
 @pytest.mark.parametrize("kwargs, error, message", [
     ({}, pbd.Error, "add_tet_body: a tet body needs neo_hookean or tet_volume"),
     ({"tet_volume": pbd.Stiffness.pbd_k(1.5)}, pbd.Error, r"add_tet_body: tet_volume: stiffness k must be in \[0, 1\]"),
@@ -270,6 +305,8 @@ def test_fibers_on_the_edges_tear_the_tets(world_type):
     ({"scale": -1.0}, pbd.Error, "add_tet_body: scale must be finite and > 0"),
     ({"origin": (0.0, math.inf, 0.0)}, pbd.Error, "add_tet_body: origin must be finite"),
     ({"stretch": pbd.Stiffness.pbd_k(2.0)}, pbd.Error, r"add_tet_body: stretch: stiffness k must be in \[0, 1\]"),
+    ({"tet_fibers": pbd.Stiffness.pbd_k(1.0), "fiber_direction": (0.0, 0.0, 0.0)}, pbd.Error,
+     "add_tet_body: the tet fibers' direction must be finite and not zero"),
 ])
 def test_bad_bodies_raise_and_add_nothing(world_type, kwargs, error, message):
     mesh = pbd.tet_box_mesh((2, 1, 1), (1.0, 0.5, 0.5))
@@ -303,7 +340,8 @@ def test_a_live_view_refuses_a_body(world_type):
      "add_tet_body(self: pbd.World, mesh: pbd.TetMesh, *, neo_hookean: Optional[pbd.NeoHookeanMaterial] = None, "
      "tet_volume: Optional[pbd.Stiffness] = None, density: float = 1000.0, scale: float = 1.0, "
      "origin: List[float[3]] = (0.0, 0.0, 0.0), pinned: List[int] = (), clamped: Optional[str] = None, "
-     "stretch: Optional[pbd.Stiffness] = None) -> pbd.Body"),
+     "stretch: Optional[pbd.Stiffness] = None, tet_fibers: Optional[pbd.Stiffness] = None, "
+     "fiber_direction: List[float[3]] = (1.0, 0.0, 0.0)) -> pbd.Body"),
     (pbd.WorldDouble.add_tet_body, "add_tet_body(self: pbd.WorldDouble, mesh: pbd.TetMesh, *, neo_hookean: "),
     (pbd.TetMesh.__init__, "__init__(self: pbd.TetMesh, positions: numpy.ndarray[numpy.float64[n, 3]], "
                            "tets: numpy.ndarray[numpy.int64[m, 4]]) -> None"),

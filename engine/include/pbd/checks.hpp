@@ -84,7 +84,7 @@ C checked_constraint(C c, FieldMask given, const X& x, std::span<const Stiffness
   for (Index p : c.particles) check_particle_of<C>(p, n, index);
   if (c.set >= sets.size()) detail::fail_set_index(item(), c.set, sets.size());
   if (sets[c.set].mode == StiffnessMode::material && !takes_material<C>())
-    detail::fail_constraint(item(), detail::message("set ", c.set, " has a stress-strain curve, which only fibers take"));
+    detail::fail_constraint(item(), detail::message("set ", c.set, " has a stress-strain curve, which only fibers and tet fibers take"));
   for (int a = 0; a < C::kArity; ++a)
     for (int b = a + 1; b < C::kArity; ++b)
       if (c.particles[a] == c.particles[b])

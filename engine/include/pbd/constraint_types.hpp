@@ -16,6 +16,7 @@
 #include "pbd/constraints/neo_hookean.hpp"
 #include "pbd/constraints/shape_match.hpp"
 #include "pbd/constraints/stretch.hpp"
+#include "pbd/constraints/tet_fiber.hpp"
 #include "pbd/constraints/tet_volume.hpp"
 #include "pbd/constraints/tether.hpp"
 
@@ -31,7 +32,7 @@ template <class Real>
 using BuiltinConstraintTypes =
     std::tuple<StretchConstraint<Real>, AnchorConstraint<Real>, BendingConstraint<Real>, AreaConstraint<Real>,
                TetherConstraint<Real>, TetVolumeConstraint<Real>, NeoHookeanConstraint<Real>,
-               ShapeMatchConstraint<Real>, FiberConstraint<Real>>;
+               ShapeMatchConstraint<Real>, FiberConstraint<Real>, TetFiberConstraint<Real>>;
 
 /// Number of built-in fixed-arity types.
 inline constexpr std::size_t kNumBuiltinTypes = std::tuple_size_v<BuiltinConstraintTypes<float>>;

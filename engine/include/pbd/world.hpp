@@ -193,10 +193,11 @@ public:
   using ForceCallback = std::function<void(double time, Eigen::Ref<const Positions> x, Eigen::Ref<Positions> forces)>;
   /// Sets (or with an empty function clears) the force callback used by step().
   void set_force_callback(ForceCallback callback) { force_callback_ = std::move(callback); }
-  /// The fibers the last step() broke (empty if none), in the order of their indices just before: each reached
-  /// its set's rupture strain at the step's end and has left the model (as remove_constraints<FiberConstraint>
-  /// removes, so later fibers' indices moved down). The constraints of a type that breaks with fibers (the tet
-  /// types: constraints/traits.hpp) holding both ends of one of them left with it.
+  /// The fibers and tet fibers the last step() broke (empty if none), fibers first, each type in the order of
+  /// their indices just before: each reached its set's rupture strain at the step's end and has left the model (as
+  /// remove_constraints removes, so later ones' indices moved down). The constraints of a type that breaks with
+  /// fibers (the tet types: constraints/traits.hpp) holding both ends of a broken fiber, or all four corners of a
+  /// broken tet fiber, left with it.
   std::span<const FiberBreak> last_breaks() const { return breaks_; }
   /// Adds a surface that tears (engine/src/tear.hpp): when fibers on its edges break, the particles along the cut
   /// are copied, one copy for each side, so that the surface separates; v's mass is split between the sides by
@@ -213,7 +214,10 @@ public:
   /// The particles the last step's tears added, each with the one it copies (empty if none).
   std::span<const TornParticle> last_copies() const { return copies_; }
   /// Each fiber's strains and the tension it carries after the last step (fiber_state.hpp), in insertion order.
-  std::vector<FiberReading> fibers() const;
+  std::vector<FiberReading> fibers() const { return material_readings<FiberConstraint<Real>>(); }
+  /// Each constraint of type C's strains and force after the last step, in insertion order: C is a type that may
+  /// follow a curve (constraints/traits.hpp: takes_material), FiberConstraint (N) or TetFiberConstraint (Pa).
+  template <class C> std::vector<FiberReading> material_readings() const;
   /// Statistics of the last step().
   const StepStats& last_step_stats() const { return stats_; }
   /// Whether step() measures the per-type violation at its end (one extra pass over the constraints; off by default).

@@ -30,6 +30,7 @@ template <class Real> struct FiberConstraint {
   static constexpr const char* kSceneKey = "fibers";  ///< {"particles": [[a, b], ...], "rest", "plastic", stiffness}
   static constexpr SceneForm kSceneForm = SceneForm::listed;  ///< one fiber per listed pair
   static constexpr bool kTiesToWorld = false;                 ///< between two particles
+  static constexpr const char* kForceUnit = "N";              ///< its reading is a tension (material_scale: 1)
   /// Its elastic strain |l − L|/L (L the plastic rest length), in percent.
   static constexpr Measure kMeasure{"fiber_pct", "fiber strain", "%", 100.0};
   std::array<Index, 2> particles;  ///< the two particles
@@ -104,6 +105,17 @@ inline bool correction(const FiberConstraint<Real>& c, const Vec3<Real> (&p)[2],
   dp[1] = (-w[1] * dlambda) * n;
   return true;
 }
+
+/// Total strain |p0 − p1| / L0 − 1 at positions x (3 per particle), in double.
+template <class Real> double material_strain(const FiberConstraint<Real>& c, const Real* x) {
+  const Real* a = x + 3 * std::size_t(c.particles[0]);
+  const Real* b = x + 3 * std::size_t(c.particles[1]);
+  const double dx = double(a[0]) - double(b[0]), dy = double(a[1]) - double(b[1]), dz = double(a[2]) - double(b[2]);
+  return std::sqrt(dx * dx + dy * dy + dz * dz) / double(c.rest) - 1.0;
+}
+
+/// What its λ is scaled by: 1, so −λ/h² is its tension in N.
+template <class Real> double material_scale(const FiberConstraint<Real>&) { return 1.0; }
 
 /// Elastic strain |l − L|/L, L = L0·(1 + ε_p).
 template <class Real> double violation(const FiberConstraint<Real>& c, const PositionsView<Real>& x) {

@@ -12,7 +12,9 @@
 ///   kSceneKey      its key in a scene body ("stretch", "anchors"), read as kSceneForm says
 ///   kTiesToWorld   its constraints hold particles to fixed points (a body they hold is not free: free_bodies.cpp)
 ///   kMeasure       how its violation is reported: the study's error key, label, unit and scale ("stretch_pct", %)
-///   kTakesMaterial optional: it may be in a set with a stress–strain curve (takes_material)
+///   kTakesMaterial optional: it may be in a set with a stress–strain curve (takes_material); such a type also
+///                  has a `plastic` strain, kForceUnit (its reading's unit) and material_strain(c, x) (its total
+///                  strain) and material_scale(c) (λ/h² over it is the reading) beside the functions below
 ///   kBreaksWithFibers optional: it leaves the model when a fiber between two of its particles breaks (a tet torn
 ///                  along its edge: breaks_with_fibers)
 ///   fields()       its rest values (members), each with its name, its noun in messages, whether a scene gives it
@@ -64,15 +66,16 @@ template <class C> constexpr bool ties_to_world() {
 }
 
 /// Whether constraint type C may be in a set with a stress–strain curve (StiffnessMode::material): its
-/// kTakesMaterial; a type that does not say may not (constraints/fiber.hpp is the one that does).
+/// kTakesMaterial; a type that does not say may not (constraints/fiber.hpp and tet_fiber.hpp do).
 template <class C> constexpr bool takes_material() {
   if constexpr (requires { C::kTakesMaterial; }) return C::kTakesMaterial;
   else return false;
 }
 
-/// Whether a constraint of type C breaks with a fiber (constraints/fiber.hpp) between two of its particles: its
-/// kBreaksWithFibers; a type that does not say does not. A tet whose edge a fiber tore no longer holds its corners
-/// together (World::last_breaks, engine/src/tear_cells.hpp), so a body of tets reinforced by fibers tears.
+/// Whether a constraint of type C breaks when a constraint of a material type (takes_material) on some of its
+/// particles breaks: its kBreaksWithFibers; a type that does not say does not. A tet whose edge a fiber tore, or
+/// whose own fibers tore (constraints/tet_fiber.hpp), no longer holds its corners together (World::last_breaks,
+/// engine/src/tear_cells.hpp), so a body of tets reinforced by fibers tears.
 template <class C> constexpr bool breaks_with_fibers() {
   if constexpr (requires { C::kBreaksWithFibers; }) return C::kBreaksWithFibers;
   else return false;

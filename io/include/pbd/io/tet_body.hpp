@@ -21,6 +21,10 @@ struct TetConstraintSets {
   /// A constraint on every edge of the tets (add_edge: a fiber when the set has a stress–strain curve, else a
   /// stretch constraint). Fibers tear the tets they run along when they break (traits.hpp: breaks_with_fibers).
   std::optional<Index> stretch;
+  /// A tet fiber on every tet (constraints/tet_fiber.hpp), along `direction` in the mesh's frame: with a curve in
+  /// the set (its stiffness E in Pa) they stiffen, yield and break, and a tet whose fibers break leaves with them.
+  std::optional<Index> fibers;
+  std::array<double, 3> direction{1.0, 0.0, 0.0};  ///< the tet fibers' direction a0 (not zero)
 };
 
 /// Where the body goes and how heavy it is.
@@ -37,7 +41,7 @@ std::vector<Index> tet_mesh_face_vertices(const TetMesh& mesh, int axis, bool ma
 
 /// Adds the mesh's vertices as particles and a constraint of each requested kind on every tet (volume first, then
 /// Neo-Hookean, each in tet order), then a shape-matching cluster per vertex if asked, then one on each edge (edges
-/// in increasing order of their two vertices) if asked. Checks first (check_tet_mesh with source "add_tet_body", every vertex on some
+/// in increasing order of their two vertices) if asked, then a tet fiber on every tet if asked. Checks first (check_tet_mesh with source "add_tet_body", every vertex on some
 /// tet, options, pinned indices), so a bad mesh adds nothing. Returns the body with its boundary triangles
 /// (tet_mesh_surface) in world indices.
 template <class Target>
