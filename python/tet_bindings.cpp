@@ -127,8 +127,8 @@ template <class Real> void bind_tet_body(py::module_& m, const char* name) {
          const std::array<double, 3>& fiber_direction) {
         World<Real>& world = w.get("add_tet_body");
         w.check_no_views("add_tet_body");
-        if (!neo_hookean && !tet_volume)
-          throw Error("add_tet_body: a tet body needs neo_hookean or tet_volume (or both): without them nothing "
+        if (!neo_hookean && !tet_volume && !tet_fibers)
+          throw Error("add_tet_body: a tet body needs neo_hookean, tet_volume or tet_fibers: without one nothing "
                       "holds it");
         TetBodyOptions options;
         options.scale = scale;
@@ -180,7 +180,7 @@ template <class Real> void bind_tet_body(py::module_& m, const char* name) {
       "scene's \"tets\" body makes them: tet_volume=Stiffness puts a tet volume constraint on every tet in a new set "
       "of that stiffness; neo_hookean=NeoHookeanMaterial (e.g. young_poisson(E, nu)) puts a Neo-Hookean tet on every "
       "tet in a new set of Stiffness.xpbd_compliance(material.compliance()), each tet's ratio = material.ratio(). "
-      "At least one is needed. stretch=Stiffness puts one on every tet edge in a new set, after them: fibers when it "
+      "At least one of them or tet_fibers is needed. stretch=Stiffness puts one on every tet edge in a new set, after them: fibers when it "
       "is Stiffness.fiber(material), which tear the tets (a fiber that breaks takes the tets holding both its ends), "
       "else stretch constraints. tet_fibers=Stiffness puts a tet fiber on every tet along fiber_direction (in the "
       "mesh's frame) in a new set, last: with Stiffness.fiber(material) its curve is a stress in Pa (stiffness = "

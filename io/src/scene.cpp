@@ -340,9 +340,6 @@ Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
     sets.shape_match = world.add_constraint_set(read_stiffness(m));
     m.reject_unknown_keys();
   }
-  if (!sets.volume && !sets.neo_hookean && !sets.shape_match)
-    o.fail("generator", "a tet body needs \"neo_hookean\", \"tet_volume\" or \"shape_matching\": without one "
-                        "nothing holds it");
   sets.stretch = read_stretch_set(o, world);  // on every edge: fibers when it has a curve (they tear the tets)
   if (o.has(TetFiberConstraint<double>::kSceneKey)) {  // {"direction": a0, stiffness or {"material": curve in Pa}}
     const JsonObject f = o.object(TetFiberConstraint<double>::kSceneKey);
@@ -351,6 +348,9 @@ Body read_tets(const JsonObject& o, DescriptionBuilder& world) {
     sets.fibers = world.add_constraint_set(read_stiffness(f));
     f.reject_unknown_keys();
   }
+  if (!sets.volume && !sets.neo_hookean && !sets.shape_match && !sets.fibers)
+    o.fail("generator", "a tet body needs \"neo_hookean\", \"tet_volume\", \"shape_matching\" or \"tet_fibers\": "
+                        "without one nothing holds it");
   try {
     return add_tet_body(world, mesh, opts, sets);
   } catch (const Error& e) {

@@ -296,7 +296,7 @@ def test_tet_fibers_follow_their_curve_in_pascals_and_tear_their_tets(world_type
 
 
 @pytest.mark.parametrize("kwargs, error, message", [
-    ({}, pbd.Error, "add_tet_body: a tet body needs neo_hookean or tet_volume"),
+    ({}, pbd.Error, "add_tet_body: a tet body needs neo_hookean, tet_volume or tet_fibers"),
     ({"tet_volume": pbd.Stiffness.pbd_k(1.5)}, pbd.Error, r"add_tet_body: tet_volume: stiffness k must be in \[0, 1\]"),
     ({"clamped": "left"}, ValueError, r'add_tet_body: clamped must be "x_min", .* got "left"'),
     ({"pinned": [99]}, pbd.Error, r"add_tet_body: pinned vertex 99 out of range \(12 vertices\)"),
