@@ -230,28 +230,41 @@ double force_scale(const Material& m) {
   return m.stiffness;
 }
 
+// Calls f(type) for each built-in type that may follow a curve (fibers, tet fibers).
+template <class Real, class F> void for_each_material_type(F&& f) {
+  for_each_type<BuiltinConstraintTypes<Real>>([&](auto type, auto) {
+    if constexpr (takes_material<typename decltype(type)::type>()) f(type);
+  });
+}
+
 }  // namespace
 
 template <class Real> bool has_curve(const World<Real>& world) {
-  for (const FiberConstraint<Real>& c : world.template constraints<FiberConstraint<Real>>())
-    if (world.constraint_sets()[c.set].curve()) return true;
-  return false;
+  bool any = false;
+  for_each_material_type<Real>([&](auto type) {
+    for (const auto& c : world.template constraints<typename decltype(type)::type>())
+      any = any || world.constraint_sets()[c.set].curve() != nullptr;
+  });
+  return any;
 }
 
 template <class Real> Errors curve_errors(const World<Real>& world) {
-  const auto& fibers = world.template constraints<FiberConstraint<Real>>();
-  const std::vector<FiberReading> readings = world.fibers();
   double sum2 = 0.0, max = 0.0;
   std::size_t n = 0;
-  for (std::size_t k = 0; k < fibers.size(); ++k) {
-    const Material* m = world.constraint_sets()[fibers[k].set].curve();
-    const FiberReading& r = readings[k];
-    if (!m || std::isnan(r.force)) continue;
-    const double e = 100.0 * std::abs(r.force - m->force(r.strain - r.plastic)) / force_scale(*m);
-    sum2 += e * e;
-    max = std::max(max, std::isfinite(e) ? e : INFINITY);
-    ++n;
-  }
+  for_each_material_type<Real>([&](auto type) {  // each one's force (a tet fiber's: stress) against its curve's
+    using C = typename decltype(type)::type;
+    const auto& items = world.template constraints<C>();
+    const std::vector<FiberReading> readings = world.template material_readings<C>();
+    for (std::size_t k = 0; k < items.size(); ++k) {
+      const Material* m = world.constraint_sets()[items[k].set].curve();
+      const FiberReading& r = readings[k];
+      if (!m || std::isnan(r.force)) continue;
+      const double e = 100.0 * std::abs(r.force - m->force(r.strain - r.plastic)) / force_scale(*m);
+      sum2 += e * e;
+      max = std::max(max, std::isfinite(e) ? e : INFINITY);
+      ++n;
+    }
+  });
   Errors out;
   out["curve_pct"] = {n ? std::sqrt(sum2 / double(n)) : 0.0, max};
   return out;

@@ -63,11 +63,12 @@ KnownAnswer known_answer(const std::string& name);
 /// The known answer of a scene the study runs: its name's, or "curve" where scene_info found fibers on a curve.
 KnownAnswer known_answer(const SceneInfo& info);
 
-/// Whether `world` has fibers in a set with a stress–strain curve: its error is then the curve's (curve_errors).
+/// Whether `world` has fibers or tet fibers in a set with a stress–strain curve: its error is then the curve's
+/// (curve_errors).
 template <class Real> bool has_curve(const World<Real>& world);
-/// Each such fiber's tension (from λ, World::fibers) against its curve's force at its elastic strain, in % of its
-/// set's force scale (the force at yield, else at rupture, else at unit strain), as the measure "curve_pct" (RMS and
-/// maximum over the fibers that have a force; 0 when none is left). Before a step a fiber has no force.
+/// Each such fiber's tension, or tet fiber's stress (from λ, World::material_readings), against its curve's at its
+/// elastic strain, in % of its set's scale (the curve at yield, else at rupture, else at unit strain), as the
+/// measure "curve_pct" (RMS and maximum over those that have a force; 0 when none is left). Before a step none has.
 template <class Real> Errors curve_errors(const World<Real>& world);
 
 /// For a chain: each link's extension against α·T_k, in % of α·T_k (RMS and maximum over the links), as the

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <map>
 #include <set>
 
 namespace pbd {
@@ -46,14 +47,16 @@ template <class Real> void add_lines(const World<Real>& world, FrameTopology& t)
 // only when no constraint before it named the same four particles.
 template <class Real> void add_tets(const World<Real>& world, FrameTopology& t) {
   const std::vector<Index> body_of = particle_bodies(t, world.num_particles());
-  std::set<std::array<Index, 4>> drawn;  // each drawn tet's corners, sorted
+  std::map<std::array<Index, 4>, std::pair<Index, std::size_t>> drawn;  // sorted corners → (body, its tet)
+  auto key_of = [](std::array<Index, 4> corners) {
+    std::sort(corners.begin(), corners.end());
+    return corners;
+  };
   auto add = [&](const std::array<Index, 4>& corners, FrameTetRest rest) {
     const Index b = body_of[corners[0]];
     for (Index p : corners)
       if (body_of[p] != b) return;  // joins two bodies: in neither's cells
-    std::array<Index, 4> key = corners;
-    std::sort(key.begin(), key.end());
-    if (!drawn.insert(key).second) return;
+    if (!drawn.emplace(key_of(corners), std::pair{b, t.bodies[b].tets.size()}).second) return;
     t.bodies[b].tets.push_back(corners);
     t.bodies[b].tet_rest.push_back(std::move(rest));
   };
@@ -64,6 +67,13 @@ template <class Real> void add_tets(const World<Real>& world, FrameTopology& t) 
     add(c.particles, {double(c.volume), inverse_rest});
   }
   for (const auto& c : world.template constraints<TetVolumeConstraint<Real>>()) add(c.particles, {double(c.rest), {}});
+  const auto fibers = world.template constraints<TetFiberConstraint<Real>>();
+  for (const auto& c : fibers) add(c.particles, {double(c.volume), {}});  // a body held by its tet fibers alone
+  if (fibers.empty()) return;
+  for (FrameBody& b : t.bodies) b.tet_fiber.assign(b.tets.size(), FrameBody::kNoTetFiber);
+  for (std::size_t k = 0; k < fibers.size(); ++k)
+    if (const auto at = drawn.find(key_of(fibers[k].particles)); at != drawn.end())
+      t.bodies[at->second.first].tet_fiber[at->second.second] = Index(k);
 }
 
 // Drops from b the lines and fiber lines with both ends on its tets.
@@ -112,7 +122,7 @@ FrameTopology frame_topology(const World<Real>& world, const std::vector<SceneBo
   }
   FrameTopology t;
   for (const SceneBody& b : bodies)
-    t.bodies.push_back({b.name, b.first_particle, b.num_particles, triangles_of(b), {}, {}, {}, {}, {}, {}});
+    t.bodies.push_back({b.name, b.first_particle, b.num_particles, triangles_of(b), {}, {}, {}, {}, {}, {}, {}});
   check_frame_topology(t, world.num_particles(), "frame_topology");
   add_lines(world, t);
   add_tets(world, t);
@@ -136,7 +146,7 @@ FrameTopology frame_topology(const World<Real>& world, const std::vector<std::ar
         throw Error(message("frame_topology: triangle ", i, ": particle index ", p, " out of range (the world has ",
                             world.num_particles(), " particles)"));
   FrameTopology t;
-  t.bodies.push_back({"world", 0, world.num_particles(), triangles, {}, {}, {}, {}, {}, {}});
+  t.bodies.push_back({"world", 0, world.num_particles(), triangles, {}, {}, {}, {}, {}, {}, {}});
   add_lines(world, t);
   add_tets(world, t);
   return t;
@@ -172,6 +182,9 @@ void check_frame_topology(const FrameTopology& topology, Index num_particles, co
     if (b.tet_rest.size() != b.tets.size())
       throw Error(message(what, ": body ", b.name, " has ", b.tets.size(), " tets but ", b.tet_rest.size(),
                           " tet_rest entries"));
+    if (!b.tet_fiber.empty() && b.tet_fiber.size() != b.tets.size())
+      throw Error(message(what, ": body ", b.name, " has ", b.tets.size(), " tets but ", b.tet_fiber.size(),
+                          " tet_fiber entries"));
   }
   if (next != num_particles)
     throw Error(message(what, ": the bodies hold ", next, " particles but the world has ", num_particles));

@@ -97,6 +97,7 @@ struct PieceCells {
   std::vector<std::uint8_t> types;
   std::vector<double> stretch, area, volume_ratio, strain;
   std::vector<double> fiber_strain, fiber_force;  // a fiber line's total strain and tension in N; NaN elsewhere
+  std::vector<double> tet_fiber_strain, tet_fiber_stress;  // a tet's tet fiber's total strain and stress in Pa
 
   // Adds a cell of VTK type `type` on world particles `corners` (numbered in the piece from its body's first particle
   // `first`) with its data.
@@ -112,6 +113,8 @@ struct PieceCells {
     strain.push_back(e);
     fiber_strain.push_back(kNaN);
     fiber_force.push_back(kNaN);
+    tet_fiber_strain.push_back(kNaN);
+    tet_fiber_stress.push_back(kNaN);
   }
 };
 
@@ -174,6 +177,11 @@ void check_cell_constraints(const World<Real>& world, const FrameTopology& topol
         throw Error(message(what, ": body ", b.name, ": line ", k, " draws stretch constraint ", b.line_stretch[k],
                             " but the world has ", stretch.size()));
     const std::size_t fibers = world.template constraints<FiberConstraint<Real>>().size();
+    const std::size_t tet_fibers = world.template constraints<TetFiberConstraint<Real>>().size();
+    for (std::size_t k = 0; k < b.tet_fiber.size(); ++k)
+      if (b.tet_fiber[k] != FrameBody::kNoTetFiber && b.tet_fiber[k] >= tet_fibers)
+        throw Error(message(what, ": body ", b.name, ": tet ", k, " draws tet fiber ", b.tet_fiber[k],
+                            " but the world has ", tet_fibers, " (tet fibers broke since the topology was made)"));
     for (std::size_t k = 0; k < b.line_fiber.size(); ++k)
       if (b.line_fiber[k] >= fibers)
         throw Error(message(what, ": body ", b.name, ": fiber line ", k, " draws fiber ", b.line_fiber[k],
@@ -201,7 +209,8 @@ double largest(const View& cs, const std::vector<Index>& index, const std::vecto
 // lines, its tets, and for a body with none of these one vertex per particle, so that ParaView draws it.
 template <class Real>
 PieceCells piece_cells(const World<Real>& world, const FrameBody& b, const VtuCellConstraints& cells,
-                       std::size_t triangle, const std::vector<FiberReading>& fibers) {
+                       std::size_t triangle, const std::vector<FiberReading>& fibers,
+                       const std::vector<FiberReading>& tet_fibers) {
   const auto stretch = world.template constraints<StretchConstraint<Real>>();
   const auto area = world.template constraints<AreaConstraint<Real>>();
   const auto positions = world.positions();
@@ -225,19 +234,31 @@ PieceCells piece_cells(const World<Real>& world, const FrameBody& b, const VtuCe
     c.fiber_strain.back() = fibers[b.line_fiber[k]].strain;
     c.fiber_force.back() = fibers[b.line_fiber[k]].force;
   }
-  for (std::size_t k = 0; k < b.tets.size(); ++k)
+  for (std::size_t k = 0; k < b.tets.size(); ++k) {
     c.add(b.tets[k], first, 10, kNaN, kNaN, tet[k].first, tet[k].second);  // VTK_TETRA
+    if (!b.tet_fiber.empty() && b.tet_fiber[k] != FrameBody::kNoTetFiber) {
+      c.tet_fiber_strain.back() = tet_fibers[b.tet_fiber[k]].strain;
+      c.tet_fiber_stress.back() = tet_fibers[b.tet_fiber[k]].force;
+    }
+  }
   if (c.types.empty())
     for (Index i = 0; i < b.num_particles; ++i)
       c.add(std::array<Index, 1>{first + i}, first, 1, kNaN, kNaN, kNaN, kNaN);  // VTK_VERTEX
   return c;
 }
 
-// Appends body b's <Piece>: its particles with their point data, and `c` with its cell data (volume_ratio and strain
-// only `with_tets`, fiber_strain and fiber_force only `with_fibers`).
+// Which arrays a frame's pieces carry: each only in frames with such cells, so that frames without them stay as
+// they were; then in every piece, since a reader takes the arrays of a multi-piece grid to be the same in each.
+struct FrameArrays {
+  bool tets = false;        // volume_ratio and strain
+  bool fibers = false;      // fiber_strain and fiber_force
+  bool tet_fibers = false;  // tet_fiber_strain and tet_fiber_stress
+};
+
+// Appends body b's <Piece>: its particles with their point data, and `c` with the cell data `arrays` asks for.
 template <class Real>
 void append_piece(std::string& out, const World<Real>& world, const FrameBody& b, const PieceCells& c,
-                  bool with_tets, bool with_fibers) {
+                  FrameArrays arrays) {
   const auto x = world.positions();
   const auto v = world.velocities();
   const auto w = world.inverse_masses();
@@ -253,13 +274,17 @@ void append_piece(std::string& out, const World<Real>& world, const FrameBody& b
   out += "      </PointData>\n      <CellData Scalars=\"stretch\">\n";
   append_array(out, "        ", "stretch", 1, std::span<const double>(c.stretch));
   append_array(out, "        ", "area", 1, std::span<const double>(c.area));
-  if (with_tets) {
+  if (arrays.tets) {
     append_array(out, "        ", "volume_ratio", 1, std::span<const double>(c.volume_ratio));
     append_array(out, "        ", "strain", 1, std::span<const double>(c.strain));
   }
-  if (with_fibers) {
+  if (arrays.fibers) {
     append_array(out, "        ", "fiber_strain", 1, std::span<const double>(c.fiber_strain));
     append_array(out, "        ", "fiber_force", 1, std::span<const double>(c.fiber_force));
+  }
+  if (arrays.tet_fibers) {
+    append_array(out, "        ", "tet_fiber_strain", 1, std::span<const double>(c.tet_fiber_strain));
+    append_array(out, "        ", "tet_fiber_stress", 1, std::span<const double>(c.tet_fiber_stress));
   }
   out += "      </CellData>\n      <Points>\n";
   append_array(out, "        ", "positions", 3, std::span<const Real>(x.data() + from, count));
@@ -277,13 +302,14 @@ std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, c
                       const std::string& what) {
   check_frame_topology(topology, world.num_particles(), what);
   check_cell_constraints(world, topology, cells, what);
-  // The tet arrays only in frames with tets, so that frames without them stay as they were; then in every piece,
-  // since a reader takes the arrays of a multi-piece grid to be the same in each.
-  const bool with_tets = std::any_of(topology.bodies.begin(), topology.bodies.end(),
-                                     [](const FrameBody& b) { return !b.tets.empty(); });
-  const bool with_fibers = std::any_of(topology.bodies.begin(), topology.bodies.end(),
-                                       [](const FrameBody& b) { return !b.fiber_lines.empty(); });
-  const std::vector<FiberReading> fibers = with_fibers ? world.fibers() : std::vector<FiberReading>{};
+  auto any_body = [&](auto has) { return std::any_of(topology.bodies.begin(), topology.bodies.end(), has); };
+  FrameArrays arrays;
+  arrays.tets = any_body([](const FrameBody& b) { return !b.tets.empty(); });
+  arrays.fibers = any_body([](const FrameBody& b) { return !b.fiber_lines.empty(); });
+  arrays.tet_fibers = any_body([](const FrameBody& b) { return !b.tet_fiber.empty(); });
+  const std::vector<FiberReading> fibers = arrays.fibers ? world.fibers() : std::vector<FiberReading>{};
+  const std::vector<FiberReading> tet_fibers =
+      arrays.tet_fibers ? world.template material_readings<TetFiberConstraint<Real>>() : std::vector<FiberReading>{};
   std::string out = "<?xml version=\"1.0\"?>\n";
   out += message("<!-- pbd frame: t = ", world.time(), " s, ", world.num_particles(), " particles; bodies: ",
                  topology.bodies.size(), " -->\n");
@@ -302,7 +328,7 @@ std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, c
   out += "</DataArray>\n    </FieldData>\n";
   std::size_t triangle = 0;  // the body's first triangle, numbered over all bodies as in `cells`
   for (const FrameBody& b : topology.bodies) {
-    append_piece(out, world, b, piece_cells(world, b, cells, triangle, fibers), with_tets, with_fibers);
+    append_piece(out, world, b, piece_cells(world, b, cells, triangle, fibers, tet_fibers), arrays);
     triangle += b.triangles.size();
   }
   out += "  </UnstructuredGrid>\n</VTKFile>\n";

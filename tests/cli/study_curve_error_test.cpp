@@ -39,6 +39,37 @@ TEST(StudyCurveError, ASolvedFiberIsOnItsCurveAndOneMovedOffItIsOffByKTimesTheSt
   EXPECT_NEAR(e.max, 10.0, 1e-6);
 }
 
+// One tet of 1 cm edges along x, y, z, pinned but for its corner along the fiber direction x, a
+// free particle of 1 t started at 5% strain: E = 1 MPa, yield at 10%. Solved, its stress is the curve's; moved 1%
+// further with the same λ, it is off by E·1% = 10% of σ_y.
+TEST(StudyCurveError, ATetFibersStressIsJudgedAgainstItsCurveInPascals) {
+  World<double> w;
+  w.add_particle({0, 0, 0}, World<double>::kPinned);
+  w.add_particle({0.0105, 0, 0}, 1e3);
+  w.add_particle({0, 0.01, 0}, World<double>::kPinned);
+  w.add_particle({0, 0, 0.01}, World<double>::kPinned);
+  Material m;
+  m.stiffness = 1e6;
+  m.yield_strain = 0.1;
+  TetFiberConstraint<double> c = blank_constraint<TetFiberConstraint<double>>();
+  c.particles = {0, 1, 2, 3};
+  c.set = w.add_constraint_set(Stiffness::fiber(m));
+  c.volume = 0.01 * 0.01 * 0.01 / 6.0;
+  c.direction = {1, 0, 0};
+  c.weights = {100.0, 0.0, 0.0};  // the rest shape's Dm⁻¹·x̂: an edge of 1 cm along x
+  w.add(c, kAllFields);
+  StepParams<double> p;
+  p.gravity.setZero();
+  p.iterations = 4;
+  w.set_params(p);
+  EXPECT_TRUE(has_curve(w));
+  w.step();
+  EXPECT_LT(curve_errors(w).at("curve_pct").max, 1e-9);
+  EXPECT_GT(w.material_readings<TetFiberConstraint<double>>()[0].force, 4e4);  // Pa
+  w.positions()(0, 1) += 1e-4;
+  EXPECT_NEAR(curve_errors(w).at("curve_pct").rms, 10.0, 1e-6);
+}
+
 TEST(StudyCurveError, AWorldWithoutACurveHasNone) {
   World<double> w;
   w.add_particle({0, 0, 0}, World<double>::kPinned);

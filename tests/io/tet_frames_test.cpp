@@ -202,6 +202,49 @@ TEST(TetFrames, EveryPieceOfAFrameWithTetsHasTheTetArraysAndAFrameWithoutHasNone
   for (std::int64_t p : cells.back()) EXPECT_LT(p, 12);
 }
 
+// A body with tet fibers: each tet cell carries its tet fiber's total strain and stress (World::material_readings),
+// the triangles NaN; a body held by its tet fibers alone is drawn too; a frame without tet fibers has no such array.
+TEST(TetFrames, TetCellsCarryTheirTetFibersStrainAndStress) {
+  World<double> w;
+  const SceneBody plain = add_box(w, "both", "tets_0");
+  const std::string before = [&] {
+    const FrameTopology t = frame_topology(w, std::vector<SceneBody>{plain});
+    return vtu_frame(w, t, vtu_cell_constraints(w, t), "f.vtu");
+  }();
+  EXPECT_EQ(count_of(before, "tet_fiber"), 0u);
+  Material m;
+  m.stiffness = 1e5;
+  TetConstraintSets sets;
+  sets.fibers = w.add_constraint_set(Stiffness::fiber(m));
+  TetBodyOptions options;
+  options.origin = {1, 0, 0};
+  const Body fibers_only = add_tet_body(w, tet_box_mesh({2, 1, 1}, {0.2, 0.1, 0.1}), options, sets);
+  const SceneBody body{"tets_1", fibers_only.first_particle, fibers_only.num_particles, fibers_only.triangles};
+  auto x = w.positions();
+  for (Index i = body.first_particle; i < w.num_particles(); ++i) x(0, i) = 1.0 + 1.1 * (x(0, i) - 1.0);  // F·a0: 1.1
+  StepParams<double> p;
+  p.gravity.setZero();
+  w.set_params(p);
+  w.step();  // a λ to read
+  const FrameTopology t = frame_topology(w, std::vector<SceneBody>{plain, body});
+  ASSERT_EQ(t.bodies[1].tets.size(), 12u);
+  const std::string vtu = vtu_frame(w, t, vtu_cell_constraints(w, t), "f.vtu");
+  EXPECT_EQ(count_of(vtu, "Name=\"tet_fiber_strain\""), 2u);  // in every piece
+  EXPECT_EQ(count_of(vtu, "Name=\"tet_fiber_stress\""), 2u);
+  for (double v : data_array<double>(vtu, "tet_fiber_stress", 0)) EXPECT_TRUE(std::isnan(v)) << "no tet fiber there";
+  const auto readings = w.material_readings<TetFiberConstraint<double>>();
+  const auto strain = data_array<double>(vtu, "tet_fiber_strain", 1);
+  const auto stress = data_array<double>(vtu, "tet_fiber_stress", 1);
+  const std::size_t triangles = t.bodies[1].triangles.size();
+  ASSERT_EQ(stress.size(), triangles + 12);
+  for (std::size_t k = 0; k < triangles; ++k) EXPECT_TRUE(std::isnan(stress[k])) << "triangle " << k;
+  for (std::size_t k = 0; k < 12; ++k) {  // the tets in the fibers' order
+    EXPECT_EQ(strain[triangles + k], readings[k].strain) << "tet " << k;
+    EXPECT_EQ(stress[triangles + k], readings[k].force) << "tet " << k;
+    EXPECT_GT(stress[triangles + k], 0.0) << "tet " << k;
+  }
+}
+
 TEST(TetFrames, CellConstraintsOfAnotherTopologyAreRefused) {
   World<double> w;
   const SceneBody body = add_box(w, "neo_hookean", "tets_0");

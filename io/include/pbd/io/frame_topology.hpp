@@ -36,6 +36,10 @@ struct FrameBody {
   std::vector<Index> line_fiber;
   std::vector<std::array<Index, 4>> tets;  ///< tets (corners p0..p3 of their constraint), all four in the body
   std::vector<FrameTetRest> tet_rest;      ///< per tet, its rest shape
+  /// Per tet, the tet fiber on its four corners (an index into world.constraints<TetFiberConstraint<Real>>()), or
+  /// kNoTetFiber; empty when the world has no tet fibers.
+  std::vector<Index> tet_fiber;
+  static constexpr Index kNoTetFiber = ~Index(0);  ///< a tet without a tet fiber
 };
 
 /// What a frame draws: bodies in particle order that together hold every particle of the world once (body k starts
@@ -71,7 +75,7 @@ FrameTopology frame_topology(const World<Real>& world, const std::vector<std::ar
 
 /// Throws pbd::Error naming `what` unless `topology` fits a world of `num_particles` particles: its bodies hold every
 /// particle once, in order, each triangle, line and tet lies in its body, and there is one line_stretch per line, one
-/// line_fiber per fiber line and one tet_rest per tet.
+/// line_fiber per fiber line, one tet_rest per tet and one tet_fiber per tet or none.
 void check_frame_topology(const FrameTopology& topology, Index num_particles, const std::string& what);
 
 }  // namespace pbd
