@@ -225,7 +225,14 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     write_file_atomically(o.stats, csv.str());
     std::printf("wrote per-step statistics to %s\n", o.stats.c_str());
   }
-  if (broken) std::printf("fibers broken: %zu of %zu\n", broken, broken + world.template constraints<FiberConstraint<Real>>().size());
+  if (broken) {  // of the fibers and tet fibers there were
+    std::size_t left = 0;
+    for_each_type<BuiltinConstraintTypes<Real>>([&](auto type, auto) {
+      using C = typename decltype(type)::type;
+      if constexpr (takes_material<C>()) left += world.template constraints<C>().size();
+    });
+    std::printf("fibers broken: %zu of %zu\n", broken, broken + left);
+  }
   if (!o.breaks.empty()) {
     write_file_atomically(o.breaks, breaks_csv.str());
     std::printf("wrote the %zu breaks to %s\n", broken, o.breaks.c_str());

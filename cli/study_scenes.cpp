@@ -251,20 +251,25 @@ template <class Real> bool has_curve(const World<Real>& world) {
 template <class Real> Errors curve_errors(const World<Real>& world) {
   double sum2 = 0.0, max = 0.0;
   std::size_t n = 0;
-  for_each_material_type<Real>([&](auto type) {  // each one's force (a tet fiber's: stress) against its curve's
+  auto add = [&](const Material* m, double elastic, double force) {  // one force (a tet fiber's: stress)
+    if (!m || std::isnan(force)) return;
+    const double e = 100.0 * std::abs(force - m->force(elastic)) / force_scale(*m);
+    sum2 += e * e;
+    max = std::max(max, std::isfinite(e) ? e : INFINITY);
+    ++n;
+  };
+  for_each_material_type<Real>([&](auto type) {  // each one's against its curve
     using C = typename decltype(type)::type;
     const auto& items = world.template constraints<C>();
     const std::vector<FiberReading> readings = world.template material_readings<C>();
     for (std::size_t k = 0; k < items.size(); ++k) {
-      const Material* m = world.constraint_sets()[items[k].set].curve();
       const FiberReading& r = readings[k];
-      if (!m || std::isnan(r.force)) continue;
-      const double e = 100.0 * std::abs(r.force - m->force(r.strain - r.plastic)) / force_scale(*m);
-      sum2 += e * e;
-      max = std::max(max, std::isfinite(e) ? e : INFINITY);
-      ++n;
+      add(world.constraint_sets()[items[k].set].curve(), r.strain - r.plastic, r.force);
     }
   });
+  // Those the last step broke, at their break: one that a solve left far off its curve (a step that overshot to
+  // the rupture strain with little force) counts as such, rather than leaving the run with nothing to judge.
+  for (const FiberBreak& b : world.last_breaks()) add(world.constraint_sets()[b.set].curve(), b.strain - b.plastic, b.force);
   Errors out;
   out["curve_pct"] = {n ? std::sqrt(sum2 / double(n)) : 0.0, max};
   return out;

@@ -68,7 +68,8 @@ KnownAnswer known_answer(const SceneInfo& info);
 template <class Real> bool has_curve(const World<Real>& world);
 /// Each such fiber's tension, or tet fiber's stress (from λ, World::material_readings), against its curve's at its
 /// elastic strain, in % of its set's scale (the curve at yield, else at rupture, else at unit strain), as the
-/// measure "curve_pct" (RMS and maximum over those that have a force; 0 when none is left). Before a step none has.
+/// measure "curve_pct" (RMS and maximum over those that have a force, and those the last step broke, at their
+/// break; 0 when there are none). Before a step none has a force.
 template <class Real> Errors curve_errors(const World<Real>& world);
 
 /// For a chain: each link's extension against α·T_k, in % of α·T_k (RMS and maximum over the links), as the

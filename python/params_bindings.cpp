@@ -81,6 +81,7 @@ void bind_params(py::module_& m) {
       .def_property_readonly("a", [](const FiberBreak& x) { return x.particles[0]; }, "its first particle")
       .def_property_readonly("b", [](const FiberBreak& x) { return x.particles[1]; }, "its second particle")
       .def_readonly("strain", &FiberBreak::strain, "its total strain at the break")
+      .def_readonly("plastic", &FiberBreak::plastic, "its plastic strain at the break")
       .def_readonly("force", &FiberBreak::force,
                     "what it carried at the break: a fiber's tension in N, a tet fiber's stress in Pa")
       .def("__repr__", [](const FiberBreak& x) {

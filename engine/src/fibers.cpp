@@ -64,7 +64,8 @@ template <class Real> std::vector<FiberBreak> find_breaks(const Model<Real>& m, 
       if (!curve_of || !(curve_of->rupture_strain < Material::kNever)) continue;
       const double strain = material_strain(c, x);
       if (!(strain >= curve_of->rupture_strain)) continue;
-      FiberBreak b{step, s.time, C::kName, u, c.set, {}, C::kArity, strain, force_of(m, s, c, st.stored(u))};
+      FiberBreak b{step, s.time, C::kName, u, c.set, {}, C::kArity, strain, double(c.plastic),
+                   force_of(m, s, c, st.stored(u))};
       for (int i = 0; i < C::kArity; ++i) b.particles[std::size_t(i)] = c.particles[std::size_t(i)];
       out.push_back(b);
     }

@@ -79,10 +79,10 @@ def check_report(doc, out):
     exact = {sc["base"] for sc in scenes.values() if sc["known_answer"]}
     if {r["scene"] for r in doc["references"]} != {sc["base"] for sc in scenes.values()} - exact:
         fail(f"expected one reference per scene without a closed form: {[r['scene'] for r in doc['references']]}")
-    if exact != {"cloth30-rest", "chain30", "ligament", "cloth-tear", "tet-tear"}:
+    if exact != {"cloth30-rest", "chain30", "ligament", "cloth-tear", "tet-tear", "tendon"}:
         fail(f"scenes with a closed form: {sorted(exact)}")
     curves = {n: sc["primary_error"] for n, sc in scenes.items() if sc["known_answer"] == "curve"}
-    if set(curves) != {"ligament", "cloth-tear", "tet-tear"} or any(m != "curve_pct" for m in curves.values()):
+    if set(curves) != {"ligament", "cloth-tear", "tet-tear", "tendon"} or any(m != "curve_pct" for m in curves.values()):
         fail(f"the scenes of fibers on a curve are judged by {curves}, not by curve_pct")
     elastic = {n: sc["primary_error"] for n, sc in scenes.items() if sc["base"] in ("bar", "pig-tets", "squeeze")}
     if not elastic or any(m != "ref_error_mm" for m in elastic.values()):

@@ -70,6 +70,29 @@ TEST(StudyCurveError, ATetFibersStressIsJudgedAgainstItsCurveInPascals) {
   EXPECT_NEAR(curve_errors(w).at("curve_pct").rms, 10.0, 1e-6);
 }
 
+// A fiber between two pinned particles held at 10% strain, past its rupture strain (5%): the solve moves nothing, so
+// it breaks carrying no force, 100 N off its curve there (F_y = 100 N). The break is judged: 100%, not a run left
+// with nothing to judge (0).
+TEST(StudyCurveError, AFiberThatBreaksOffItsCurveCountsAtItsBreak) {
+  World<double> w;
+  w.add_particle({0, 0, 0}, World<double>::kPinned);
+  w.add_particle({0.011, 0, 0}, World<double>::kPinned);
+  Material m;
+  m.stiffness = 1000.0;
+  m.yield_strain = 0.1;
+  m.rupture_strain = 0.05;
+  w.add_fiber(0, 1, w.add_constraint_set(Stiffness::fiber(m)), 0.01);
+  StepParams<double> p;
+  p.gravity.setZero();
+  w.set_params(p);
+  w.step();
+  ASSERT_EQ(w.last_breaks().size(), 1u);
+  EXPECT_TRUE(w.fibers().empty());
+  EXPECT_NEAR(curve_errors(w).at("curve_pct").rms, 100.0, 1e-9);
+  w.step();  // nothing left and nothing broke
+  EXPECT_EQ(curve_errors(w).at("curve_pct").rms, 0.0);
+}
+
 TEST(StudyCurveError, AWorldWithoutACurveHasNone) {
   World<double> w;
   w.add_particle({0, 0, 0}, World<double>::kPinned);

@@ -30,6 +30,7 @@ struct FiberBreak {
   std::array<Index, 4> particles{};  ///< its particles, the first `arity` of these
   int arity = 2;                ///< how many particles it has (2 for a fiber, 4 for a tet fiber)
   double strain = 0.0;          ///< its total strain at the break
+  double plastic = 0.0;         ///< its plastic strain at the break
   double force = 0.0;           ///< what it carried at the break: N for a fiber, Pa for a tet fiber (FiberReading)
 };
 
