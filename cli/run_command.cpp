@@ -72,10 +72,13 @@ void break_rows(std::ostringstream& csv, std::span<const FiberBreak> breaks) {
     char line[300];
     int n = std::snprintf(line, sizeof line, "%lld,%.9g,%s,%u,%u", static_cast<long long>(b.step), b.time, b.type,
                           unsigned(b.fiber), unsigned(b.set));
-    for (std::size_t i = 0; i < 4; ++i)
-      n += i < std::size_t(b.arity) ? std::snprintf(line + n, sizeof line - std::size_t(n), ",%u", unsigned(b.particles[i]))
-                                    : std::snprintf(line + n, sizeof line - std::size_t(n), ",");
-    std::snprintf(line + n, sizeof line - std::size_t(n), ",%.9g,%.9g,%s\n", b.strain, b.force, b.arity == 2 ? "N" : "Pa");
+    for (std::size_t i = 0; i < 4; ++i) {
+      const std::size_t room = sizeof line - std::size_t(n);
+      n += i < std::size_t(b.arity) ? std::snprintf(line + n, room, ",%u", unsigned(b.particles[i]))
+                                    : std::snprintf(line + n, room, ",");
+    }
+    const char* unit = b.arity == 2 ? "N" : "Pa";
+    std::snprintf(line + n, sizeof line - std::size_t(n), ",%.9g,%.9g,%s\n", b.strain, b.force, unit);
     csv << line;
   }
 }

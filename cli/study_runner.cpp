@@ -176,6 +176,12 @@ RunResult error_run(World<Real> world, const SceneInfo& info, const KnownAnswer&
   }
   out.mean = mean.mean();
   out.final = state_errors(world, known);
+  // A type whose constraints all broke has no violation left to measure: 0, as for the steps it was gone in (the
+  // mean counts them so), and so that every record has each of the scene's measures.
+  for (const std::string& key : info.measures) {
+    out.mean.try_emplace(key, ErrorValue{0.0, 0.0});
+    out.final.try_emplace(key, ErrorValue{0.0, 0.0});
+  }
   out.positions = world.positions().template cast<double>();
   out.hash = position_hash(world);
   if (window_start.cols() == out.positions.cols()) out.motion = distance(window_start, out.positions).rms;

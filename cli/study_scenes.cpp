@@ -269,7 +269,8 @@ template <class Real> Errors curve_errors(const World<Real>& world) {
   });
   // Those the last step broke, at their break: one that a solve left far off its curve (a step that overshot to
   // the rupture strain with little force) counts as such, rather than leaving the run with nothing to judge.
-  for (const FiberBreak& b : world.last_breaks()) add(world.constraint_sets()[b.set].curve(), b.strain - b.plastic, b.force);
+  for (const FiberBreak& b : world.last_breaks())
+    add(world.constraint_sets()[b.set].curve(), b.strain - b.plastic, b.force);
   Errors out;
   out["curve_pct"] = {n ? std::sqrt(sum2 / double(n)) : 0.0, max};
   return out;

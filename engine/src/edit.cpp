@@ -31,7 +31,8 @@ template <class Real> void World<Real>::check_particle(Index i, const char* item
 template <class Real> void World<Real>::check_set(Index set, const char* item, std::size_t index) const {
   if (set >= model_.sets.size()) detail::fail_set_index(detail::message(item, " ", index), set, model_.sets.size());
   if (model_.sets[set].mode == StiffnessMode::material)  // only fibers and tet fibers take a curve (checked_constraint)
-    throw Error(detail::message(item, " ", index, ": set ", set, " has a stress-strain curve, which only fibers and tet fibers take"));
+    throw Error(detail::message(item, " ", index, ": set ", set,
+                                " has a stress-strain curve, which only fibers and tet fibers take"));
 }
 
 // ---- particles ----
