@@ -115,9 +115,11 @@ Size body_size(const nlohmann::json& b) {
       cells *= ok;
     }
     const double per_tet = double(has(b, TetVolumeConstraint<double>::kSceneKey)) +
-                           double(has(b, NeoHookeanConstraint<double>::kSceneKey));
+                           double(has(b, NeoHookeanConstraint<double>::kSceneKey)) +
+                           double(has(b, TetFiberConstraint<double>::kSceneKey));
     const double clusters = has(b, ShapeMatchConstraint<double>::kSceneKey) ? v : 0;  // one per vertex
-    return {v, 6 * cells * per_tet + clusters, "generator/cells"};
+    const double edges = has(b, StretchConstraint<double>::kSceneKey) ? 7 * cells : 0;  // a Kuhn cube adds 7 edges
+    return {v, 6 * cells * per_tet + clusters + edges, "generator/cells"};
   }
   if (t == "particles") {
     const auto s = b.find(StretchConstraint<double>::kSceneKey);

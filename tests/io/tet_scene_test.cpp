@@ -256,6 +256,11 @@ TEST(TetScene, MalformedTetBodiesNameTheirKey) {
          "\"file\": \"bar.stl\"", {"/bodies/0/file", ".msh"});
   expect("\"density\": 500", "\"file\": \"x.msh\", \"density\": 500", {"/bodies/0", "exactly one of"});
   expect("\"cells\": [4, 1, 1]", "\"cells\": [100000, 100000, 100000]", {"/bodies/0/generator/cells", "limit"});
+  // 12 million cubes: their Neo-Hookean and volume tets (144 million) fit the limit of 200 million constraints; with
+  // a tet fiber on every tet too (216 million) they do not, and the scene is refused before anything is built.
+  const std::string big = replaced(replaced(kBar, "[4, 1, 1]", "[200, 200, 300]"), R"("tet_volume": {"compliance": 1e-9})",
+                                   R"("tet_volume": {"compliance": 1e-9}, "tet_fibers": {"direction": [1, 0, 0]})");
+  expect_words(error_of([&] { parse_scene(big, "bar.json"); }), {"/bodies/0/generator/cells", "limit"});
 }
 
 }  // namespace
