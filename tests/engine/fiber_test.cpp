@@ -8,6 +8,7 @@
 #include "pbd/io/describe_world.hpp"
 #include "pbd/metrics.hpp"
 #include "pbd/world.hpp"
+#include "tension_points.hpp"
 #include "world_runs.hpp"
 
 #include <gtest/gtest.h>
@@ -59,21 +60,12 @@ struct Tension {
 // Strain per step: 1e-4 (a pull at 0.1 strain per second, slow against the chain's period of about 1 ms).
 constexpr double kRate = 1e-4;
 
-// The 20 strains the tension test reads: 6 in the toe, 7 on the linear part, 7 past yield.
-std::vector<double> checkpoints(const Material& m) {
-  std::vector<double> s;
-  for (int i = 0; i < 6; ++i) s.push_back(m.toe_strain * (0.3 + 0.14 * i));
-  for (int i = 0; i < 7; ++i) s.push_back(m.toe_strain + (m.yield_strain - m.toe_strain) * (0.1 + 0.13 * i));
-  for (int i = 0; i < 7; ++i) s.push_back(m.yield_strain + (m.rupture_strain - m.yield_strain) * (0.05 + 0.13 * i));
-  return s;
-}
-
 TEST(Fiber, TensionTestFollowsTheCurveAndBreaksAtTheRuptureStrainUnderEverySolver) {
   const Material m = ligament();
   for (Solver solver : kSolvers) {
     SCOPED_TRACE(name(solver));
     Tension t(solver);
-    const std::vector<double> points = checkpoints(m);
+    const std::vector<double> points = test::tension_points(m);
     std::size_t next = 0;
     double broke_at = -1.0;
     for (int step = 1; step < 2000 && broke_at < 0; ++step) {

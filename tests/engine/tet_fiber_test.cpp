@@ -11,6 +11,7 @@
 #include "pbd/io/tet_mesh.hpp"
 #include "pbd/world.hpp"
 #include "pieces.hpp"
+#include "tension_points.hpp"
 #include "world_runs.hpp"
 
 #include <gtest/gtest.h>
@@ -75,21 +76,12 @@ struct Bar {
 
 constexpr double kRate = 1e-4;  // strain per 1 ms step: slow against the bar's period (about 8 ms)
 
-// The 20 strains the tension test reads: 6 in the toe, 7 on the linear part, 7 past yield.
-std::vector<double> checkpoints(const Material& m) {
-  std::vector<double> s;
-  for (int i = 0; i < 6; ++i) s.push_back(m.toe_strain * (0.3 + 0.14 * i));
-  for (int i = 0; i < 7; ++i) s.push_back(m.toe_strain + (m.yield_strain - m.toe_strain) * (0.1 + 0.13 * i));
-  for (int i = 0; i < 7; ++i) s.push_back(m.yield_strain + (m.rupture_strain - m.yield_strain) * (0.05 + 0.13 * i));
-  return s;
-}
-
 TEST(TetFiber, TensionTestFollowsTheCurveAndBreaksAtTheRuptureStrainUnderEverySolver) {
   const Material m = tendon();
   for (Solver solver : kSolvers) {
     SCOPED_TRACE(name(solver));
     Bar bar(solver);
-    const std::vector<double> points = checkpoints(m);
+    const std::vector<double> points = test::tension_points(m);
     std::size_t next = 0;
     double broke_at = -1.0;
     for (int step = 1; step < 2000 && broke_at < 0; ++step) {
