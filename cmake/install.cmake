@@ -15,6 +15,7 @@ install(TARGETS pbd_engine pbd_io pbd_graph_coloring EXPORT pbdTargets
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine/include/ ${PROJECT_SOURCE_DIR}/io/include/
                   ${PROJECT_SOURCE_DIR}/graph_coloring/include/
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(FILES ${PROJECT_BINARY_DIR}/generated/include/pbd/version.hpp DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/pbd)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/pbd/scenes)
 # The pbd program finds its scenes and the study's plot script in share/pbd beside its own folder (cli/data_dir.hpp),
 # so the installed tree works wherever it is moved.
