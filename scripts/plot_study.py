@@ -5,11 +5,13 @@ Usage: scripts/plot_study.py STUDY.json [OUT_DIR]
 
 Writes into OUT_DIR (default: the JSON's folder), each figure as .png (150 dpi) and .svg; one without data is skipped:
   speed_error        per scene: primary error against ms per step (median, bars min..max), marker per solver, fill
-                     per thread count, busy points hollow with a red edge; grey steps: the Pareto front, labelled SxI
+                     per thread count; grey steps: the Pareto front, labelled SxI
   headline           the same for the largest cloth<N> measured at several splits alone
   time_to_accuracy   per scene with a % primary error measured at several budgets: run-averaged error against ms
                      per step, one line per solver and variant (plain, tethers, hierarchy, both) at its most threads
                      (its lower envelope: the fastest time for each error), and the target (1%): the README's figure
+  reference_distance per scene with a converged reference: the one-step distance from it (ref_error_mm) against
+                     ms per step, styled as speed_error
   convergence        per scene: primary error against sweeps per step, each solver at its most threads: all
                      iterations (1xN, solid), all substeps (Nx1, dashed), the best split per budget (big markers)
   thread_scaling     study mode: per scene, speed-up of each parallel solver from 1 thread to its most threads (median
@@ -19,7 +21,10 @@ Writes into OUT_DIR (default: the JSON's folder), each figure as .png (150 dpi) 
   summary.md         context and warnings; the time per step to reach the target per scene, variant, solver and
                      threads; per scene the reference and its check, the best split per budget of each solver at its
                      most threads and the dominance check; in scaling mode the strong-scaling table
-Every error is the report's: averaged over the run (a quasi-static scene: over its settled last quarter).
+Every error is the report's: averaged over the run (a quasi-static scene: over its settled last quarter). A point
+timed while the machine was busy (its record's "busy") keeps its solver's colour, marker and fill and gets a ring
+of that colour around it. Every figure carries, above it at the right, the machine (CPU, cores), the commit, the
+date and, when the report has one, pbd's version.
 """
 import json
 import math
@@ -46,6 +51,8 @@ SHARED = "shared-nothing split (this machine's ceiling)"
 # ({key: {"type", "label", "unit"}}, filled in by main). A report without it (older ones) gets them from the key
 # itself: "<label>_<unit suffix>", the suffix as the engine names its units.
 MEASURES = {}
+STAMP = ""  # the machine, commit, date and version of the report (main fills it in); save() writes it on every figure
+BUSY_RING = dict(linestyle="none", marker="o", markersize=9, markerfacecolor="none", markeredgewidth=0.7, zorder=5)
 UNIT_SUFFIXES = {"pct": "%", "mm": "mm", "rad": "rad"}
 
 
@@ -157,8 +164,31 @@ def panels(n, w=3.6, h=2.9):
     return fig, [axes[k // cols][k % cols] for k in range(n)]
 
 
+def stamp(doc):
+    """"CPU, N cores · commit C · date D · pbd V" of a report, each part that it has (the version only if there)."""
+    info = doc.get("study") or {}
+    ctx = info.get("context") or {}
+    version = doc.get("version") or info.get("version") or ctx.get("version")
+    parts = [f"{ctx.get('cpu') or 'unknown CPU'}, {ctx.get('cores', '?')} cores",
+             f"commit {info.get('git_commit') or ctx.get('commit') or 'unknown'}",
+             str(info.get("date") or ctx.get("date") or "date unknown")]
+    return " · ".join(parts + [f"pbd {version}"] * bool(version))
+
+
+def busy_rings(ax, points, color):
+    """Rings of `color` around `points` ((x, y) pairs), timed on a busy machine: the points keep their own style."""
+    if points:
+        ax.plot([p[0] for p in points], [p[1] for p in points], markeredgecolor=color, gid="busy", **BUSY_RING)
+
+
+def busy_handle():
+    return Line2D([], [], color="gray", markeredgecolor="gray", label="ring: timed while busy (CV > 10% or loaded)",
+                  **{k: v for k, v in BUSY_RING.items() if k != "zorder"})
+
+
 def save(fig, out, stem, handles, ncol=4):
-    """Writes the figure with its legend below it (ncol > 0) or at its right (ncol = 0)."""
+    """Writes the figure with its legend below it (ncol > 0) or at its right (ncol = 0), and STAMP above it."""
+    fig.text(1.0, 1.0, STAMP, ha="right", va="bottom", fontsize=6, color="dimgray", gid="stamp")
     where = dict(loc="upper center", bbox_to_anchor=(0.5, 0), ncol=ncol) if ncol else \
         dict(loc="center left", bbox_to_anchor=(1, 0.5))
     fig.legend(handles=handles, frameon=False, **where)
@@ -207,32 +237,36 @@ def solver_handles(solvers, label=str, **kw):
     return [Line2D([], [], color=solver_style(s)[0], marker=solver_style(s)[1], label=label(s), **kw) for s in solvers]
 
 
-def speed_error(st, out, headline=False):
+def speed_error(st, out, headline=False, reference=False):
+    """Primary error (or, reference=True, the distance from the converged reference) against time per step."""
+    value = (lambda r: r.get("ref_error_mm")) if reference else st.error
     scenes = st.with_records()
     if headline:  # the largest cloth<N> measured at more than one split: the README's figure
         cloths = [s for s in scenes if s.get("family") == "cloth" and
                   len({(r["substeps"], r["iterations"]) for r in st.by_scene[s["name"]]}) > 1]
         scenes = sorted(cloths, key=lambda s: s.get("particles", 0))[-1:]
+    if reference:
+        scenes = [s for s in scenes if any(pos(value(r)) for r in st.by_scene[s["name"]])]
     if not scenes:
         return []
     fig, axes = panels(len(scenes), *((6.0, 4.2) if headline else ()))
     for ax, sc in zip(axes, scenes):
         rs, skipped, groups = st.by_scene[sc["name"]], 0, {}
         for r in rs:
-            if pos(st.error(r)) and pos(r["ms_per_step"]):
-                groups.setdefault((r["solver"], r["threads"], bool(r.get("busy"))), []).append(r)
+            if pos(value(r)) and pos(r["ms_per_step"]):
+                groups.setdefault((r["solver"], r["threads"]), []).append(r)
             else:
                 skipped += 1
-        for (solver, threads, busy), g in sorted(groups.items(), key=lambda kv: (kv[0][2], st.order(kv[0][0]))):
+        for (solver, threads), g in sorted(groups.items(), key=lambda kv: st.order(kv[0][0])):
             color, marker = solver_style(solver)
-            x, y = [r["ms_per_step"] for r in g], [st.error(r) for r in g]
+            x, y = [r["ms_per_step"] for r in g], [value(r) for r in g]
             lo, hi = ([r.get(k) or v for r, v in zip(g, x)] for k in ("ms_per_step_min", "ms_per_step_max"))
             ax.errorbar(x, y, xerr=bars(x, lo, hi), fmt="none", ecolor=color, elinewidth=0.6, alpha=0.5, zorder=2)
-            kw = dict(markerfacecolor="none", markeredgecolor="red", markeredgewidth=1.0) if busy else \
-                dict(color=color, fillstyle=st.fill(threads), markerfacecoloralt="white", markeredgewidth=0.8)
-            ax.plot(x, y, linestyle="none", marker=marker, markersize=4.5, zorder=3, **kw)
-        front = sorted((r for r in rs if r.get("pareto") and pos(st.error(r)) and pos(r["ms_per_step"])),
-                       key=lambda r: r["ms_per_step"])
+            ax.plot(x, y, linestyle="none", marker=marker, markersize=4.5, zorder=3, color=color,
+                    fillstyle=st.fill(threads), markerfacecoloralt="white", markeredgewidth=0.8, gid=solver)
+            busy_rings(ax, [(a, b) for a, b, r in zip(x, y, g) if r.get("busy")], color)
+        front = [] if reference else sorted((r for r in rs if r.get("pareto") and pos(st.error(r))
+                                             and pos(r["ms_per_step"])), key=lambda r: r["ms_per_step"])
         if front:
             ax.step([r["ms_per_step"] for r in front], [st.error(r) for r in front], where="post", color="gray",
                     linewidth=0.8, zorder=1)
@@ -246,11 +280,20 @@ def speed_error(st, out, headline=False):
                 ax.annotate(f"{r['substeps']}x{r['iterations']}", (r["ms_per_step"], st.error(r)), xytext=(3, 2),
                             textcoords="offset points", fontsize=5.5, color="dimgray", zorder=4)
         finish(ax, sc, "time per step, median (ms)", skipped, groups)
+        if reference:
+            ax.set_ylabel("one step's RMS distance from the\nconverged reference, run RMS (mm)")
+            ref = next((f for f in st.doc.get("references") or [] if f.get("scene") == sc["name"]), {})
+            if not ref.get("converged", True):  # the summary says why; the panel says that it is only a bound
+                ax.text(0.01, 0.01, "reference not converged: distances bounded by its own error", fontsize=6,
+                        color="firebrick", transform=ax.transAxes, ha="left", va="bottom")
     handles = solver_handles(st.solvers, linestyle="none")
     handles += [Line2D([], [], color="gray", marker="o", linestyle="none", fillstyle=st.fill(t),
                        markerfacecoloralt="white", label=f"{t} thread{'s' * (t > 1)}") for t in st.threads]
-    handles += [Line2D([], [], marker="o", linestyle="none", markerfacecolor="none", markeredgecolor="red",
-                       label="busy (CV > 10% or loaded)")] * any(r.get("busy") for r in st.records)
+    handles += [busy_handle()] * any(r.get("busy") for r in st.records)
+    if reference:
+        fig.suptitle("Distance from the converged reference against time per step (lower left is better; bars: "
+                     "fastest to slowest timed run)", fontsize=10)
+        return save(fig, out, "reference_distance", handles, ncol=min(5, 1 + len(scenes)))
     handles += [Line2D([], [], color="gray", linewidth=0.8, label="Pareto front (labels: substeps x iterations)")]
     fig.suptitle("Speed against error (lower left is better; bars: fastest to slowest timed run)", fontsize=10)
     if headline:
@@ -260,6 +303,10 @@ def speed_error(st, out, headline=False):
 
 def headline(st, out):
     return speed_error(st, out, headline=True)
+
+
+def reference_distance(st, out):
+    return speed_error(st, out, reference=True)
 
 
 VARIANT_DASH = {"plain": "-", "tethers": "--", "hierarchy": ":", "tethers+hierarchy": "-."}
@@ -285,19 +332,20 @@ def time_to_accuracy(st, out):
             variants += [variant] * (variant not in variants)
             for solver in sorted({r["solver"] for r in st.by_scene[sc["name"]]}, key=st.order):
                 top = st.top.get((sc["name"], solver))
-                pts = sorted((r["ms_per_step"], st.error(r)) for r in st.by_scene[sc["name"]]
+                pts = sorted((r["ms_per_step"], st.error(r), bool(r.get("busy"))) for r in st.by_scene[sc["name"]]
                              if r["solver"] == solver and r["threads"] == top and pos(st.error(r))
                              and pos(r["ms_per_step"]))
                 env, best = [], math.inf  # lower envelope: the lowest error reached by this time
-                for x, y in pts:
+                for x, y, busy in pts:
                     if y < best:
                         best = y
-                        env.append((x, y))
+                        env.append((x, y, busy))
                 if not env:
                     continue
                 color, marker = solver_style(solver)
                 ax.plot([p[0] for p in env], [p[1] for p in env], color=color, marker=marker, markersize=3.5,
-                        linestyle=VARIANT_DASH.get(variant, "-"), linewidth=1.0)
+                        linestyle=VARIANT_DASH.get(variant, "-"), linewidth=1.0, gid=solver)
+                busy_rings(ax, [(x, y) for x, y, busy in env if busy], color)
                 drawn += 1
         if drawn:
             loglog(ax)
@@ -310,6 +358,7 @@ def time_to_accuracy(st, out):
     handles = solver_handles(sorted({r["solver"] for r in st.records}, key=st.order), linestyle="none")
     handles += [Line2D([], [], color="gray", linestyle=VARIANT_DASH.get(v, "-"), label=v) for v in variants]
     handles += [Line2D([], [], color="red", linestyle="--", linewidth=0.7, label=f"target {target:g}%")]
+    handles += [busy_handle()] * any(r.get("busy") for r in st.records)
     fig.suptitle("Time per step against run-averaged error (each solver at its most threads; lower envelope)",
                  fontsize=10)
     return save(fig, out, "time_to_accuracy", handles, ncol=4)
@@ -361,10 +410,13 @@ def thread_scaling(st, out):
         return scaling_panels(st, out, strong, shared) if strong else []
     ms = {(r["scene"], r["solver"], r["substeps"], r["iterations"], r["threads"]): r["ms_per_step"] for r in st.records}
     top = {s: max(r["threads"] for r in st.records if r["solver"] == s) for s in st.solvers if s != "serial"}
-    ups = {}  # (scene, solver) -> speed-ups from 1 thread to the solver's most threads, one per split
+    busy = {(r["scene"], r["solver"], r["substeps"], r["iterations"], r["threads"]) for r in st.records if r.get("busy")}
+    ups, busy_ups = {}, set()  # (scene, solver) -> speed-ups from 1 thread to its most threads, one per split
     for (scene, solver, sub, it, t), v in ms.items():
         if t > 1 and top.get(solver) == t and (scene, solver, sub, it, 1) in ms and pos(v):
             ups.setdefault((scene, solver), []).append(ms[scene, solver, sub, it, 1] / v)
+            if {(scene, solver, sub, it, 1), (scene, solver, sub, it, t)} & busy:
+                busy_ups.add((scene, solver))  # a speed-up of a time taken while busy
     if not ups:
         return []
     scenes = sorted(st.with_records(), key=lambda s: s["particles"])
@@ -377,8 +429,10 @@ def thread_scaling(st, out):
             u = ups.get((sc["name"], solver))
             if u:
                 m = statistics.median(u)
-                ax.errorbar(i - 0.3 + width * (k + 0.5), m, yerr=bars([m], [min(u)], [max(u)]), capsize=2,
-                            fmt=solver_style(solver)[1], color=solver_style(solver)[0], markersize=5, elinewidth=0.8)
+                at = i - 0.3 + width * (k + 0.5)
+                ax.errorbar(at, m, yerr=bars([m], [min(u)], [max(u)]), capsize=2, fmt=solver_style(solver)[1],
+                            color=solver_style(solver)[0], markersize=5, elinewidth=0.8, gid=solver)
+                busy_rings(ax, [(at, m)] * ((sc["name"], solver) in busy_ups), solver_style(solver)[0])
     for i, sc in enumerate(scenes):
         sn = [d for d in shared if d["scene"] == sc["name"] and d["threads"] == T]
         if sn:
@@ -398,6 +452,7 @@ def thread_scaling(st, out):
     handles = solver_handles(solvers, lambda s: f"{s} (1 → {top[s]} threads)", linestyle="none")
     handles += [Line2D([], [], color="gray", marker="o", linestyle="none", label=SHARED)] * \
         any(d["threads"] == T for d in shared) + [Line2D([], [], color="black", linestyle="--", label=f"ideal ({T}×)")]
+    handles += [busy_handle()] * bool(busy_ups)
     return save(fig, out, "thread_scaling", handles, ncol=3)
 
 
@@ -405,6 +460,7 @@ def scaling_panels(st, out, strong, shared):
     names = sorted(dict.fromkeys(d["scene"] for d in strong), key=lambda n: st.scene.get(n, {}).get("particles", 0))
     fig, axes = panels(len(names), h=2.8)
     solvers = []
+    busy = {(r["scene"], r["solver"], r["threads"]) for r in st.records if r.get("busy")}  # its timings, by threads
     for ax, name in zip(axes, names):
         rows = [d for d in strong if d["scene"] == name and d["solver"] != "serial"]
         sn = [d for d in shared if d["scene"] == name]
@@ -412,7 +468,8 @@ def scaling_panels(st, out, strong, shared):
             t, y, lo, hi = speedups(d for d in rows if d["solver"] == solver)
             color, marker = solver_style(solver)
             ax.errorbar(t, y, yerr=bars(y, lo, hi), color=color, marker=marker, markersize=4, capsize=2, linewidth=1.0,
-                        elinewidth=0.7)
+                        elinewidth=0.7, gid=solver)
+            busy_rings(ax, [(a, b) for a, b in zip(t, y) if (name, solver, a) in busy], color)
             solvers += [solver] * (solver not in solvers)
         if sn:
             t, y, lo, hi = speedups(sn)
@@ -430,6 +487,7 @@ def scaling_panels(st, out, strong, shared):
     handles = solver_handles(solvers)
     handles += [Line2D([], [], color="gray", marker="o", linestyle=":", label=SHARED)] * bool(shared) + \
         [Line2D([], [], color="black", linestyle="--", label="ideal (speed-up = threads)")]
+    handles += [busy_handle()] * any((d["scene"], d["solver"], d["threads"]) in busy for d in strong)
     split = st.scaling.get("split") or {}
     at = f" at {split['substeps']}x{split['iterations']} (substeps x iterations)" if split else ""
     fig.suptitle(f"Strong scaling{at}, bars min..max", fontsize=10)
@@ -471,7 +529,8 @@ def ns_per_projection(st, out):
 def summary(st, out):
     info, ctx = st.info, st.info.get("context") or {}
     commit, load = info.get("git_commit") or ctx.get("commit") or "unknown", lambda k: fmt(ctx.get(k), ".2g")
-    lines = [f"# pbd study ({st.mode} mode)", "",
+    version = st.doc.get("version") or info.get("version") or ctx.get("version")
+    lines = [f"# pbd study ({st.mode} mode)" + (f", pbd {version}" if version else ""), "",
              f"{info.get('date') or ctx.get('date', '?')}, commit {commit}, CPU {ctx.get('cpu') or 'unknown'}, "
              f"{ctx.get('cores', '?')} cores, load before {load('load_before')}, during {load('load_during')} "
              f"(max {load('load_during_max')}), {fmt(info.get('seconds'), '.4g')} s in total.", ""]
@@ -541,7 +600,10 @@ def main(argv):
     os.makedirs(out, exist_ok=True)
     MEASURES.update(doc.get("measures", {}))
     st = Study(doc)
-    for plot in (speed_error, headline, time_to_accuracy, convergence, thread_scaling, ns_per_projection, summary):
+    global STAMP
+    STAMP = stamp(doc)
+    for plot in (speed_error, headline, reference_distance, time_to_accuracy, convergence, thread_scaling,
+                 ns_per_projection, summary):
         print(f"plot_study.py: {plot.__name__}: " + (", ".join(plot(st, out)) or "no data, skipped"), file=sys.stderr)
     return 0
 
