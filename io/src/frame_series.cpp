@@ -5,6 +5,7 @@
 #include "pbd/io/frame_writer.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace pbd {
@@ -58,6 +59,14 @@ FrameSeries::FrameSeries(std::filesystem::path dir, std::string stem, FrameForma
   check_frame_stem(stem_);
 }
 
+FrameSeries::FrameSeries(std::filesystem::path dir, std::string stem, FrameFormat format, FrameTopology topology,
+                         double dt)
+    : FrameSeries(std::move(dir), std::move(stem), format, std::move(topology)) {
+  if (!(dt > 0.0) || !std::isfinite(dt))
+    throw Error(message("frame series ", shown(stem_), ": the time step must be positive and finite (", dt, ")"));
+  dt_ = dt;
+}
+
 std::filesystem::path FrameSeries::frame_file(long step) const {
   char suffix[48];
   std::snprintf(suffix, sizeof suffix, "_%05ld.%s", step, name(format_));
@@ -78,9 +87,11 @@ template <class Real> void FrameSeries::write(const World<Real>& world, long ste
   if (!cells_ || cells_->num_stretch != world.template constraints<StretchConstraint<Real>>().size() ||
       cells_->num_area != world.template constraints<AreaConstraint<Real>>().size())
     cells_ = vtu_cell_constraints(world, topology_);
-  write_file_atomically(file, vtu_frame(world, topology_, *cells_, file.string()));
+  // step × dt: the time of `step` steps as a count, where world.time() is their sum (which drifts from it).
+  const double time = double(step) * dt_.value_or(double(world.params().dt));
+  write_file_atomically(file, vtu_frame_at_time(world, topology_, *cells_, time, file.string()));
   ++written_;
-  pvd_[step] = {world.time(), file.filename().string()};
+  pvd_[step] = {time, file.filename().string()};
   pvd_pending_ = true;
   if (written_ <= kPvdEveryFrame || std::chrono::steady_clock::now() - pvd_written_at_ >= std::chrono::seconds(1))
     finish();

@@ -26,6 +26,7 @@ template <class T> constexpr const char* vtk_type() {
   if constexpr (std::is_same_v<T, float>) return "Float32";
   else if constexpr (std::is_same_v<T, double>) return "Float64";
   else if constexpr (std::is_same_v<T, std::int64_t>) return "Int64";
+  else if constexpr (std::is_same_v<T, std::int32_t>) return "Int32";
   else if constexpr (std::is_same_v<T, std::uint8_t>) return "UInt8";
   else static_assert(sizeof(T) == 0, "no VTK type");
 }
@@ -91,22 +92,24 @@ std::pair<double, double> tet_measures(const std::array<Index, 4>& q, const Fram
   return {ratio, 0.5 * (F.transpose() * F - Eigen::Matrix3d::Identity()).norm()};
 }
 
-// One piece's cells and their cell data (NaN where a cell has no such measure), in the order they are written.
-struct PieceCells {
+// The frame's cells and their cell data (NaN where a cell has no such measure), in the order they are written.
+struct FrameCells {
   std::vector<std::int64_t> connectivity, offsets;
   std::vector<std::uint8_t> types;
+  std::vector<std::int32_t> body;  // the index of the body the cell belongs to, in topology.bodies
   std::vector<double> stretch, area, volume_ratio, strain;
   std::vector<double> fiber_strain, fiber_force;  // a fiber line's total strain and tension in N; NaN elsewhere
   std::vector<double> tet_fiber_strain, tet_fiber_stress;  // a tet's tet fiber's total strain and stress in Pa
 
-  // Adds a cell of VTK type `type` on world particles `corners` (numbered in the piece from its body's first particle
-  // `first`) with its data.
+  // Adds a cell of VTK type `type` of body `b` on world particles `corners` (the piece holds every particle in world
+  // order, so a world index is a point index) with its data.
   template <std::size_t K>
-  void add(const std::array<Index, K>& corners, Index first, std::uint8_t type, double s, double a, double v,
+  void add(const std::array<Index, K>& corners, std::int32_t b, std::uint8_t type, double s, double a, double v,
            double e) {
-    for (Index p : corners) connectivity.push_back(std::int64_t(p - first));
+    for (Index p : corners) connectivity.push_back(std::int64_t(p));
     offsets.push_back(std::int64_t(connectivity.size()));
     types.push_back(type);
+    body.push_back(b);
     stretch.push_back(s);
     area.push_back(a);
     volume_ratio.push_back(v);
@@ -205,89 +208,112 @@ double largest(const View& cs, const std::vector<Index>& index, const std::vecto
   return s;
 }
 
-// The cells of body b's piece with their data: its triangles (the first is triangle `triangle` of `cells`), its
-// lines, its tets, and for a body with none of these one vertex per particle, so that ParaView draws it.
+// Appends body b's cells (the index of b is `index`) with their data: its triangles (the first is triangle `triangle`
+// of `cells`), its lines, its fiber lines, its tets, and for a body with none of these one vertex per particle, so
+// that ParaView draws it.
 template <class Real>
-PieceCells piece_cells(const World<Real>& world, const FrameBody& b, const VtuCellConstraints& cells,
-                       std::size_t triangle, const std::vector<FiberReading>& fibers,
-                       const std::vector<FiberReading>& tet_fibers) {
+void add_body_cells(FrameCells& c, const World<Real>& world, const FrameBody& b, std::int32_t index,
+                    const VtuCellConstraints& cells, std::size_t triangle, const std::vector<FiberReading>& fibers,
+                    const std::vector<FiberReading>& tet_fibers) {
   const auto stretch = world.template constraints<StretchConstraint<Real>>();
   const auto area = world.template constraints<AreaConstraint<Real>>();
   const auto positions = world.positions();
   const PositionsView<Real> x(positions);
   std::vector<std::pair<double, double>> tet(b.tets.size());  // first: a triangle on a tet's face shows its tet's
   for (std::size_t k = 0; k < b.tets.size(); ++k) tet[k] = tet_measures<Real>(b.tets[k], b.tet_rest[k], x);
-  PieceCells c;
-  const Index first = b.first_particle;
+  const std::size_t before = c.types.size();
   for (const auto& t : b.triangles) {
     const double stretched = largest<Real>(stretch, cells.stretch, cells.stretch_begin, triangle, x);
     const double area_error = largest<Real>(area, cells.area, cells.area_begin, triangle, x);
     const std::size_t on = cells.triangle_tet[triangle++];
     const auto [v, e] = on == VtuCellConstraints::kNoTet ? std::pair{kNaN, kNaN} : tet[on];
-    c.add(t, first, 5, stretched, area_error, v, e);  // VTK_TRIANGLE
+    c.add(t, index, 5, stretched, area_error, v, e);  // VTK_TRIANGLE
   }
   for (std::size_t k = 0; k < b.lines.size(); ++k)
-    c.add(b.lines[k], first, 3, violation(stretch[b.line_stretch[k]], x), kNaN, kNaN, kNaN);  // VTK_LINE
+    c.add(b.lines[k], index, 3, violation(stretch[b.line_stretch[k]], x), kNaN, kNaN, kNaN);  // VTK_LINE
   const auto fiber = world.template constraints<FiberConstraint<Real>>();
   for (std::size_t k = 0; k < b.fiber_lines.size(); ++k) {  // VTK_LINE; stretch: the elastic strain
-    c.add(b.fiber_lines[k], first, 3, violation(fiber[b.line_fiber[k]], x), kNaN, kNaN, kNaN);
+    c.add(b.fiber_lines[k], index, 3, violation(fiber[b.line_fiber[k]], x), kNaN, kNaN, kNaN);
     c.fiber_strain.back() = fibers[b.line_fiber[k]].strain;
     c.fiber_force.back() = fibers[b.line_fiber[k]].force;
   }
   for (std::size_t k = 0; k < b.tets.size(); ++k) {
-    c.add(b.tets[k], first, 10, kNaN, kNaN, tet[k].first, tet[k].second);  // VTK_TETRA
+    c.add(b.tets[k], index, 10, kNaN, kNaN, tet[k].first, tet[k].second);  // VTK_TETRA
     if (!b.tet_fiber.empty() && b.tet_fiber[k] != FrameBody::kNoTetFiber) {
       c.tet_fiber_strain.back() = tet_fibers[b.tet_fiber[k]].strain;
       c.tet_fiber_stress.back() = tet_fibers[b.tet_fiber[k]].force;
     }
   }
-  if (c.types.empty())
+  if (c.types.size() == before)
     for (Index i = 0; i < b.num_particles; ++i)
-      c.add(std::array<Index, 1>{first + i}, first, 1, kNaN, kNaN, kNaN, kNaN);  // VTK_VERTEX
-  return c;
+      c.add(std::array<Index, 1>{b.first_particle + i}, index, 1, kNaN, kNaN, kNaN, kNaN);  // VTK_VERTEX
 }
 
-// Which arrays a frame's pieces carry: each only in frames with such cells, so that frames without them stay as
-// they were; then in every piece, since a reader takes the arrays of a multi-piece grid to be the same in each.
+// Which cell arrays a frame carries: each only when the world has the constraints it measures (an array of NaN
+// says nothing, and in ParaView's list of arrays suggests a measure the scene does not have).
 struct FrameArrays {
-  bool tets = false;        // volume_ratio and strain
-  bool fibers = false;      // fiber_strain and fiber_force
-  bool tet_fibers = false;  // tet_fiber_strain and tet_fiber_stress
+  bool stretch = false;       // stretch constraints, or fibers drawn as lines (their elastic strain)
+  bool area = false;          // area constraints
+  bool volume_ratio = false;  // tets drawn (from Neo-Hookean, tet volume or tet fiber constraints)
+  bool strain = false;        // a drawn tet with a rest shape: a Neo-Hookean constraint
+  bool fibers = false;        // fiber_strain and fiber_force: fibers drawn as lines
+  bool tet_fibers = false;    // tet_fiber_strain and tet_fiber_stress
 };
 
-// Appends body b's <Piece>: its particles with their point data, and `c` with the cell data `arrays` asks for.
+template <class Real> FrameArrays frame_arrays(const World<Real>& world, const FrameTopology& topology) {
+  auto any_body = [&](auto has) { return std::any_of(topology.bodies.begin(), topology.bodies.end(), has); };
+  FrameArrays a;
+  a.fibers = any_body([](const FrameBody& b) { return !b.fiber_lines.empty(); });
+  a.stretch = !world.template constraints<StretchConstraint<Real>>().empty() || a.fibers;
+  a.area = !world.template constraints<AreaConstraint<Real>>().empty();
+  a.volume_ratio = any_body([](const FrameBody& b) { return !b.tets.empty(); });
+  a.strain = any_body([](const FrameBody& b) {
+    return std::any_of(b.tet_rest.begin(), b.tet_rest.end(), [](const FrameTetRest& r) { return bool(r.inverse_rest); });
+  });
+  a.tet_fibers = any_body([](const FrameBody& b) { return !b.tet_fiber.empty(); });
+  return a;
+}
+
+// The frame's one <Piece>: every particle with its point data, and `c` with the cell data `arrays` asks for.
 template <class Real>
-void append_piece(std::string& out, const World<Real>& world, const FrameBody& b, const PieceCells& c,
+void append_piece(std::string& out, const World<Real>& world, const FrameTopology& topology, const FrameCells& c,
                   FrameArrays arrays) {
   const auto x = world.positions();
   const auto v = world.velocities();
   const auto w = world.inverse_masses();
-  const Index first = b.first_particle, n = b.num_particles;
+  const Index n = world.num_particles();
   std::vector<std::uint8_t> pinned(n, 0);
-  for (Index i = 0; i < n; ++i) pinned[i] = w[first + i] == Real(0) ? 1 : 0;
+  for (Index i = 0; i < n; ++i) pinned[i] = w[i] == Real(0) ? 1 : 0;
+  std::vector<std::int32_t> body(n, 0);
+  for (std::size_t k = 0; k < topology.bodies.size(); ++k) {
+    const FrameBody& b = topology.bodies[k];
+    std::fill_n(body.begin() + b.first_particle, b.num_particles, std::int32_t(k));
+  }
   out += message("    <Piece NumberOfPoints=\"", n, "\" NumberOfCells=\"", c.types.size(), "\">\n");
   out += "      <PointData Scalars=\"inverse_mass\" Vectors=\"velocity\">\n";
-  const std::size_t from = std::size_t(first) * 3, count = std::size_t(n) * 3;
-  append_array(out, "        ", "velocity", 3, std::span<const Real>(v.data() + from, count));
-  append_array(out, "        ", "inverse_mass", 1, std::span<const Real>(w.data() + first, n));
+  const std::size_t count = std::size_t(n) * 3;
+  append_array(out, "        ", "body", 1, std::span<const std::int32_t>(body));
+  append_array(out, "        ", "velocity", 3, std::span<const Real>(v.data(), count));
+  append_array(out, "        ", "inverse_mass", 1, std::span<const Real>(w.data(), n));
   append_array(out, "        ", "pinned", 1, std::span<const std::uint8_t>(pinned));
-  out += "      </PointData>\n      <CellData Scalars=\"stretch\">\n";
-  append_array(out, "        ", "stretch", 1, std::span<const double>(c.stretch));
-  append_array(out, "        ", "area", 1, std::span<const double>(c.area));
-  if (arrays.tets) {
-    append_array(out, "        ", "volume_ratio", 1, std::span<const double>(c.volume_ratio));
-    append_array(out, "        ", "strain", 1, std::span<const double>(c.strain));
-  }
-  if (arrays.fibers) {
-    append_array(out, "        ", "fiber_strain", 1, std::span<const double>(c.fiber_strain));
-    append_array(out, "        ", "fiber_force", 1, std::span<const double>(c.fiber_force));
-  }
-  if (arrays.tet_fibers) {
-    append_array(out, "        ", "tet_fiber_strain", 1, std::span<const double>(c.tet_fiber_strain));
-    append_array(out, "        ", "tet_fiber_stress", 1, std::span<const double>(c.tet_fiber_stress));
-  }
+  // ParaView colours by the Scalars array first: the first measure the frame has, else the body.
+  const char* scalars = arrays.stretch ? "stretch" : arrays.area ? "area" : arrays.volume_ratio ? "volume_ratio"
+                                                                                                  : "body";
+  out += message("      </PointData>\n      <CellData Scalars=\"", scalars, "\">\n");
+  append_array(out, "        ", "body", 1, std::span<const std::int32_t>(c.body));
+  auto cell_array = [&](bool wanted, const char* name, const std::vector<double>& values) {
+    if (wanted) append_array(out, "        ", name, 1, std::span<const double>(values));
+  };
+  cell_array(arrays.stretch, "stretch", c.stretch);
+  cell_array(arrays.area, "area", c.area);
+  cell_array(arrays.volume_ratio, "volume_ratio", c.volume_ratio);
+  cell_array(arrays.strain, "strain", c.strain);
+  cell_array(arrays.fibers, "fiber_strain", c.fiber_strain);
+  cell_array(arrays.fibers, "fiber_force", c.fiber_force);
+  cell_array(arrays.tet_fibers, "tet_fiber_strain", c.tet_fiber_strain);
+  cell_array(arrays.tet_fibers, "tet_fiber_stress", c.tet_fiber_stress);
   out += "      </CellData>\n      <Points>\n";
-  append_array(out, "        ", "positions", 3, std::span<const Real>(x.data() + from, count));
+  append_array(out, "        ", "positions", 3, std::span<const Real>(x.data(), count));
   out += "      </Points>\n      <Cells>\n";
   append_array(out, "        ", "connectivity", 1, std::span<const std::int64_t>(c.connectivity));
   append_array(out, "        ", "offsets", 1, std::span<const std::int64_t>(c.offsets));
@@ -295,28 +321,40 @@ void append_piece(std::string& out, const World<Real>& world, const FrameBody& b
   out += "      </Cells>\n    </Piece>\n";
 }
 
+// A body's name as it can stand in an XML comment: no "--" (nor a byte XML does not allow), which would end it.
+std::string comment_safe(const std::string& name) {
+  std::string out;
+  for (char ch : name) {
+    const auto u = static_cast<unsigned char>(ch);
+    out += u < 0x20 || u == 0x7f || (ch == '-' && !out.empty() && out.back() == '-') ? '_' : ch;
+  }
+  return out;
+}
+
 }  // namespace
 
 template <class Real>
-std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, const VtuCellConstraints& cells,
-                      const std::string& what) {
+std::string vtu_frame_at_time(const World<Real>& world, const FrameTopology& topology, const VtuCellConstraints& cells,
+                              double time, const std::string& what) {
   check_frame_topology(topology, world.num_particles(), what);
   check_cell_constraints(world, topology, cells, what);
-  auto any_body = [&](auto has) { return std::any_of(topology.bodies.begin(), topology.bodies.end(), has); };
-  FrameArrays arrays;
-  arrays.tets = any_body([](const FrameBody& b) { return !b.tets.empty(); });
-  arrays.fibers = any_body([](const FrameBody& b) { return !b.fiber_lines.empty(); });
-  arrays.tet_fibers = any_body([](const FrameBody& b) { return !b.tet_fiber.empty(); });
+  const FrameArrays arrays = frame_arrays(world, topology);
   const std::vector<FiberReading> fibers = arrays.fibers ? world.fibers() : std::vector<FiberReading>{};
   const std::vector<FiberReading> tet_fibers =
       arrays.tet_fibers ? world.template material_readings<TetFiberConstraint<Real>>() : std::vector<FiberReading>{};
+  FrameCells c;
+  std::size_t triangle = 0;  // the body's first triangle, numbered over all bodies as in `cells`
+  for (std::size_t k = 0; k < topology.bodies.size(); ++k) {
+    add_body_cells(c, world, topology.bodies[k], std::int32_t(k), cells, triangle, fibers, tet_fibers);
+    triangle += topology.bodies[k].triangles.size();
+  }
   std::string out = "<?xml version=\"1.0\"?>\n";
-  out += message("<!-- pbd frame: t = ", world.time(), " s, ", world.num_particles(), " particles; bodies: ",
-                 topology.bodies.size(), " -->\n");
-  out += "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"";
+  out += message("<!-- pbd frame: t = ", time, " s, ", world.num_particles(), " particles; bodies (the body arrays):");
+  for (std::size_t k = 0; k < topology.bodies.size(); ++k)
+    out += message(k ? ", " : " ", k, " ", comment_safe(topology.bodies[k].name));
+  out += " -->\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"";
   out += std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
   out += "\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n    <FieldData>\n";
-  const double time = world.time();
   out += "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"binary\">";
   {
     std::string raw(16, '\0');
@@ -326,13 +364,15 @@ std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, c
     detail::append_base64(out, raw);
   }
   out += "</DataArray>\n    </FieldData>\n";
-  std::size_t triangle = 0;  // the body's first triangle, numbered over all bodies as in `cells`
-  for (const FrameBody& b : topology.bodies) {
-    append_piece(out, world, b, piece_cells(world, b, cells, triangle, fibers, tet_fibers), arrays);
-    triangle += b.triangles.size();
-  }
+  append_piece(out, world, topology, c, arrays);
   out += "  </UnstructuredGrid>\n</VTKFile>\n";
   return out;
+}
+
+template <class Real>
+std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, const VtuCellConstraints& cells,
+                      const std::string& what) {
+  return vtu_frame_at_time(world, topology, cells, world.time(), what);
 }
 
 template <class Real>
@@ -344,6 +384,10 @@ template VtuCellConstraints vtu_cell_constraints(const World<float>&, const Fram
 template VtuCellConstraints vtu_cell_constraints(const World<double>&, const FrameTopology&);
 template std::string vtu_frame(const World<float>&, const FrameTopology&, const VtuCellConstraints&, const std::string&);
 template std::string vtu_frame(const World<double>&, const FrameTopology&, const VtuCellConstraints&, const std::string&);
+template std::string vtu_frame_at_time(const World<float>&, const FrameTopology&, const VtuCellConstraints&, double,
+                                       const std::string&);
+template std::string vtu_frame_at_time(const World<double>&, const FrameTopology&, const VtuCellConstraints&, double,
+                                       const std::string&);
 template void write_vtu_frame(const std::filesystem::path&, const World<float>&, const FrameTopology&);
 template void write_vtu_frame(const std::filesystem::path&, const World<double>&, const FrameTopology&);
 

@@ -1,18 +1,24 @@
 #!/usr/bin/python3
-"""Reads back the frames `pbd run --frames DIR --format vtu` writes, with meshio (Debian's python3-meshio) and numpy.
+"""Reads back the frames `pbd run --frames DIR --format vtu` writes, with meshio (Debian's python3-meshio), xml.etree
+and numpy, and with VTK's own reader (Debian's python3-vtk9).
 
     /usr/bin/python3 check_frames.py PBD SCENE_DIR TEST_SCENE TET_SCENE WORK_DIR
+    /usr/bin/python3 check_frames.py --vtk PBD SCENE_DIR TEST_SCENE WORK_DIR
 
-Runs `pbd run` for 3 steps on scenes/rope.json, scenes/cloth.json and TEST_SCENE (a cloth and a rope: two bodies),
-once with --format vtu and once with the default OBJ, and checks every .vtu frame: its point count and positions
-against the OBJ frame of the same step (%.7g there), velocity, inverse_mass and pinned, the rope's line cells and the
-cloth's triangles, the stretch of every line and triangle cell recomputed with numpy, the area array, and the .pvd's
-timesteps (xml.etree) against step × dt. Then TET_SCENE (one tet body of a box generator with Neo-Hookean and tet
-volume constraints): meshio reads each frame's surface triangles (the OBJ frame's faces) and one tetra cell per tet,
-and its volume_ratio and strain recomputed with numpy from the step-0 frame as the rest shape. meshio 7.0 (Debian 12) reads every piece's points and point data of a
-multi-piece .vtu but only the last piece's cells and cell data (the loop that collects the cell blocks of
-_organize_cells sits outside its loop over pieces); so the cells and cell data are read with xml.etree here, and
-meshio's cells are checked against the last piece's. Exits non-zero on the first failed check.
+A frame is one piece holding every particle, with a `body` id per point and per cell (io/include/pbd/io/vtu_frame.hpp).
+The first form runs `pbd run` for 3 steps on scenes/rope.json, scenes/cloth.json and TEST_SCENE (a cloth and a rope:
+two bodies), once with --format vtu and once with the default OBJ, and checks every .vtu frame: that meshio reads it
+whole (every point, cell and array as xml.etree does), its points against the OBJ frame of the same step (%.7g there),
+and per body (by its body ids) the velocity, inverse_mass and pinned, the rope's line cells and the cloth's triangles,
+the stretch of every line and triangle cell recomputed with numpy, the area array (only with area constraints), the
+.pvd's timesteps (xml.etree) against step × dt and the OBJ frame's objects, one per body. Then TET_SCENE (one tet
+body of a box generator with Neo-Hookean and tet volume constraints): meshio reads each frame's surface triangles
+(the OBJ frame's faces) and one tetra cell per tet, and its volume_ratio and strain recomputed with numpy from the
+step-0 frame as the rest shape; then scenes/balls.json (5 bodies) and scenes/balls-tets.json (5 tet bodies): every
+point, triangle and tet with its body's id and arrays, in meshio and in the OBJ frame's objects. The second form
+reads TEST_SCENE, balls and balls-tets frames with VTK's vtkXMLUnstructuredGridReader and checks that VTK sees what
+xml.etree and meshio see; it exits 77 (a skip for ctest) if VTK's Python module is not installed. Exits non-zero on
+the first failed check.
 """
 import base64
 import json
@@ -80,25 +86,92 @@ def decode(array, header_type):
     return values.reshape(-1, components) if components > 1 else values
 
 
-def read_pieces(path):
-    """Per <Piece>: its points, point data, cells (connectivity split by offsets) with types, and cell data."""
+def read_frame(path):
+    """The frame's one <Piece>: points, point data, cells (connectivity split by offsets) with types, cell data, time."""
     root = ET.parse(path).getroot()
     check(root.get("type") == "UnstructuredGrid" and root.get("byte_order") == "LittleEndian", f"{path}: header")
     header_type = root.get("header_type")
-    pieces = []
-    for piece in root.find("UnstructuredGrid").findall("Piece"):
-        p = {"points": decode(piece.find("Points/DataArray"), header_type)}
-        p["point_data"] = {a.get("Name"): decode(a, header_type) for a in piece.find("PointData")}
-        p["cell_data"] = {a.get("Name"): decode(a, header_type) for a in piece.find("CellData")}
-        cells = {a.get("Name"): decode(a, header_type) for a in piece.find("Cells")}
-        starts = np.concatenate([[0], cells["offsets"][:-1]])
-        p["cells"] = [cells["connectivity"][s:e] for s, e in zip(starts, cells["offsets"])]
-        p["types"] = cells["types"]
-        check(len(p["points"]) == int(piece.get("NumberOfPoints")), f"{path}: NumberOfPoints")
-        check(len(p["types"]) == int(piece.get("NumberOfCells")), f"{path}: NumberOfCells")
-        pieces.append(p)
-    time = decode(root.find("UnstructuredGrid/FieldData/DataArray[@Name='TimeValue']"), header_type)
-    return pieces, float(time[0])
+    pieces = root.find("UnstructuredGrid").findall("Piece")
+    check(len(pieces) == 1, f"{path}: {len(pieces)} pieces, expected one")
+    piece = pieces[0]
+    p = {"points": decode(piece.find("Points/DataArray"), header_type)}
+    p["point_data"] = {a.get("Name"): decode(a, header_type) for a in piece.find("PointData")}
+    p["cell_data"] = {a.get("Name"): decode(a, header_type) for a in piece.find("CellData")}
+    cells = {a.get("Name"): decode(a, header_type) for a in piece.find("Cells")}
+    starts = np.concatenate([[0], cells["offsets"][:-1]])
+    p["cells"] = [cells["connectivity"][s:e] for s, e in zip(starts, cells["offsets"])]
+    p["types"] = cells["types"]
+    check(len(p["points"]) == int(piece.get("NumberOfPoints")), f"{path}: NumberOfPoints")
+    check(len(p["types"]) == int(piece.get("NumberOfCells")), f"{path}: NumberOfCells")
+    check(p["point_data"]["body"].dtype == np.int32 and p["cell_data"]["body"].dtype == np.int32, f"{path}: body ids")
+    p["time"] = float(decode(root.find("UnstructuredGrid/FieldData/DataArray[@Name='TimeValue']"), header_type)[0])
+    return p
+
+
+def body_part(frame, b):
+    """Body b of a frame: its points (a run of them: the first and the array), its cells renumbered from its first
+    point with their types, and its point and cell data."""
+    on = np.flatnonzero(frame["point_data"]["body"] == b)
+    check(len(on) > 0 and np.array_equal(on, np.arange(on[0], on[-1] + 1)), f"body {b}: its points are not one run")
+    first = int(on[0])
+    mine = frame["cell_data"]["body"] == b
+    cells = [c - first for c, m in zip(frame["cells"], mine) if m]
+    check(all(np.all((c >= 0) & (c < len(on))) for c in cells), f"body {b}: a cell on another body's point")
+    return {"first": first, "points": frame["points"][on], "cells": cells, "types": frame["types"][mine],
+            "point_data": {k: v[on] for k, v in frame["point_data"].items()},
+            "cell_data": {k: v[mine] for k, v in frame["cell_data"].items()}}
+
+
+VTK_CELL_NAMES = {"vertex": 1, "line": 3, "triangle": 5, "tetra": 10}
+
+
+def same(a, b):
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and np.array_equal(a, b, equal_nan=a.dtype.kind == "f")
+
+
+def check_whole(path, frame, reader, seen):
+    """That `reader` ("meshio" or "vtk"), whose reading of the file is `seen` (points, point_data, cells, types,
+    cell_data), sees every point, cell and array of the frame as xml.etree does."""
+    points, point_data, cells, types, cell_data = seen
+    where = f"{path} read by {reader}"
+    check(same(points, frame["points"]), f"{where}: {len(points)} points, the file has {len(frame['points'])}")
+    check(len(cells) == len(frame["cells"]), f"{where}: {len(cells)} cells, the file has {len(frame['cells'])}")
+    check(same(types, frame["types"]), f"{where}: cell types differ")
+    check(all(same(a, b) for a, b in zip(cells, frame["cells"])), f"{where}: cells differ")
+    for name, data in (("point", point_data), ("cell", cell_data)):
+        theirs, ours = set(data), set(frame[name + "_data"])
+        check(theirs == ours, f"{where}: {name} arrays {sorted(theirs)}, the file has {sorted(ours)}")
+        for key in ours:
+            check(same(np.asarray(data[key]).reshape(frame[name + "_data"][key].shape), frame[name + "_data"][key]),
+                  f"{where}: {name} array {key} differs")
+
+
+def meshio_view(path):
+    mesh = meshio.read(path)
+    cells = [row for block in mesh.cells for row in block.data]
+    types = np.concatenate([[VTK_CELL_NAMES[block.type]] * len(block.data) for block in mesh.cells])
+    cell_data = {k: np.concatenate(v) for k, v in mesh.cell_data.items()}
+    return mesh.points, dict(mesh.point_data), cells, types, cell_data
+
+
+def vtk_view(path):
+    import vtk
+    from vtk.util.numpy_support import vtk_to_numpy
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(path)
+    reader.Update()
+    grid = reader.GetOutput()
+    check(reader.GetErrorCode() == 0, f"{path}: VTK's reader reports error {reader.GetErrorCode()}")
+    points = vtk_to_numpy(grid.GetPoints().GetData())
+    cell_array = grid.GetCells()
+    connectivity, offsets = vtk_to_numpy(cell_array.GetConnectivityArray()), vtk_to_numpy(cell_array.GetOffsetsArray())
+    cells = [connectivity[a:b] for a, b in zip(offsets[:-1], offsets[1:])]
+    types = vtk_to_numpy(grid.GetCellTypesArray())
+
+    def arrays(data):
+        return {data.GetArrayName(i): vtk_to_numpy(data.GetArray(i)) for i in range(data.GetNumberOfArrays())}
+    return points, arrays(grid.GetPointData()), cells, types, arrays(grid.GetCellData())
 
 
 def relative_stretch(x, a, b, rest):
@@ -127,41 +200,28 @@ def check_scene(pbd, scene_file, work):
               f"{name}.pvd: step {s} timestep {d.get('timestep')}, expected {s * dt}")
 
     bodies = scene["bodies"]
+    has_area = any("area" in body for body in bodies)
     rest = None  # per body, its step-0 positions (the rest state of the rope and the flat cloth)
-    meshio_note = ""
     for s in range(STEPS + 1):
         path = os.path.join(vtu_dir, f"{name}_{s:05d}.vtu")
-        mesh = meshio.read(path)
-        pieces, time = read_pieces(path)
-        check(math.isclose(time, s * dt, rel_tol=1e-6, abs_tol=1e-12), f"{path}: TimeValue {time}")
+        frame = read_frame(path)
+        check_whole(path, frame, "meshio", meshio_view(path))
+        check(math.isclose(frame["time"], s * dt, rel_tol=1e-6, abs_tol=1e-12), f"{path}: TimeValue {frame['time']}")
         x_obj, objects = read_obj(os.path.join(obj_dir, f"{name}_{s:05d}.obj"))
-        check(len(pieces) == len(bodies) == len(objects), f"{path}: {len(pieces)} pieces for {len(bodies)} bodies")
-        check(mesh.points.shape == x_obj.shape, f"{path}: meshio reads {mesh.points.shape} points, OBJ has {x_obj.shape}")
-        check(np.allclose(mesh.points, x_obj, rtol=1e-6, atol=1e-6), f"{path}: positions differ from the OBJ frame")
-        check(np.array_equal(mesh.points, np.concatenate([p["points"] for p in pieces])), f"{path}: meshio's points")
-        for key in ("velocity", "inverse_mass", "pinned"):
-            check(np.array_equal(mesh.point_data[key], np.concatenate([p["point_data"][key] for p in pieces])),
-                  f"{path}: meshio's {key}")
-        # meshio's cells: all pieces' (a fixed meshio) or the last piece's only (meshio 7.0).
-        last = pieces[-1]
-        offset = len(mesh.points) - len(last["points"])
-        meshio_cells = np.concatenate([c.data.ravel() for c in mesh.cells]) if mesh.cells else np.array([])
-        every = np.concatenate([np.concatenate(p["cells"]) + sum(len(q["points"]) for q in pieces[:i])
-                                for i, p in enumerate(pieces)])
-        if len(pieces) > 1 and not np.array_equal(meshio_cells, every):
-            check(np.array_equal(meshio_cells, np.concatenate(last["cells"]) + offset),
-                  f"{path}: meshio's cells are neither every piece's nor the last piece's")
-            meshio_note = "meshio read the points and point data of every piece but the cells of the last piece only"
+        check(len(objects) == len(bodies), f"{path}: {len(objects)} OBJ objects for {len(bodies)} bodies")
+        check(set(frame["point_data"]["body"]) == set(range(len(bodies))), f"{path}: body ids of the points")
+        check(frame["points"].shape == x_obj.shape, f"{path}: {frame['points'].shape} points, OBJ has {x_obj.shape}")
+        check(np.allclose(frame["points"], x_obj, rtol=1e-6, atol=1e-6), f"{path}: positions differ from the OBJ frame")
+        check(("area" in frame["cell_data"]) == has_area, f"{path}: an area array only with area constraints")
+        pieces = [body_part(frame, b) for b in range(len(bodies))]
         if rest is None:
             rest = [p["points"].astype(np.float64) for p in pieces]
         for b, (body, piece, obj) in enumerate(zip(bodies, pieces, objects)):
             x = piece["points"].astype(np.float64)
             n = len(x)
-            where = f"{path}: piece {b} ({body['type']})"
-            check(obj["name"] == f"{body['type']}_{b}", f"{where}: OBJ object {obj['name']}")
-            check(np.array_equal(x, x_obj[obj["first"]:obj["first"] + n].astype(np.float32).astype(np.float64))
-                  or np.allclose(x, x_obj[obj["first"]:obj["first"] + n], rtol=1e-6, atol=1e-6),
-                  f"{where}: positions differ from the OBJ object's")
+            where = f"{path}: body {b} ({body['type']})"
+            check(obj["name"] == f"{body['type']}_{b}" and obj["first"] == piece["first"], f"{where}: OBJ object "
+                  f"{obj['name']} from vertex {obj['first']}")
             v, w, pinned = (piece["point_data"][k] for k in ("velocity", "inverse_mass", "pinned"))
             check(v.shape == (n, 3) and np.all(np.isfinite(v)), f"{where}: velocity")
             check(np.array_equal(pinned, (w == 0).astype(np.uint8)), f"{where}: pinned is not (inverse_mass == 0)")
@@ -171,8 +231,10 @@ def check_scene(pbd, scene_file, work):
                 check(np.all(v == 0), f"{where}: velocity at step 0")
             else:
                 check(np.any(v[:, 2] < 0), f"{where}: nothing falls")
+            check(np.all(piece["cell_data"]["body"] == b), f"{where}: cell body ids")
             cells, types = piece["cells"], piece["types"]
-            stretch, area = piece["cell_data"]["stretch"], piece["cell_data"]["area"]
+            stretch = piece["cell_data"]["stretch"]
+            area = piece["cell_data"].get("area", np.full(len(cells), np.nan))
             if body["type"] == "rope":
                 m = body["particles"]
                 check(n == m, f"{where}: {n} points")
@@ -212,11 +274,10 @@ def check_scene(pbd, scene_file, work):
                     check(np.allclose(area, np.abs(areas(x) - a0) / a0, rtol=1e-6, atol=1e-7),
                           f"{where}: area, largest difference {np.max(np.abs(area - np.abs(areas(x) - a0) / a0))}")
                 else:
-                    check(np.all(np.isnan(area)), f"{where}: area without area constraints must be NaN")
+                    check(np.all(np.isnan(area)), f"{where}: area on a cloth without area constraints must be NaN")
                 pin = body.get("pin", "corners")
                 check(int(pinned.sum()) == {"none": 0, "corners": 2, "edge": r}[pin], f"{where}: {pinned.sum()} pinned")
-    print(f"check_frames: {name}: {STEPS + 1} frames of {len(bodies)} bodies OK" +
-          (f" ({meshio_note})" if meshio_note else ""))
+    print(f"check_frames: {name}: {STEPS + 1} frames of {len(bodies)} bodies OK, read whole by meshio")
     return vtu_dir
 
 
@@ -260,7 +321,7 @@ def check_tet_scene(pbd, scene_file, work):
         check(np.allclose(strain, green, rtol=0, atol=1e-5), f"{path}: strain, largest difference "
               f"{np.max(np.abs(strain - green))}")
         for key in ("stretch", "area"):
-            check(np.all(np.isnan(mesh.cell_data_dict[key]["tetra"])), f"{path}: {key} on a tet must be NaN")
+            check(key not in mesh.cell_data, f"{path}: a {key} array without {key} constraints")
         # A surface triangle shows the values of the tet it is a face of (the first such tet).
         face_tet = {}
         for k, t in enumerate(tets):
@@ -289,7 +350,7 @@ def check_ligament(pbd, scene_dir, work):
     check(len(broke_at) > 0, "ligament: no fiber broke")
     rest = None
     for step in (0, 150, 300, 450):
-        (piece,), _ = read_pieces(os.path.join(out, f"ligament_{step:05d}.vtu"))
+        piece = read_frame(os.path.join(out, f"ligament_{step:05d}.vtu"))
         x, lines = piece["points"], np.array(piece["cells"])
         check(set(piece["types"]) == {3}, f"ligament step {step}: cell types {set(piece['types'])}")
         expected = 140 - sum(1 for s in broke_at if s <= step)
@@ -327,7 +388,7 @@ def check_tet_tear(pbd, scene_dir, work):
     check(len(broke) > 0, "tet-tear: no fiber broke")
     all_tets = None
     for step in range(0, last + 1, last // 3):
-        (piece,), _ = read_pieces(os.path.join(out, f"tet-tear_{step:05d}.vtu"))
+        piece = read_frame(os.path.join(out, f"tet-tear_{step:05d}.vtu"))
         cells, types = piece["cells"], np.array(piece["types"])
         tets = [tuple(c) for c, t in zip(cells, types) if t == 10]
         triangles = [tuple(c) for c, t in zip(cells, types) if t == 5]
@@ -364,7 +425,67 @@ def check_tet_tear(pbd, scene_dir, work):
           f"went with them, torn in two")
 
 
+def check_multibody(pbd, scene_file, work, views):
+    """A scene of several bodies, one step: each reader in `views` ({name: function of the path}) sees every point,
+    triangle and tet; per body, its points are a run with its id, its cells lie on them, and the OBJ frame has one
+    object per body with the same points and triangles."""
+    name = os.path.splitext(os.path.basename(scene_file))[0]
+    with open(scene_file) as f:
+        bodies = json.load(f)["bodies"]
+    vtu_dir, obj_dir = os.path.join(work, name + "_vtu"), os.path.join(work, name + "_obj")
+    for out, fmt in ((vtu_dir, "vtu"), (obj_dir, None)):
+        shutil.rmtree(out, ignore_errors=True)
+        cmd = [pbd, "run", scene_file, "--frames", out, "--steps", "1"] + (["--format", fmt] if fmt else [])
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        check(r.returncode == 0, f"{' '.join(cmd)} exited {r.returncode}: {r.stderr}")
+    path = os.path.join(vtu_dir, f"{name}_00001.vtu")
+    frame = read_frame(path)
+    for reader, view in views.items():
+        check_whole(path, frame, reader, view(path))
+    x_obj, objects = read_obj(os.path.join(obj_dir, f"{name}_00001.obj"))
+    check(len(objects) == len(bodies), f"{name}: {len(objects)} OBJ objects for {len(bodies)} bodies")
+    check(np.allclose(frame["points"], x_obj, rtol=1e-6, atol=1e-6), f"{path}: positions differ from the OBJ frame")
+    counts = {}
+    for b, obj in enumerate(objects):
+        part = body_part(frame, b)
+        where = f"{path}: body {b}"
+        check(part["first"] == obj["first"] and obj["name"] == f"{bodies[b]['type']}_{b}",
+              f"{where}: OBJ object {obj['name']} from vertex {obj['first']}, the frame's body from {part['first']}")
+        triangles = [c for c, t in zip(part["cells"], part["types"]) if t == 5]
+        check(same(np.array(triangles) + part["first"], np.array(obj["f"])), f"{where}: triangles differ from the OBJ's")
+        for key, values in part["cell_data"].items():
+            if key not in ("body", "strain"):  # strain: NaN on a tet without a rest shape, none here
+                check(np.all(np.isfinite(values[part["types"] != 3])), f"{where}: {key} not finite on a cell")
+        for t in set(part["types"]):
+            counts[int(t)] = counts.get(int(t), []) + [int(np.sum(part["types"] == t))]
+    check(sum(sum(c) for c in counts.values()) == len(frame["cells"]), f"{path}: a cell without a body")
+    kinds = ", ".join(f"{sum(c)} {dict((v, k) for k, v in VTK_CELL_NAMES.items())[t]}s ({'+'.join(map(str, c))})"
+                      for t, c in sorted(counts.items()))
+    print(f"check_frames: {name}: {len(frame['points'])} points of {len(bodies)} bodies, {kinds}: read whole by "
+          f"{' and '.join(views)}, one OBJ object per body")
+    return frame
+
+
+def main_vtk(argv):
+    """The --vtk form: VTK's reader on the two-body test scene, balls and balls-tets."""
+    if len(argv) != 4:
+        fail(__doc__)
+    try:
+        import vtk  # noqa: F401  (Debian's python3-vtk9)
+    except ImportError:
+        print("check_frames: SKIPPED: VTK's Python module is not installed (Debian: python3-vtk9)")
+        sys.exit(77)
+    pbd, scene_dir, test_scene, work = argv
+    os.makedirs(work, exist_ok=True)
+    views = {"VTK": vtk_view, "meshio": meshio_view}
+    for scene in (test_scene, os.path.join(scene_dir, "balls.json"), os.path.join(scene_dir, "balls-tets.json")):
+        check_multibody(pbd, scene, work, views)
+    print("check_frames: OK")
+
+
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "--vtk":
+        return main_vtk(sys.argv[2:])
     if len(sys.argv) != 6:
         fail(__doc__)
     pbd, scene_dir, test_scene, tet_scene, work = sys.argv[1:]
@@ -372,6 +493,9 @@ def main():
     for scene in (os.path.join(scene_dir, "rope.json"), os.path.join(scene_dir, "cloth.json"), test_scene):
         check_scene(pbd, scene, work)
     check_tet_scene(pbd, tet_scene, work)
+    balls = check_multibody(pbd, os.path.join(scene_dir, "balls.json"), work, {"meshio": meshio_view})
+    check(np.sum(balls["types"] == 5) == 1600 and "area" not in balls["cell_data"], "balls: 1600 triangles, no area")
+    check_multibody(pbd, os.path.join(scene_dir, "balls-tets.json"), work, {"meshio": meshio_view})
     check_ligament(pbd, scene_dir, work)
     check_tet_tear(pbd, scene_dir, work)
     # --every 2: steps 0 and 2 only, and the .pvd lists those two.

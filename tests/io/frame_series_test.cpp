@@ -1,6 +1,7 @@
 // Frame series (frame_series.hpp): the stem check, the format names, OBJ frames with one object per body, VTU
-// frames with one piece per body whose binary arrays decode to the world's values bit for bit, the .pvd listing
-// every frame with its time, and failed writes that leave nothing behind.
+// frames of one piece with a body id per point and cell whose binary arrays decode to the world's values bit for
+// bit, cell arrays only for the constraint types the scene has, the .pvd listing every frame with its time
+// (step × dt), and failed writes that leave nothing behind.
 #include "error_checks.hpp"
 #include "pbd/io/build_world.hpp"
 #include "pbd/io/frame_series.hpp"
@@ -16,6 +17,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -99,7 +101,7 @@ template <class Real> class FrameSeriesVtu : public ::testing::Test {};
 using Precisions = ::testing::Types<float, double>;
 TYPED_TEST_SUITE(FrameSeriesVtu, Precisions);
 
-TYPED_TEST(FrameSeriesVtu, OnePiecePerBodyWithTheWorldsValuesBitForBit) {
+TYPED_TEST(FrameSeriesVtu, OnePieceWithABodyIdPerPointAndCellAndTheWorldsValuesBitForBit) {
   using Real = TypeParam;
   TwoBodies<Real> s;
   for (int i = 0; i < 5; ++i) s.world.step();
@@ -107,44 +109,62 @@ TYPED_TEST(FrameSeriesVtu, OnePiecePerBodyWithTheWorldsValuesBitForBit) {
   FrameSeries series(dir.path(), "two", FrameFormat::vtu, s.topology);
   series.write(s.world, 5);
   const std::string vtu = text_of(dir / "two_00005.vtu");
-  EXPECT_EQ(count_of(vtu, "<Piece "), 2u);
-  EXPECT_NE(vtu.find("<Piece NumberOfPoints=\"9\" NumberOfCells=\"8\">"), std::string::npos);
-  EXPECT_NE(vtu.find("<Piece NumberOfPoints=\"4\" NumberOfCells=\"3\">"), std::string::npos);
+  EXPECT_EQ(count_of(vtu, "<Piece "), 1u);
+  EXPECT_NE(vtu.find("<Piece NumberOfPoints=\"13\" NumberOfCells=\"11\">"), std::string::npos);
+  EXPECT_NE(vtu.find("bodies (the body arrays): 0 cloth_0, 1 rope_1 -->"), std::string::npos);
   EXPECT_NE(vtu.find(std::string("type=\"") + (sizeof(Real) == 4 ? "Float32" : "Float64") + "\" Name=\"positions\""),
             std::string::npos);
+  // Per point and per cell, the body: the cloth's 9 particles and 8 triangles, then the rope's 4 and 3 lines.
+  std::vector<std::int32_t> point_body(13, 0), cell_body(11, 0);
+  std::fill(point_body.begin() + 9, point_body.end(), 1);
+  std::fill(cell_body.begin() + 8, cell_body.end(), 1);
+  EXPECT_EQ(data_array<std::int32_t>(vtu, "body", 0), point_body);
+  EXPECT_EQ(data_array<std::int32_t>(vtu, "body", 1), cell_body);
+  // Every particle in world order: positions, velocities and inverse masses exactly; the pinned ones marked.
   const auto x = s.world.positions();
   const auto v = s.world.velocities();
   const auto w = s.world.inverse_masses();
-  // The rope's piece (the second): positions, velocities and inverse masses exactly; its first particle pinned.
-  const auto points = data_array<Real>(vtu, "positions", 1);
-  const auto velocity = data_array<Real>(vtu, "velocity", 1);
-  const auto inverse_mass = data_array<Real>(vtu, "inverse_mass", 1);
-  const auto pinned = data_array<std::uint8_t>(vtu, "pinned", 1);
-  ASSERT_EQ(points.size(), 12u);
-  ASSERT_EQ(velocity.size(), 12u);
-  ASSERT_EQ(inverse_mass.size(), 4u);
-  ASSERT_EQ(pinned, (std::vector<std::uint8_t>{1, 0, 0, 0}));
-  for (Index i = 0; i < 4; ++i) {
-    EXPECT_EQ(inverse_mass[i], w[9 + i]);
+  const auto points = data_array<Real>(vtu, "positions", 0);
+  const auto velocity = data_array<Real>(vtu, "velocity", 0);
+  const auto inverse_mass = data_array<Real>(vtu, "inverse_mass", 0);
+  const auto pinned = data_array<std::uint8_t>(vtu, "pinned", 0);
+  ASSERT_EQ(points.size(), 39u);
+  ASSERT_EQ(velocity.size(), 39u);
+  ASSERT_EQ(inverse_mass.size(), 13u);
+  ASSERT_EQ(pinned.size(), 13u);
+  for (Index i = 0; i < 13; ++i) {
+    EXPECT_EQ(inverse_mass[i], w[i]);
+    EXPECT_EQ(pinned[i], w[i] == Real(0) ? 1 : 0) << i;
     for (int d = 0; d < 3; ++d) {
-      EXPECT_EQ(points[3 * i + d], x(d, 9 + i)) << i;
-      EXPECT_EQ(velocity[3 * i + d], v(d, 9 + i)) << i;
+      EXPECT_EQ(points[3 * i + d], x(d, i)) << i;
+      EXPECT_EQ(velocity[3 * i + d], v(d, i)) << i;
     }
   }
-  // Local connectivity: the rope's lines are 0-1, 1-2, 2-3 of its own piece.
-  EXPECT_EQ(data_array<std::int64_t>(vtu, "connectivity", 1), (std::vector<std::int64_t>{0, 1, 1, 2, 2, 3}));
-  EXPECT_EQ(data_array<std::uint8_t>(vtu, "types", 1), (std::vector<std::uint8_t>{3, 3, 3}));
-  EXPECT_EQ(data_array<std::uint8_t>(vtu, "types", 0), std::vector<std::uint8_t>(8, 5));
+  EXPECT_EQ(pinned[9], 1) << "the rope's first particle";
+  // Connectivity in world indices: the cloth's triangles, then the rope's lines 9-10, 10-11, 11-12.
+  const auto cells = test::cells_of(vtu);
+  ASSERT_EQ(cells.size(), 11u);
+  for (std::size_t k = 0; k < 8; ++k) {
+    const auto& t = s.topology.bodies[0].triangles[k];
+    EXPECT_EQ(cells[k], (std::vector<std::int64_t>{t[0], t[1], t[2]})) << "triangle " << k;
+  }
+  EXPECT_EQ(std::vector(cells.begin() + 8, cells.end()),
+            (std::vector<std::vector<std::int64_t>>{{9, 10}, {10, 11}, {11, 12}}));
+  std::vector<std::uint8_t> types(8, 5);
+  types.insert(types.end(), 3, 3);
+  EXPECT_EQ(data_array<std::uint8_t>(vtu, "types", 0), types);
   // Cell data: a line's stretch is its constraint's; a triangle's the largest of its edges'; area NaN on lines.
   const auto stretch = s.world.template constraints<StretchConstraint<Real>>();
   const auto area = s.world.template constraints<AreaConstraint<Real>>();
   const PositionsView<Real> xv(x);
-  const auto rope_stretch = data_array<double>(vtu, "stretch", 1);
+  const auto stretch_cells = data_array<double>(vtu, "stretch", 0);
+  const auto area_cells = data_array<double>(vtu, "area", 0);
+  const auto rope_stretch = test::of_body(stretch_cells, cell_body, 1);
   ASSERT_EQ(rope_stretch.size(), 3u);
   for (int k = 0; k < 3; ++k) EXPECT_EQ(rope_stretch[k], violation(stretch[stretch.size() - 3 + k], xv));
-  for (double a : data_array<double>(vtu, "area", 1)) EXPECT_TRUE(std::isnan(a));
-  const auto cloth_stretch = data_array<double>(vtu, "stretch", 0);
-  const auto cloth_area = data_array<double>(vtu, "area", 0);
+  for (double a : test::of_body(area_cells, cell_body, 1)) EXPECT_TRUE(std::isnan(a));
+  const auto cloth_stretch = test::of_body(stretch_cells, cell_body, 0);
+  const auto cloth_area = test::of_body(area_cells, cell_body, 0);
   ASSERT_EQ(cloth_stretch.size(), 8u);
   ASSERT_EQ(cloth_area.size(), 8u);
   for (std::size_t k = 0; k < 8; ++k) {
@@ -159,7 +179,34 @@ TYPED_TEST(FrameSeriesVtu, OnePiecePerBodyWithTheWorldsValuesBitForBit) {
     EXPECT_EQ(cloth_stretch[k], largest) << "triangle " << k;
     EXPECT_EQ(cloth_area[k], violation(area[k], xv)) << "triangle " << k << " (one area constraint per triangle)";
   }
-  EXPECT_EQ(data_array<double>(vtu, "TimeValue", 0), std::vector<double>{s.world.time()});
+  EXPECT_EQ(data_array<double>(vtu, "TimeValue", 0), std::vector<double>{5 * double(s.world.params().dt)});
+}
+
+// A frame carries a measure's array only when the world has its constraints: the two-body scene without its area
+// constraints has no area array (with them, TwoBodies above, it has), grains have neither stretch nor area.
+TEST(FrameSeries, ACellArrayOnlyForTheConstraintTypesTheSceneHas) {
+  auto frame = [](const char* json) {
+    const Scene scene = parse_scene(json, "s.json");
+    const World<float> world = build_world<float>(scene.world);
+    const FrameTopology t = frame_topology(world, scene.bodies);
+    return vtu_frame(world, t, vtu_cell_constraints(world, t), "f.vtu");
+  };
+  const std::string with = frame(kScene);
+  const std::string without = frame(R"({"name": "two", "dt": 0.01, "bodies": [
+      {"type": "cloth", "resolution": 3, "stretch": {}},
+      {"type": "rope", "particles": 4, "origin": [0.25, -0.5, 2.0], "stretch": {}}]})");
+  const std::string grains = frame(R"({"name": "g", "dt": 0.01, "bodies": [
+      {"type": "grains", "count": [2, 2, 1], "spacing": 0.1}]})");
+  EXPECT_EQ(count_of(with, "Name=\"area\""), 1u);
+  EXPECT_EQ(count_of(with, "Name=\"stretch\""), 1u);
+  EXPECT_EQ(count_of(without, "Name=\"area\""), 0u);
+  EXPECT_EQ(count_of(without, "Name=\"stretch\""), 1u);
+  EXPECT_NE(without.find("<CellData Scalars=\"stretch\">"), std::string::npos);
+  for (const char* name : {"stretch", "area", "volume_ratio", "strain", "fiber_strain", "tet_fiber_strain"})
+    EXPECT_EQ(count_of(grains, std::string("Name=\"") + name + "\""), 0u) << name;
+  EXPECT_NE(grains.find("<CellData Scalars=\"body\">"), std::string::npos) << "no measure: coloured by body";
+  for (const std::string* vtu : {&with, &without, &grains})
+    EXPECT_EQ(count_of(*vtu, "Name=\"body\""), 2u) << "per point and per cell";
 }
 
 TEST(FrameSeries, ABodyWithoutTrianglesOrLinesIsDrawnAsVertices) {
@@ -171,7 +218,7 @@ TEST(FrameSeries, ABodyWithoutTrianglesOrLinesIsDrawnAsVertices) {
   const std::string vtu = text_of(dir / "g_00000.vtu");
   EXPECT_NE(vtu.find("<Piece NumberOfPoints=\"4\" NumberOfCells=\"4\">"), std::string::npos);
   EXPECT_EQ(data_array<std::uint8_t>(vtu, "types", 0), std::vector<std::uint8_t>(4, 1));
-  for (double s : data_array<double>(vtu, "stretch", 0)) EXPECT_TRUE(std::isnan(s));
+  EXPECT_EQ(test::cells_of(vtu), (std::vector<std::vector<std::int64_t>>{{0}, {1}, {2}, {3}}));
 }
 
 TEST(FrameSeries, ThePvdListsEveryFrameWrittenSoFarWithItsTime) {
@@ -182,7 +229,7 @@ TEST(FrameSeries, ThePvdListsEveryFrameWrittenSoFarWithItsTime) {
   for (int step = 0; step <= 6; ++step) {
     if (step % 3 == 0) {
       series.write(s.world, step);
-      times.push_back(s.world.time());
+      times.push_back(step * 0.01);  // step × dt
       // Rewritten after each frame: a run stopped here leaves a series of the frames so far.
       EXPECT_EQ(count_of(text_of(series.pvd_file()), "<DataSet "), times.size());
     }
@@ -201,6 +248,44 @@ TEST(FrameSeries, ThePvdListsEveryFrameWrittenSoFarWithItsTime) {
   // The same step written again replaces its entry.
   series.write(s.world, 6);
   EXPECT_EQ(count_of(text_of(series.pvd_file()), "<DataSet "), 3u);
+}
+
+// A frame's time is step × dt in double: the scene's dt when the series is given it (a World<float> steps by
+// float(1/60), so 90 of its steps are 1.5000000782 s), else the world's (a World<double>'s 1/60: exactly 1.5 at step 90,
+// where 90 steps summed give 1.4999999999999996).
+TEST(FrameSeries, FrameTimesAreTheStepCountTimesDtWrittenExactly) {
+  const char* json = R"({"name": "r", "dt": 0.016666666666666666, "bodies": [{"type": "rope", "particles": 3}]})";
+  const Scene scene = parse_scene(json, "r.json");
+  auto times_of = [](const test::TempDir& dir) {
+    const std::string pvd = text_of(dir / "r.pvd");
+    const std::string vtu = text_of(dir / "r_00090.vtu");
+    return std::pair{pvd, data_array<double>(vtu, "TimeValue", 0)};
+  };
+  {
+    World<float> world = build_world<float>(scene.world);
+    ASSERT_NE(90 * double(world.params().dt), 1.5) << "float(1/60) × 90";
+    const test::TempDir dir("pbd_frame_series");
+    FrameSeries series(dir.path(), "r", FrameFormat::vtu, frame_topology(world, scene.bodies), scene.world.params.dt);
+    series.write(world, 90);
+    const auto [pvd, time] = times_of(dir);
+    EXPECT_NE(pvd.find("<DataSet timestep=\"1.5\" part=\"0\" file=\"r_00090.vtu\"/>"), std::string::npos) << pvd;
+    EXPECT_EQ(time, std::vector<double>{1.5});
+  }
+  {
+    World<double> world = build_world<double>(scene.world);
+    const test::TempDir dir("pbd_frame_series");
+    FrameSeries series(dir.path(), "r", FrameFormat::vtu, frame_topology(world, scene.bodies));
+    for (int i = 0; i < 90; ++i) world.step();
+    ASSERT_NE(world.time(), 1.5) << "the sum of 90 steps drifts";
+    series.write(world, 90);
+    const auto [pvd, time] = times_of(dir);
+    EXPECT_NE(pvd.find("<DataSet timestep=\"1.5\" part=\"0\" file=\"r_00090.vtu\"/>"), std::string::npos) << pvd;
+    EXPECT_EQ(time, std::vector<double>{1.5});
+  }
+  const test::TempDir dir("pbd_frame_series");
+  for (double bad : {0.0, -0.01, std::nan(""), std::numeric_limits<double>::infinity()})
+    test::expect_words(test::error_of([&] { FrameSeries(dir.path(), "r", FrameFormat::vtu, {}, bad); }),
+                       {"frame series \"r\"", "time step", "positive and finite"});
 }
 
 TEST(FrameSeries, ALongSeriesRewritesThePvdLessOftenAndFinishListsEveryFrame) {

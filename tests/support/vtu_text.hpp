@@ -1,6 +1,7 @@
 #pragma once
-// Reading back what the VTU frame writer wrote, in tests: a file's text, how often a string occurs in it, and the
-// values of a named base64 <DataArray> (no checks beyond the byte count: the input is the writer's own output).
+// Reading back what the VTU frame writer wrote, in tests: a file's text, how often a string occurs in it, the values
+// of a named base64 <DataArray> (no checks beyond the byte count: the input is the writer's own output), the cells,
+// and the values of one body.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -63,6 +64,31 @@ template <class T> std::vector<T> data_array(const std::string& vtu, const std::
   std::vector<T> values((bytes.size() - 8) / sizeof(T));
   std::memcpy(values.data(), bytes.data() + 8, values.size() * sizeof(T));
   return values;
+}
+
+// The values of a per-cell (or per-point) array that belong to body `b`, as the frame's `body` array of the same
+// length says.
+template <class T>
+std::vector<T> of_body(const std::vector<T>& values, const std::vector<std::int32_t>& body, std::int32_t b) {
+  EXPECT_EQ(values.size(), body.size()) << "one body id per value";
+  std::vector<T> out;
+  for (std::size_t k = 0; k < values.size() && k < body.size(); ++k)
+    if (body[k] == b) out.push_back(values[k]);
+  return out;
+}
+
+// The cells of a .vtu text, each as its connectivity (offsets checked against the connectivity's length).
+inline std::vector<std::vector<std::int64_t>> cells_of(const std::string& vtu) {
+  const auto connectivity = data_array<std::int64_t>(vtu, "connectivity", 0);
+  const auto offsets = data_array<std::int64_t>(vtu, "offsets", 0);
+  std::vector<std::vector<std::int64_t>> cells;
+  std::int64_t begin = 0;
+  for (std::int64_t end : offsets) {
+    cells.emplace_back(connectivity.begin() + begin, connectivity.begin() + end);
+    begin = end;
+  }
+  EXPECT_EQ(std::size_t(begin), connectivity.size()) << "the last offset is the connectivity's length";
+  return cells;
 }
 
 }  // namespace pbd::test

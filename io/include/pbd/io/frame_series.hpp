@@ -19,7 +19,7 @@ namespace pbd {
 /// The file format of a frame series.
 enum class FrameFormat {
   obj,  ///< Wavefront OBJ, one object per body (frame_writer.hpp): Blender
-  vtu,  ///< VTK XML UnstructuredGrid, one piece per body, with a .pvd (vtu_frame.hpp): ParaView
+  vtu,  ///< VTK XML UnstructuredGrid, one piece with a body id per point and cell, with a .pvd (vtu_frame.hpp): ParaView
 };
 
 /// "obj" or "vtu".
@@ -38,9 +38,15 @@ class FrameSeries {
   /// A series in folder `dir` (which must exist) named `stem` (check_frame_stem), drawing `topology`. Throws
   /// pbd::Error for a bad stem.
   FrameSeries(std::filesystem::path dir, std::string stem, FrameFormat format, FrameTopology topology);
+  /// The same with the time step `dt` (s, > 0 and finite) as the scene gives it, in double: frame times are
+  /// step × dt. A World<float> steps by dt rounded to float, so step × its own dt is off by up to 6e-8 relative (1/60
+  /// s: 90 steps give 1.5000000782 s); the scene's dt gives 1.5. Throws pbd::Error for a bad stem or dt.
+  FrameSeries(std::filesystem::path dir, std::string stem, FrameFormat format, FrameTopology topology, double dt);
 
   /// Writes the frame of `world` at `step` (≥ 0) to frame_file(step); for vtu the frame joins the .pvd's list (a
-  /// step written again replaces its entry), timestep = world.time() in s. The .pvd is rewritten after each of the
+  /// step written again replaces its entry). Its time (the .pvd's timestep and the frame's TimeValue, s) is
+  /// step × dt in double, dt as given to the constructor, else the world's params().dt: a count of steps, not a sum
+  /// of them that drifts (so a world stepped other than by `step` steps of dt is not timed by this). The .pvd is rewritten after each of the
   /// first kPvdEveryFrame frames, then at most once per second (so a long run's rewrites add up to a bounded
   /// multiple of its size, and a stopped run's .pvd lags by at most a second), and by finish(). Throws pbd::Error
   /// naming the file that could not be written, or the body that does not fit the world; a failed frame is not listed.
@@ -69,6 +75,7 @@ class FrameSeries {
   std::string stem_;
   FrameFormat format_;
   FrameTopology topology_;
+  std::optional<double> dt_;                  // the scene's time step, if given
   std::optional<VtuCellConstraints> cells_;  // found at the first vtu frame, again if the world's constraints change
   std::map<long, PvdFrame> pvd_;  // by step
   bool pvd_pending_ = false;      // frames listed since the .pvd was last written
