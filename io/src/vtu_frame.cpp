@@ -268,7 +268,8 @@ template <class Real> FrameArrays frame_arrays(const World<Real>& world, const F
   a.area = !world.template constraints<AreaConstraint<Real>>().empty();
   a.volume_ratio = any_body([](const FrameBody& b) { return !b.tets.empty(); });
   a.strain = any_body([](const FrameBody& b) {
-    return std::any_of(b.tet_rest.begin(), b.tet_rest.end(), [](const FrameTetRest& r) { return bool(r.inverse_rest); });
+    const auto shaped = [](const FrameTetRest& r) { return r.inverse_rest.has_value(); };
+    return std::any_of(b.tet_rest.begin(), b.tet_rest.end(), shaped);
   });
   a.tet_fibers = any_body([](const FrameBody& b) { return !b.tet_fiber.empty(); });
   return a;

@@ -251,8 +251,8 @@ TEST(FrameSeries, ThePvdListsEveryFrameWrittenSoFarWithItsTime) {
 }
 
 // A frame's time is step × dt in double: the scene's dt when the series is given it (a World<float> steps by
-// float(1/60), so 90 of its steps are 1.5000000782 s), else the world's (a World<double>'s 1/60: exactly 1.5 at step 90,
-// where 90 steps summed give 1.4999999999999996).
+// float(1/60), so 90 of its steps are 1.5000000782 s), else the world's (a World<double>'s 1/60: exactly 1.5 at
+// step 90, where 90 steps summed give 1.4999999999999996).
 TEST(FrameSeries, FrameTimesAreTheStepCountTimesDtWrittenExactly) {
   const char* json = R"({"name": "r", "dt": 0.016666666666666666, "bodies": [{"type": "rope", "particles": 3}]})";
   const Scene scene = parse_scene(json, "r.json");

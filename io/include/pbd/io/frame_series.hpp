@@ -19,7 +19,7 @@ namespace pbd {
 /// The file format of a frame series.
 enum class FrameFormat {
   obj,  ///< Wavefront OBJ, one object per body (frame_writer.hpp): Blender
-  vtu,  ///< VTK XML UnstructuredGrid, one piece with a body id per point and cell, with a .pvd (vtu_frame.hpp): ParaView
+  vtu,  ///< VTK XML UnstructuredGrid, one piece with a body id per point and cell, and a .pvd (vtu_frame.hpp)
 };
 
 /// "obj" or "vtu".
@@ -43,13 +43,14 @@ class FrameSeries {
   /// s: 90 steps give 1.5000000782 s); the scene's dt gives 1.5. Throws pbd::Error for a bad stem or dt.
   FrameSeries(std::filesystem::path dir, std::string stem, FrameFormat format, FrameTopology topology, double dt);
 
-  /// Writes the frame of `world` at `step` (≥ 0) to frame_file(step); for vtu the frame joins the .pvd's list (a
-  /// step written again replaces its entry). Its time (the .pvd's timestep and the frame's TimeValue, s) is
-  /// step × dt in double, dt as given to the constructor, else the world's params().dt: a count of steps, not a sum
-  /// of them that drifts (so a world stepped other than by `step` steps of dt is not timed by this). The .pvd is rewritten after each of the
-  /// first kPvdEveryFrame frames, then at most once per second (so a long run's rewrites add up to a bounded
-  /// multiple of its size, and a stopped run's .pvd lags by at most a second), and by finish(). Throws pbd::Error
-  /// naming the file that could not be written, or the body that does not fit the world; a failed frame is not listed.
+  /// Writes the frame of `world` at `step` (≥ 0) to frame_file(step); for vtu the frame joins the .pvd's list (a step
+  /// written again replaces its entry). Its time (the .pvd's timestep and the frame's TimeValue, s) is step × dt in
+  /// double, dt as given to the constructor, else the world's params().dt: a count of steps, not their sum, which
+  /// drifts (so a world stepped other than by `step` steps of dt is not timed by this). The .pvd is rewritten after
+  /// each of the first kPvdEveryFrame frames, then at most once per second (so a long run's rewrites add up to a
+  /// bounded multiple of its size, and a stopped run's .pvd lags by at most a second), and by finish(). Throws
+  /// pbd::Error naming the file that could not be written, or the body that does not fit the world; a failed frame is
+  /// not listed.
   template <class Real> void write(const World<Real>& world, long step);
   /// Draws `topology` from the next frame on (after fibers broke: frame_topology made anew draws the ones left).
   void set_topology(FrameTopology topology) {
@@ -75,7 +76,7 @@ class FrameSeries {
   std::string stem_;
   FrameFormat format_;
   FrameTopology topology_;
-  std::optional<double> dt_;                  // the scene's time step, if given
+  std::optional<double> dt_;                 // the scene's time step, if given
   std::optional<VtuCellConstraints> cells_;  // found at the first vtu frame, again if the world's constraints change
   std::map<long, PvdFrame> pvd_;  // by step
   bool pvd_pending_ = false;      // frames listed since the .pvd was last written
