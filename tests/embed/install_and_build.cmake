@@ -3,7 +3,8 @@
 #   and runs its cloth.
 # - tests/embed/version_consumer: find_package(pbd MAJOR.MINOR) of PBD_VERSION is accepted and the next minor version
 #   is refused; the program sees the package's version in pbd/version.hpp (a static_assert) and prints pbd::version.
-#   With no build type, pbd's package warns that the host compiles unoptimized; with Release it does not.
+#   With no build type, pbd's package warns that the host compiles unoptimized; with Release, or -O2 in
+#   CMAKE_CXX_FLAGS, it does not.
 file(REMOVE_RECURSE ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
 
@@ -57,6 +58,9 @@ check("${out}" "^pbd::version ${PBD_VERSION}\n$" MATCH "pbd::version as the host
 message("${out}")
 run(out 0 ${configure} -DPBD_REQUEST=${major_minor} -DCMAKE_BUILD_TYPE=Release)
 check("${out}" "${unoptimized}" NOMATCH "pbd's package with CMAKE_BUILD_TYPE=Release")
+file(REMOVE_RECURSE ${consumer})
+run(out 0 ${configure} -DPBD_REQUEST=${major_minor} -DCMAKE_CXX_FLAGS=-O2)
+check("${out}" "${unoptimized}" NOMATCH "pbd's package with no build type but -O2 in CMAKE_CXX_FLAGS")
 file(REMOVE_RECURSE ${consumer})
 run(out fail ${configure} -DPBD_REQUEST=${next_minor})
 check("${out}" "version: ${PBD_VERSION}" MATCH "find_package(pbd ${next_minor}) must name the version found")
