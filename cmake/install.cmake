@@ -23,6 +23,14 @@ if(TARGET pbd)
   install(TARGETS pbd RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   install(FILES ${PROJECT_SOURCE_DIR}/scripts/plot_study.py DESTINATION ${CMAKE_INSTALL_DATADIR}/pbd)
 endif()
+# The Python module's type stubs beside the module (python/CMakeLists.txt installs the module): type checkers and
+# IDEs read pbd.pyi from the folder that holds pbd.cpython-*.so. The module finds the scenes in share/pbd too: from
+# <prefix>/lib/python3/dist-packages, three folders up.
+if(TARGET pbd_python AND EXISTS ${PROJECT_SOURCE_DIR}/python/pbd.pyi)
+  install(FILES ${PROJECT_SOURCE_DIR}/python/pbd.pyi DESTINATION ${PBD_PYTHON_INSTALL_DIR})
+endif()
+# The licence, under the name Debian's policy gives it (/usr/share/doc/pbd/copyright in the package).
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR} RENAME copyright)
 
 set(config_dir ${CMAKE_INSTALL_LIBDIR}/cmake/pbd)
 install(EXPORT pbdTargets NAMESPACE pbd:: DESTINATION ${config_dir})

@@ -1,20 +1,29 @@
 #!/usr/bin/python3
-"""Test of the installed pbd: it works from any folder, with no source tree.
+"""Test of the installed pbd, from its Debian package: it works from any folder, with no source tree.
 
 Usage: check_install.py CMAKE BUILD_DIR SOURCE_DIR WORK_DIR [--sanitized]
 
-1. `cmake --install BUILD_DIR` into a temporary prefix, then the prefix is moved: nothing may depend on where it was
-   installed.
-2. No installed file (the program, the libraries, the Python module, the CMake package, the data; debug sections left
-   out) holds the source tree's path or the build tree's.
-3. From an empty folder, with no PBD_* variable set and python3 on PATH: `pbd list`, `pbd run cloth --steps 5` and
+1. `cpack` (beside CMAKE) makes the Debian package of BUILD_DIR (gzip: faster than the release's xz), named
+   pbd_<version>_<arch>.deb with the version of pbd/version.hpp. `dpkg-deb -f` shows its name, version, architecture,
+   maintainer, Depends (the shared libraries dpkg-shlibdeps found, the -dev packages of the CMake package's
+   dependencies, python3, numpy, matplotlib) and Recommends (tetgen); `dpkg-deb -c` lists the program, scenes, plot
+   script, headers, libraries, CMake package, licence and Python module under /usr, and nothing elsewhere.
+2. `dpkg -x` unpacks it into WORK/root, a folder the files never were in: nothing may depend on where they go.
+3. No unpacked file (the program, the libraries, the Python module, the CMake package, the data; debug sections left
+   out) holds the source tree's path, the build tree's or cpack's staging folder's.
+4. From an empty folder, with no PBD_* variable set and python3 on PATH: `pbd list`, `pbd run cloth --steps 5` and
    `pbd study --quick --plots DIR` work; every plot exists as PNG; the report's commit is "unknown" (none given).
    Under the sanitizers the study runs one scene only (the whole quick study is already test study_quick's).
-4. A copy of the program alone (no share/pbd beside it): `pbd list` fails with status 2 and names the folder it
+5. From the same folder, /usr/bin/python3 with PYTHONPATH at the unpacked dist-packages imports pbd from there and
+   steps a world, and the scenes are at <module dir>/../../../share/pbd/scenes, where pbd.load_scene looks (the
+   sanitizer builds have no module).
+6. A copy of the program alone (no share/pbd beside it): `pbd list` fails with status 2 and names the folder it
    tried.
 """
+import glob
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -34,13 +43,74 @@ def run(args, cwd, env, expect=0):
     return r
 
 
-def install(cmake, build, work):
-    """Installs into WORK/staging, then moves it to WORK/moved/prefix; returns the moved prefix."""
-    staging, prefix = os.path.join(work, "staging"), os.path.join(work, "moved", "prefix")
-    run([cmake, "--install", build, "--prefix", staging], work, os.environ)
-    os.makedirs(os.path.dirname(prefix))
-    os.rename(staging, prefix)
-    return prefix
+def version_of(build):
+    """PBD_VERSION_STRING of the build tree's pbd/version.hpp: the version the program and the package carry."""
+    with open(os.path.join(build, "generated", "include", "pbd", "version.hpp")) as f:
+        match = re.search(r'#define PBD_VERSION_STRING "([^"]+)"', f.read())
+    if not match:
+        fail(f"{build}/generated/include/pbd/version.hpp has no PBD_VERSION_STRING")
+    return match.group(1)
+
+
+def make_package(cmake, build, work, version):
+    """Runs cpack in BUILD into WORK/package; returns the .deb's path."""
+    out = os.path.join(work, "package")
+    cpack = os.path.join(os.path.dirname(cmake), "cpack")
+    run([cpack, "--config", os.path.join(build, "CPackConfig.cmake"), "-B", out,
+         "-D", "CPACK_DEBIAN_COMPRESSION_TYPE=gzip"], build, os.environ)
+    arch = run(["dpkg", "--print-architecture"], work, os.environ).stdout.strip()
+    debs = glob.glob(os.path.join(out, "*.deb"))
+    expected = os.path.join(out, f"pbd_{version}_{arch}.deb")
+    if debs != [expected]:
+        fail(f"cpack made {debs}, not [{expected}]")
+    return expected
+
+
+def check_control(deb, version, work, with_module):
+    """The control fields of the package."""
+    def field(name):
+        return run(["dpkg-deb", "-f", deb, name], work, os.environ).stdout.strip()
+    arch = run(["dpkg", "--print-architecture"], work, os.environ).stdout.strip()
+    for name, value in (("Package", "pbd"), ("Version", version), ("Architecture", arch), ("Recommends", "tetgen")):
+        if field(name) != value:
+            fail(f"{deb}: {name} is {field(name)!r}, not {value!r}")
+    if not re.fullmatch(r".+ <[^<>@ ]+@[^<> ]+>", field("Maintainer")):
+        fail(f"{deb}: Maintainer {field('Maintainer')!r} is not 'Name <address>'")
+    depends = {d.split()[0] for d in field("Depends").replace("|", ",").split(",") if d.strip()}
+    wanted = {"libc6", "libstdc++6", "libtbb12", "libmetis5", "libeigen3-dev", "libtbb-dev", "libmetis-dev",
+              "nlohmann-json3-dev", "python3", "python3-numpy", "python3-matplotlib"}
+    if wanted - depends:
+        fail(f"{deb}: Depends lacks {sorted(wanted - depends)}: {field('Depends')}")
+    if with_module and not re.search(r"python3 \(>= 3\.\d+~\), python3 \(<< 3\.\d+\)", field("Depends")):
+        fail(f"{deb}: Depends does not bound python3 to the module's minor version: {field('Depends')}")
+
+
+def check_listing(deb, work, with_module):
+    """`dpkg-deb -c`: the files a user of each part needs, all under /usr."""
+    listing = run(["dpkg-deb", "-c", deb], work, os.environ).stdout
+    paths = [line.split()[-1] for line in listing.splitlines()]
+    outside = [p for p in paths if p != "./" and not (p + "/").startswith("./usr/")]
+    if outside:
+        fail(f"{deb} holds files outside /usr: {outside}")
+    wanted = ["./usr/bin/pbd", "./usr/share/pbd/plot_study.py", "./usr/share/pbd/scenes/cloth.json",
+              "./usr/share/pbd/scenes/meshes/pig.obj", "./usr/include/pbd/world.hpp", "./usr/include/pbd/version.hpp",
+              "./usr/lib/libpbd_engine.a", "./usr/lib/libpbd_io.a", "./usr/lib/libpbd_graph_coloring.a",
+              "./usr/lib/cmake/pbd/pbdConfig.cmake", "./usr/lib/cmake/pbd/pbdConfigVersion.cmake",
+              "./usr/lib/cmake/pbd/pbdTargets.cmake", "./usr/lib/cmake/pbd/FindMETIS.cmake",
+              "./usr/share/doc/pbd/copyright"]
+    missing = [p for p in wanted if p not in paths]
+    if missing:
+        fail(f"{deb} lacks {missing}")
+    modules = [p for p in paths if re.fullmatch(r"\./usr/lib/python3/dist-packages/pbd\.cpython-[^/]+\.so", p)]
+    if with_module and len(modules) != 1:
+        fail(f"{deb} holds {modules} as the Python module, not one ./usr/lib/python3/dist-packages/pbd.cpython-*.so")
+
+
+def unpack(deb, work):
+    """`dpkg -x` into WORK/root; returns the unpacked /usr."""
+    root = os.path.join(work, "root")
+    run(["dpkg", "-x", deb, root], work, os.environ)
+    return os.path.join(root, "usr")
 
 
 def contents_to_scan(file, work, sanitized):
@@ -104,6 +174,31 @@ def check_commands(pbd, empty, env, study_args):
         fail(f"the report's commit is {commit!r}; with none given it must be 'unknown'")
 
 
+def check_python(usr, empty, env, source):
+    """/usr/bin/python3 imports the unpacked module and steps a world; the scenes are where pbd.load_scene looks."""
+    site = os.path.join(usr, "lib", "python3", "dist-packages")
+    code = """
+import os, sys
+import pbd
+site = os.path.realpath(os.path.dirname(pbd.__file__))
+if site != os.path.realpath(sys.argv[1]):
+    sys.exit(f"pbd was imported from {pbd.__file__}, not from {sys.argv[1]}")
+world = pbd.World()
+i = world.add_particle((0.0, 0.0, 1.0), 1.0)
+for _ in range(30):
+    world.step()
+if not world.positions()[i, 2] < 0.9:
+    sys.exit("a particle dropped from 1 m did not fall")
+scene = os.path.join(site, "..", "..", "..", "share", "pbd", "scenes", "cloth.json")
+if not os.path.isfile(scene):
+    sys.exit(f"no {scene}: pbd.load_scene would not find the scenes")
+if sys.argv[2] == "stubs" and not os.path.isfile(os.path.join(site, "pbd.pyi")):
+    sys.exit(f"pbd.pyi is not beside the module in {site}")
+"""
+    stubs = "stubs" if os.path.isfile(os.path.join(source, "python", "pbd.pyi")) else "no-stubs"
+    run(["/usr/bin/python3", "-c", code, site, stubs], empty, dict(env, PYTHONPATH=site))
+
+
 def check_lonely_program(pbd, work, env):
     lonely = os.path.join(work, "lonely", "bin")
     os.makedirs(lonely)
@@ -121,15 +216,22 @@ def main():
     work = os.path.realpath(work)
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
-    prefix = install(cmake, build, work)
-    pbd = os.path.join(prefix, "bin", "pbd")
-    check_no_tree_paths(prefix, [source, build, os.path.join(work, "staging")], work, sanitized)
+    version = version_of(build)
+    deb = make_package(cmake, build, work, version)
+    check_control(deb, version, work, with_module=not sanitized)
+    check_listing(deb, work, with_module=not sanitized)
+    usr = unpack(deb, work)
+    pbd = os.path.join(usr, "bin", "pbd")
+    check_no_tree_paths(usr, [source, build, os.path.join(work, "package")], work, sanitized)
     empty = os.path.join(work, "empty")
     os.makedirs(empty)
     env = clean_env()
     check_commands(pbd, empty, env, study_args)
+    if not sanitized:
+        check_python(usr, empty, env, source)
     check_lonely_program(pbd, work, env)
-    print("check_install.py: OK: the installed pbd ran list, run and study --quick --plots from", empty)
+    print(f"check_install.py: OK: {os.path.basename(deb)} unpacked; pbd ran list, run and study --quick --plots"
+          f"{'' if sanitized else ', python3 imported pbd,'} from {empty}")
 
 
 if __name__ == "__main__":
