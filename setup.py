@@ -82,6 +82,7 @@ class CMakeBuild(build_ext):
             args += ["-G", "Ninja"]
         if shutil.which("ccache") and "CMAKE_CXX_COMPILER_LAUNCHER" not in env:
             args.append("-DCMAKE_CXX_COMPILER_LAUNCHER=ccache")
+        if "ccache" in env.get("CMAKE_CXX_COMPILER_LAUNCHER", "ccache"):
             env.setdefault("CCACHE_BASEDIR", str(HERE))  # paths in the hash relative: build/pip hits build/release
         if not (build_dir / "CMakeCache.txt").is_file():
             run(args, env=env)

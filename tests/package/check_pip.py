@@ -6,9 +6,10 @@ Usage: check_pip.py SOURCE_DIR BUILD_DIR WORK_DIR VERSION
 1. The source tree is copied to WORK/src (without build/ and .git), so that setuptools' build folders and egg-info
    do not land in the source tree.
 2. `python3 -m venv --system-site-packages WORK/venv`, then `WORK/venv/bin/pip install --no-build-isolation
-   --no-index WORK/src` (--no-index: the test fails rather than reach for PyPI), with PBD_CMAKE_BUILD_DIR=BUILD_DIR:
-   setup.py builds the target pbd_python in the suite's build tree, where it is built already, so nothing is
-   compiled; the configure-and-build path of a fresh tree is the same setup.py code with build/pip as the tree.
+   --no-index WORK/src` (--no-index: the test fails rather than reach for PyPI): setup.py configures a fresh
+   WORK/src/build/pip and builds the module there, as a user's install does. With ccache (scripts/deps installs it
+   and scripts/build builds through it, CCACHE_BASEDIR at the source tree) the compiles are the release build's,
+   at the same depth below their source tree, so they come from the cache: seconds, not the minutes of a cold build.
 3. From an empty folder, the venv's python imports pbd from the venv (not from the build tree), steps a falling
    particle, and sees: the distribution's version equal to CMake's project version (VERSION), the scenes in
    sys.prefix/share/pbd/scenes, which is also <module dir>/../../../share/pbd (the two places pbd.load_scene looks
@@ -61,7 +62,7 @@ def run(args, cwd, env):
 
 
 def main():
-    source, build, work, version = sys.argv[1:5]
+    source, _build, work, version = sys.argv[1:5]
     work = os.path.realpath(work)
     shutil.rmtree(work, ignore_errors=True)
     src, venv, empty = (os.path.join(work, d) for d in ("src", "venv", "empty"))
@@ -71,7 +72,7 @@ def main():
     env = {k: v for k, v in os.environ.items() if not k.startswith(("PBD_", "PYTHON"))}
     env["PIP_DISABLE_PIP_VERSION_CHECK"] = "1"
     run(["/usr/bin/python3", "-m", "venv", "--system-site-packages", venv], work, env)
-    pip_env = dict(env, PBD_CMAKE_BUILD_DIR=build)
+    pip_env = dict(env)
     out = run([os.path.join(venv, "bin", "pip"), "install", "--no-build-isolation", "--no-index", src], work, pip_env)
     if f"Successfully installed pbd-{version}" not in out:
         fail(f"pip did not install pbd-{version}:\n{out}")
