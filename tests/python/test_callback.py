@@ -69,9 +69,10 @@ class Boom(Exception):
     pass
 
 
-@pytest.mark.parametrize("substeps", [1, 3])
-def test_an_exception_in_the_callback_propagates_as_itself_and_leaves_the_world_as_it_was(world_type, substeps):
+@pytest.mark.parametrize("substeps, threads", [(1, 0), (3, 0), (3, 2)])
+def test_an_exception_in_the_callback_propagates_as_itself_and_leaves_the_world_as_it_was(world_type, substeps, threads):
     w = cloth(world_type)
+    w.threads = threads  # through the world's own task_arena too
     p = w.params
     p.substeps = substeps
     w.params = p
