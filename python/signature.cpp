@@ -18,6 +18,12 @@ std::string default_text(pybind11::handle value) {
 
 }  // namespace
 
+bool overloads_a_function(const pybind11::detail::function_record& r) {
+  PyObject* s = r.sibling.ptr();
+  if (s && PyInstanceMethod_Check(s)) s = PyInstanceMethod_GET_FUNCTION(s);
+  return s && PyCFunction_Check(s) && r.name && std::string(reinterpret_cast<PyCFunctionObject*>(s)->m_ml->ml_name) == r.name;
+}
+
 std::string signed_doc(const pybind11::detail::function_record& r) {
   namespace py = pybind11;
   std::string params;

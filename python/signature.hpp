@@ -16,6 +16,9 @@ namespace pbd::python {
 struct TextSignature {};
 inline constexpr TextSignature sig{};
 
+/// Whether `r` is a further overload of a function of its name already defined (its sibling).
+bool overloads_a_function(const pybind11::detail::function_record& r);
+
 /// The docstring of `r` with its text signature in front, e.g. "step(self, /, forces=None)\n--\n\n<doc>".
 std::string signed_doc(const pybind11::detail::function_record& r);
 
@@ -24,6 +27,12 @@ std::string signed_doc(const pybind11::detail::function_record& r);
 namespace pybind11::detail {
 template <> struct process_attribute<pbd::python::TextSignature> : process_attribute_default<pbd::python::TextSignature> {
   static void init(const pbd::python::TextSignature&, function_record* r) {
+    // A second overload of a name (the same call on World and WorldDouble) adds nothing: pybind11 would append its
+    // docstring, signature and all, to the first one's.
+    if (pbd::python::overloads_a_function(*r)) {
+      r->doc = const_cast<char*>("");
+      return;
+    }
     // pybind11 copies the docstring when the def completes; until then it must outlive this call.
     static std::deque<std::string> docs;
     docs.push_back(pbd::python::signed_doc(*r));

@@ -108,6 +108,11 @@ def test_bound_methods_have_the_signature_without_self():
     assert str(inspect.signature(pbd.Stiffness.pbd_k)) == "(k)"  # static
 
 
+def test_an_overload_for_both_precisions_has_one_signature_and_docstring():
+    assert str(inspect.signature(pbd.energy)) == "(world)"
+    assert pbd.energy.__doc__.startswith("Kinetic") and "energy(world)" not in pbd.energy.__doc__
+
+
 def test_signatures_carry_the_docstring():
     assert inspect.signature(pbd.World.step).parameters["forces"].default is None
     assert pbd.World.step.__doc__.startswith("Advances the world")
