@@ -1,20 +1,25 @@
 // The Python module `pbd`: the host API of pbd::World<Real> for Python (pybind11), built for /usr/bin/python3.
 //
-// What is bound:
-// - pbd.World (World<float>) and pbd.WorldDouble (World<double>): particles, constraint sets and constraints,
-//   colliders, contact bodies, step parameters, step() and step(forces), statistics, validate();
-//   build_world(scene) / build_world_double(scene) build one from a scene.
-// - Parameters and results: Stiffness, Solver, SweepOrder, StepParams, StepStats, ContactMaterial,
-//   PressureSchedule, Violation, NamedViolation, Energy (params_bindings.cpp).
-// - Scenes: load_scene(path), parse_scene(text, source) → Scene (scene_bindings.cpp).
+// What is bound (docs/python.md is the reference; python/pbd.pyi the types):
+// - pbd.World (World<float>) and pbd.WorldDouble (World<double>): particles, constraint sets and constraints
+//   (add_<name>, remove_<name>), colliders, contact bodies, removal and the generators (world_edit.hpp), step
+//   parameters, step(forces=None), the force callback and the thread count (world_step.hpp), statistics, validate(),
+//   copies and pickles (world_copy.hpp); build_world(scene) / build_world_double(scene) build one from a scene.
+// - Parameters and results: Stiffness, Material, Solver, SweepOrder, Hierarchy, Chebyshev, StepParams, BlockOptions,
+//   ContactMaterial, PressureSchedule (params_bindings.cpp); StepStats, Violation, NamedViolation, Energy,
+//   FiberBreak (results_bindings.cpp); each prints its fields.
+// - Scenes and files: parse_scene (scene_bindings.cpp); data_dir, load_scene(name or path), scene_names, FrameSeries,
+//   write_obj_frame and the mesh generators (io_bindings.cpp).
 // - Soft bodies (tet_bindings.cpp): TetMesh, tet_box_mesh, load_tet_mesh, tetrahedralize, check_tet_mesh,
 //   tet_mesh_surface, NeoHookeanMaterial, young_poisson, Body, and World.add_tet_body / WorldDouble.add_tet_body.
 // - Metrics, as in metrics.hpp: <name>_violation for each built-in constraint type (stretch_violation, ...),
-//   constraint_violations (each NamedViolation with its measure, unit and scale), energy, position_hash.
-// - The constraint calls add_<name>(particles..., set, rest values=None) and <name>_violation are generated from the
-//   list of built-in types (constraint_types.hpp; world_bindings.hpp's bind_add): a new type needs no line here.
+//   constraint_violations (each NamedViolation with its measure, unit and scale), energy, position_hash; and
+//   World.violations(type), one value per constraint.
+// - The constraint calls add_<name>(particles..., set, rest values=None), remove_<name>(indices) and <name>_violation
+//   are generated from the list of built-in types (constraint_types.hpp): a new type needs no line here.
 // - pbd::Error → pbd.Error (a RuntimeError) with the library's message; a bad numpy argument (shape, dtype) is a
 //   ValueError naming the call and the argument.
+// - Every def ends with `sig` (signature.hpp): a text signature that inspect.signature reads.
 //
 // Ownership and lifetime:
 // - A Python World owns its pbd::World (arrays.hpp, world_bindings.hpp). positions() and velocities() are numpy
@@ -23,20 +28,28 @@
 //   particles are added, so add_particle(s) raise pbd.Error while any view is alive (del it or take a .copy()).
 //   step() keeps positions in their storage (World::step), so a view stays current across steps.
 // - Every other result is a copy: inverse_masses(), last_step_stats(), params, Scene.triangles.
-// - step() releases the GIL, so distinct worlds step concurrently from Python threads. While one world steps, any
-//   other call on that world raises pbd.Error (its views may be read, but see values mid-step).
+// - step() releases the GIL, so distinct worlds step concurrently from Python threads; a force callback takes it back
+//   for its own call only. While one world steps, any other call on that world raises pbd.Error (its views may be
+//   read, but see values mid-step).
 #include "bindings.hpp"
 
 #include "pbd/error.hpp"
+#include "pbd/version.hpp"
 
 PYBIND11_MODULE(pbd, m) {
   namespace py = pybind11;
+  // Every def writes its own text signature (signature.hpp), which pybind11's would hide.
+  py::options options;
+  options.disable_function_signatures();
   m.doc() = "pbd: data-parallel Position Based Dynamics (Python bindings of pbd::World)";
+  m.attr("__version__") = pbd::version;
   py::register_exception<pbd::Error>(m, "Error", PyExc_RuntimeError);
   m.attr("Error").attr("__doc__") = "Invalid input to pbd: the message names the offending item (pbd::Error).";
   pbd::python::bind_params(m);
+  pbd::python::bind_results(m);
   pbd::python::bind_scene(m);
   pbd::python::bind_world_float(m);
   pbd::python::bind_world_double(m);
+  pbd::python::bind_io(m);
   pbd::python::bind_tets(m);  // adds add_tet_body to World and WorldDouble
 }

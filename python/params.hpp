@@ -8,7 +8,7 @@
 
 namespace pbd::python {
 
-/// StepParams<Real> without the precision (and without Chebyshev, which a World keeps as it is).
+/// StepParams<Real> without the precision: every field of it.
 struct StepParamsPy {
   double dt = 1.0 / 60.0;
   int substeps = 1;
@@ -19,13 +19,17 @@ struct StepParamsPy {
   Solver solver = Solver::colored;
   SweepOrder sweep_order = SweepOrder::forward;
   double jacobi_omega = 1.0;
+  Chebyshev<double> chebyshev;  // acceleration of the sweeps (off by default)
   Hierarchy hierarchy;  // hierarchical PBD (off by default)
 };
 
 /// The Python view of a world's parameters.
 template <class Real> StepParamsPy to_python(const StepParams<Real>& p) {
   return {double(p.dt), p.substeps, p.iterations, {double(p.gravity.x()), double(p.gravity.y()), double(p.gravity.z())},
-          double(p.damping), double(p.collision_margin), p.solver, p.sweep_order, double(p.jacobi_omega), p.hierarchy};
+          double(p.damping), double(p.collision_margin), p.solver, p.sweep_order, double(p.jacobi_omega),
+          Chebyshev<double>{p.chebyshev.enabled, double(p.chebyshev.rho), p.chebyshev.delay, double(p.chebyshev.max_rho),
+                            double(p.chebyshev.diverge)},
+          p.hierarchy};
 }
 
 /// `base` (the world's parameters) with the fields of `p` in Real.
@@ -39,6 +43,8 @@ template <class Real> StepParams<Real> to_engine(const StepParamsPy& p, StepPara
   base.solver = p.solver;
   base.sweep_order = p.sweep_order;
   base.jacobi_omega = Real(p.jacobi_omega);
+  base.chebyshev = {p.chebyshev.enabled, Real(p.chebyshev.rho), p.chebyshev.delay, Real(p.chebyshev.max_rho),
+                    Real(p.chebyshev.diverge)};
   base.hierarchy = p.hierarchy;
   return base;
 }

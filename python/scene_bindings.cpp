@@ -1,6 +1,7 @@
-// Scenes: pbd.load_scene(path) and pbd.parse_scene(text, source) give a Scene (its metadata and precision-free
+// Scenes: pbd.parse_scene(text, source) and io_bindings.cpp's load_scene(name_or_path) give a Scene (its metadata and precision-free
 // description); pbd.build_world / build_world_double (world_bindings.hpp) make a World of it.
 #include "bindings.hpp"
+#include "signature.hpp"
 
 #include "pbd/io/scene.hpp"
 
@@ -27,11 +28,9 @@ void bind_scene(py::module_& m) {
             return t;
           },
           "surface triangles of its bodies, (M, 3) particle indices (a copy)")
-      .def("__repr__", [](const Scene& s) { return "<pbd.Scene " + s.name + " from " + s.source + ">"; });
-  m.def("load_scene", &load_scene, py::arg("path"), "Loads a scene JSON file (docs/scenes.md); pbd.Error names the file and key.");
+      .def("__repr__", [](const Scene& s) { return "<pbd.Scene " + s.name + " from " + s.source + ">"; }, sig);
   m.def("parse_scene", &parse_scene, py::arg("text"), py::arg("source") = "<string>",
-        "Parses scene JSON text; `source` names it in error messages.");
-  m.def("scene_names", &scene_names, py::arg("directory"), "Names of the scenes (NAME.json) in a folder, sorted.");
+        "Parses scene JSON text; `source` names it in error messages.", sig);
 }
 
 }  // namespace pbd::python

@@ -17,6 +17,7 @@
 //   the call as elsewhere in the module (arrays.hpp): a wrong shape or dtype is a ValueError naming the argument.
 #include "arrays.hpp"
 #include "bindings.hpp"
+#include "signature.hpp"
 #include "world_bindings.hpp"
 
 #include "pbd/checks.hpp"
@@ -185,7 +186,7 @@ template <class Real> void bind_tet_body(py::module_& m, const char* name) {
       "else stretch constraints. tet_fibers=Stiffness puts a tet fiber on every tet along fiber_direction (in the "
       "mesh's frame) in a new set, last: with Stiffness.fiber(material) its curve is a stress in Pa (stiffness = "
       "Young's modulus E of the fibers), they yield, and a tet whose fibers break leaves the body (tet_fibers() "
-      "reads their strains and stresses). Everything is checked first, so a bad argument raises pbd.Error and adds nothing.");
+      "reads their strains and stresses). Everything is checked first, so a bad argument raises pbd.Error and adds nothing.", sig);
 }
 
 }  // namespace
@@ -203,7 +204,7 @@ void bind_tets(py::module_& m) {
            py::arg("positions"), py::arg("tets"),
            "A mesh of positions (V, 3) in m and tets (T, 4) of vertex indices (any integer dtype), each positively "
            "oriented: det[p1 - p0, p2 - p0, p3 - p0] > 0. Checked as check_tet_mesh(mesh, \"TetMesh\") does; a wrong "
-           "shape or dtype is a ValueError.")
+           "shape or dtype is a ValueError.", sig)
       .def_property_readonly(
           "positions",
           [](const TetMesh& mesh) {
@@ -220,21 +221,21 @@ void bind_tets(py::module_& m) {
         std::ostringstream o;
         o << "<pbd.TetMesh: " << mesh.num_vertices() << " vertices, " << mesh.tets.size() << " tets>";
         return o.str();
-      });
+      }, sig);
 
   m.def("check_tet_mesh", &check_tet_mesh, py::arg("mesh"), py::arg("source"),
         "Checks a TetMesh: at least one tet, finite positions, every tet naming four distinct vertices in range and "
         "positively oriented, not degenerate (6V > 1e-9 x its longest edge^3). Raises pbd.Error starting with "
-        "`source` and naming the first bad tet; a TetMesh already passed it when made.");
+        "`source` and naming the first bad tet; a TetMesh already passed it when made.", sig);
   m.def("tet_mesh_surface", [](const TetMesh& mesh) { return index_rows(tet_mesh_surface(mesh)); }, py::arg("mesh"),
         "The boundary of a TetMesh: every face of exactly one tet, counter-clockwise seen from outside (a closed "
-        "surface of positive volume), as (M, 3) uint32 vertex indices of the mesh.");
+        "surface of positive volume), as (M, 3) uint32 vertex indices of the mesh.", sig);
   m.def("tet_box_mesh", &tet_box_mesh, py::arg("cells"), py::arg("size"),
         "A box of cells[0] x cells[1] x cells[2] cubes (each >= 1) spanning [0, size[0]] x [0, size[1]] x [0, size[2]] "
-        "(m, each > 0), each cube cut into 6 tets (Kuhn); vertex (i, j, k) is (k (ny + 1) + j) (nx + 1) + i.");
+        "(m, each > 0), each cube cut into 6 tets (Kuhn); vertex (i, j, k) is (k (ny + 1) + j) (nx + 1) + i.", sig);
   m.def("load_tet_mesh", &load_tet_mesh, py::arg("path"), py::call_guard<py::gil_scoped_release>(),
         "Loads a tet mesh: Gmsh .msh (ASCII or binary, 2.2 or 4.1) or TetGen .node/.ele (either file names the "
-        "pair), keeping the nodes some tet names. pbd.Error names the file and the line of what is wrong.");
+        "pair), keeping the nodes some tet names. pbd.Error names the file and the line of what is wrong.", sig);
   m.def(
       "tetrahedralize",
       [](const RealRows& surface_positions, const TriangleRows& triangles, double max_radius_edge_ratio,
@@ -252,7 +253,7 @@ void bind_tets(py::module_& m) {
       "-q): rounder tets and more of them when smaller; max_volume: largest tet in m^3 (0 = no limit); keep_surface: "
       "the surface's triangles are exactly the mesh's boundary (else tetgen may split them). The surface's vertices "
       "are the mesh's first ones. pbd.Error starts with `source`: a surface that is not closed, a bad option, tetgen "
-      "missing or failing.");
+      "missing or failing.", sig);
 
   py::class_<NeoHookeanMaterial>(m, "NeoHookeanMaterial",
                                  "Lame parameters of the Neo-Hookean tet energy (pbd::NeoHookeanMaterial): mu, the "
@@ -266,20 +267,20 @@ void bind_tets(py::module_& m) {
              return NeoHookeanMaterial{mu, lambda};
            }),
            py::arg("mu"), py::arg("lambda_"),
-           "a material of mu > 0 and lambda_ > 0 in Pa (young_poisson makes one of E and nu)")
+           "a material of mu > 0 and lambda_ > 0 in Pa (young_poisson makes one of E and nu)", sig)
       .def_readonly("mu", &NeoHookeanMaterial::mu, "shear modulus mu, Pa")
       .def_readonly("lambda_", &NeoHookeanMaterial::lambda, "hydrostatic modulus lambda (lambda_Lame + mu), Pa")
-      .def("compliance", &NeoHookeanMaterial::compliance, "1/mu in 1/Pa: the XPBD compliance of its constraint set")
-      .def("ratio", &NeoHookeanMaterial::ratio, "mu/lambda: each Neo-Hookean tet's ratio (0: incompressible)")
+      .def("compliance", &NeoHookeanMaterial::compliance, "1/mu in 1/Pa: the XPBD compliance of its constraint set", sig)
+      .def("ratio", &NeoHookeanMaterial::ratio, "mu/lambda: each Neo-Hookean tet's ratio (0: incompressible)", sig)
       .def("__repr__", [](const NeoHookeanMaterial& mat) {
         std::ostringstream o;
         o.precision(17);
         o << "pbd.NeoHookeanMaterial(mu=" << mat.mu << ", lambda_=" << mat.lambda << ")";
         return o.str();
-      });
+      }, sig);
   m.def("young_poisson", &young_poisson, py::arg("young"), py::arg("poisson"),
         "The NeoHookeanMaterial of Young's modulus E > 0 (Pa) and Poisson's ratio nu in (-1, 0.5): mu = E / (2 (1 + "
-        "nu)), lambda = E / (2 (1 + nu) (1 - 2 nu)); small strains then follow linear elasticity of E and nu.");
+        "nu)), lambda = E / (2 (1 + nu) (1 - 2 nu)); small strains then follow linear elasticity of E and nu.", sig);
 
   py::class_<Body>(m, "Body", "A body added to a world (pbd::Body): its particles and its boundary surface.")
       .def_readonly("first_particle", &Body::first_particle, "index of its first particle")
@@ -290,7 +291,7 @@ void bind_tets(py::module_& m) {
         return "<pbd.Body: particles [" + std::to_string(b.first_particle) + ", " +
                std::to_string(b.first_particle + b.num_particles) + "), " + std::to_string(b.triangles.size()) +
                " triangles>";
-      });
+      }, sig);
 
   bind_tet_body<float>(m, "World");
   bind_tet_body<double>(m, "WorldDouble");

@@ -1,6 +1,7 @@
 """Volumetric soft bodies from Python: TetMesh and its sources (tet_box_mesh, load_tet_mesh, tetrahedralize), its
 boundary, the Neo-Hookean material and World.add_tet_body, with their errors. tetrahedralize runs the tetgen program
 (scripts/deps installs it): without it that test fails, as the C++ ones do."""
+import inspect
 import math
 
 import numpy as np
@@ -337,33 +338,22 @@ def test_a_live_view_refuses_a_body(world_type):
 
 @pytest.mark.parametrize("function, signature", [
     (pbd.World.add_tet_body,
-     "add_tet_body(self: pbd.World, mesh: pbd.TetMesh, *, neo_hookean: Optional[pbd.NeoHookeanMaterial] = None, "
-     "tet_volume: Optional[pbd.Stiffness] = None, density: float = 1000.0, scale: float = 1.0, "
-     "origin: List[float[3]] = (0.0, 0.0, 0.0), pinned: List[int] = (), clamped: Optional[str] = None, "
-     "stretch: Optional[pbd.Stiffness] = None, tet_fibers: Optional[pbd.Stiffness] = None, "
-     "fiber_direction: List[float[3]] = (1.0, 0.0, 0.0)) -> pbd.Body"),
-    (pbd.WorldDouble.add_tet_body, "add_tet_body(self: pbd.WorldDouble, mesh: pbd.TetMesh, *, neo_hookean: "),
-    (pbd.TetMesh.__init__, "__init__(self: pbd.TetMesh, positions: numpy.ndarray[numpy.float64[n, 3]], "
-                           "tets: numpy.ndarray[numpy.int64[m, 4]]) -> None"),
-    (pbd.tet_box_mesh, "tet_box_mesh(cells: List[int[3]], size: List[float[3]]) -> pbd.TetMesh"),
-    (pbd.load_tet_mesh, "load_tet_mesh(path: os.PathLike) -> pbd.TetMesh"),
+     "(self, /, mesh, *, neo_hookean=None, tet_volume=None, density=1000.0, scale=1.0, origin=(0.0, 0.0, 0.0), "
+     "pinned=(), clamped=None, stretch=None, tet_fibers=None, fiber_direction=(1.0, 0.0, 0.0))"),
+    (pbd.TetMesh.__init__, "(self, /, positions, tets)"),
+    (pbd.tet_box_mesh, "(cells, size)"),
+    (pbd.load_tet_mesh, "(path)"),
     (pbd.tetrahedralize,
-     "tetrahedralize(surface_positions: numpy.ndarray[numpy.float64[n, 3]], "
-     "triangles: numpy.ndarray[numpy.int64[m, 3]], "
-     "max_radius_edge_ratio: float = 1.5, max_volume: float = 0.0, keep_surface: bool = True, source: str = 'surface') "
-     "-> pbd.TetMesh"),
-    (pbd.tet_mesh_surface, "tet_mesh_surface(mesh: pbd.TetMesh) -> numpy.ndarray[numpy.uint32]"),
-    (pbd.check_tet_mesh, "check_tet_mesh(mesh: pbd.TetMesh, source: str) -> None"),
-    (pbd.young_poisson, "young_poisson(young: float, poisson: float) -> pbd.NeoHookeanMaterial"),
-    (pbd.NeoHookeanMaterial.__init__, "__init__(self: pbd.NeoHookeanMaterial, mu: float, lambda_: float) -> None"),
+     "(surface_positions, triangles, max_radius_edge_ratio=1.5, max_volume=0.0, keep_surface=True, source='surface')"),
+    (pbd.tet_mesh_surface, "(mesh)"),
+    (pbd.check_tet_mesh, "(mesh, source)"),
+    (pbd.young_poisson, "(young, poisson)"),
+    (pbd.NeoHookeanMaterial.__init__, "(self, /, mu, lambda_)"),
 ])
-def test_signatures_are_typed_and_documented(function, signature):
-    # pybind11 writes each signature as the first line of the docstring (inspect.signature cannot read a pybind11
-    # function: it has no __text_signature__); no argument is a bare `object`, and a description follows.
-    first, _, rest = function.__doc__.partition("\n")
-    assert first.startswith(signature)
-    assert ": object" not in first
-    assert len(rest.strip()) > 40
+def test_signatures_are_readable_and_documented(function, signature):
+    # inspect reads each signature (signature.hpp); the types are in pbd.pyi (test_stubs.py); a description follows.
+    assert str(inspect.signature(function)) == signature
+    assert len(function.__doc__.strip()) > 40
 
 
 def test_every_new_name_has_a_docstring():

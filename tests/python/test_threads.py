@@ -66,5 +66,5 @@ def test_a_world_refuses_other_calls_while_it_steps():
             seen.append(str(e))
     t.join()
     # Whether a call fell inside a step is up to the scheduler; any refusal says why, and the world is sound.
-    assert all(m == "add_particle: the world is stepping in another thread" for m in seen)
+    assert all(m == "add_particle: the world is stepping (in another thread, or this is its force callback)" for m in seen)
     w.validate()
