@@ -70,9 +70,7 @@ class CMakeBuild(build_ext):
         target = Path(self.get_ext_fullpath(ext.name))
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(built, target)
-        stubs = HERE / "python" / "pbd.pyi"
-        if stubs.is_file():
-            shutil.copyfile(stubs, target.parent / "pbd.pyi")
+        shutil.copyfile(HERE / "python" / "pbd.pyi", target.parent / "pbd.pyi")
 
     def configure(self, build_dir, env):
         args = ["cmake", "-S", HERE, "-B", build_dir, "-DCMAKE_BUILD_TYPE=Release", "-DPBD_BUILD_TESTS=OFF",

@@ -26,7 +26,7 @@ endif()
 # The Python module's type stubs beside the module (python/CMakeLists.txt installs the module): type checkers and
 # IDEs read pbd.pyi from the folder that holds pbd.cpython-*.so. The module finds the scenes in share/pbd too: from
 # <prefix>/lib/python3/dist-packages, three folders up.
-if(TARGET pbd_python AND EXISTS ${PROJECT_SOURCE_DIR}/python/pbd.pyi)
+if(TARGET pbd_python)
   install(FILES ${PROJECT_SOURCE_DIR}/python/pbd.pyi DESTINATION ${PBD_PYTHON_INSTALL_DIR})
 endif()
 # The licence, under the name Debian's policy gives it (/usr/share/doc/pbd/copyright in the package).
