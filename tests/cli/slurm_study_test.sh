@@ -82,6 +82,7 @@ EOF
 }
 
 out=$tmp/study
+how="2 array tasks (--shard auto) and the dependent merge, under Slurm"
 if start_slurm; then
   echo "slurm_study_test: single-node Slurm up ($(sinfo -h -o '%P %D %T %C')); submitting" >&2
   "$here/scripts/slurm-study" --parts 2 --out "$out" --plots --wait "${pbd_args[@]}" -- "${study[@]}"
@@ -91,6 +92,7 @@ else
   echo "slurm_study_test: NOTE: Slurm could not start here; its logs:" >&2
   tail -n 5 "$tmp"/munge/munged.log "$tmp"/slurmctld.log "$tmp"/slurmd.log 2>&1 | sed 's/^/  /' >&2 || true
   echo "slurm_study_test: running the job array's parts with SLURM_ARRAY_TASK_ID set by hand" >&2
+  how="the 2 parts (--shard auto) and the merge, with the array index set by hand (Slurm did not start)"
   "$here/scripts/slurm-study" --parts 2 --out "$out" --plots --dry-run "${pbd_args[@]}" -- "${study[@]}"
   for i in 1 2; do
     SLURM_ARRAY_TASK_ID=$i SLURM_ARRAY_TASK_MIN=1 SLURM_ARRAY_TASK_MAX=2 SLURM_ARRAY_TASK_COUNT=2 "$out/part.sh"
@@ -131,7 +133,7 @@ for name in ("speed_error.png", "summary.md"):  # drawn by the merge job from th
 if "# pbd " not in open(os.path.join(out, "study.txt")).read():
     fail("no table in study.txt")
 EOF
-echo "slurm_study_test: ok: 2 array tasks (--shard auto) and the dependent merge, in $(( $(date +%s) - start )) s" >&2
+echo "slurm_study_test: ok: $how, in $(( $(date +%s) - start )) s" >&2
 stop
 trap - EXIT
 rm -rf "$tmp"
