@@ -80,7 +80,7 @@ void run(const ColorOptions& o) {
 void add_color_command(CLI::App& app) {
   auto o = std::make_shared<ColorOptions>();
   CLI::App* cmd = app.add_subcommand("color", "Color a scene's constraints and print the statistics");
-  cmd->add_option("scene", o->scene, "Built-in scene name or scene JSON file")->required();
+  cmd->add_option("scene", o->scene, "Scene name (pbd list: built-in or generated) or scene JSON file")->required();
   std::vector<std::string> names;
   for (coloring::Algorithm a : coloring::all_algorithms) names.emplace_back(coloring::name(a));
   cmd->add_option("--algorithm", o->algorithm, "Coloring algorithm")->check(CLI::IsMember(names))->capture_default_str();

@@ -1,8 +1,9 @@
 // `pbd list`: the scenes pbd can run, one line each: the built-in scenes with their description and size, then the
-// generated scenes of the study (hanging cloths, the cloth at rest, the compliant chain).
+// generated scenes (hanging cloths, the cloth at rest, the compliant chain; generated_scenes.hpp). Every name it
+// prints works in run, color and study --scene.
 #include "commands.hpp"
 #include "scene_dir.hpp"
-#include "study_scenes.hpp"
+#include "generated_scenes.hpp"
 
 #include <cstdio>
 #include <stdexcept>
@@ -10,7 +11,7 @@
 namespace pbd::cli {
 
 void add_list_command(CLI::App& app) {
-  CLI::App* cmd = app.add_subcommand("list", "List the built-in scenes and the study's generated cloths, one line each");
+  CLI::App* cmd = app.add_subcommand("list", "List the scenes every command accepts (built-in and generated), one line each");
   cmd->callback([] {
     for (const std::string& name : builtin_scene_names()) {
       const Scene s = load_builtin_scene(name);
@@ -18,7 +19,7 @@ void add_list_command(CLI::App& app) {
                   s.world.num_constraints(), s.description.c_str());
     }
     for (const GeneratedScene& g : generated_scenes())
-      std::printf("%-14s %7ld particles %8s              generated for the study: %s\n", g.name.c_str(), g.particles,
+      std::printf("%-14s %7ld particles %8s              generated: %s\n", g.name.c_str(), g.particles,
                   "", g.description.c_str());
     std::fflush(stdout);
     if (std::ferror(stdout)) throw std::runtime_error("cannot write to standard output");

@@ -7,6 +7,7 @@
 #include "pbd/io/atomic_file.hpp"
 #include "pbd/io/build_world.hpp"
 #include "pbd/io/frame_series.hpp"
+#include "option_rules.hpp"
 #include "pbd/metrics.hpp"
 #include "scene_dir.hpp"
 
@@ -253,12 +254,25 @@ int actual_threads(int requested) {
   return requested > 0 ? std::min(requested, allowed) : allowed;
 }
 
+// Options that do nothing without, or next to, another one are refused (option_rules.hpp).
+void check_option_rules(const CLI::App& cmd, const RunOptions& o) {
+  refuse_without(cmd, "--format", "--frames", "only the frames have a format");
+  refuse_without(cmd, "--every", "--frames", "it chooses the steps whose frames are written");
+  const Solver solver = *parse_solver(o.solver);
+  refuse_with(cmd, "--sweep-order", solver == Solver::jacobi, "--solver jacobi",
+              "every Jacobi sweep reads the same positions: it has no order");
+  refuse_with(cmd, "--threads", !is_parallel(solver) && o.threads > 1, "--solver " + o.solver,
+              "it runs on one thread; the parallel solvers are colored, jacobi and block");
+  refuse_with(cmd, "--chebyshev", solver == Solver::serial, "--solver serial",
+              "the serial reference is never accelerated; serial-colored can be");
+}
+
 }  // namespace
 
 void add_run_command(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
   CLI::App* cmd = app.add_subcommand("run", "Run a scene and write its frames as OBJ or VTU files");
-  cmd->add_option("scene", o->scene, "Built-in scene name or scene JSON file")->required();
+  cmd->add_option("scene", o->scene, "Scene name (pbd list: built-in or generated) or scene JSON file")->required();
   cmd->add_option("--steps", o->steps, "Number of steps (default: the scene's own)")->check(CLI::Range(1, 100000000));
   cmd->add_option("--frames", o->frames, "Write frames as DIR/<scene>_<step>.obj or .vtu (step 0 included)");
   cmd->add_option("--format", o->format, "Frame format: obj (Blender) or vtu (ParaView, with DIR/<scene>.pvd)")
@@ -291,7 +305,8 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--precision", o->precision, "float or double")
       ->check(CLI::IsMember({"float", "double"}))
       ->capture_default_str();
-  cmd->callback([o] {
+  cmd->callback([o, cmd] {
+    check_option_rules(*cmd, *o);
     for (const auto& [flag, file] : {std::pair{"--stats", &o->stats}, std::pair{"--breaks", &o->breaks}}) {
       if (file->empty()) continue;  // refused before the run, not after it
       const std::filesystem::path folder = std::filesystem::absolute(*file).parent_path();

@@ -5,6 +5,7 @@
 // converged reference), and reports them as a table, CSV or JSON on stdout, a JSON file and plots (plot_script.hpp).
 #include "commands.hpp"
 #include "data_dir.hpp"
+#include "option_rules.hpp"
 #include "pbd/error.hpp"
 #include "pbd/io/atomic_file.hpp"
 #include "plot_script.hpp"
@@ -13,6 +14,7 @@
 #include "study_session.hpp"
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -55,7 +57,6 @@ void output(const Report& report, const std::string& format, const std::string& 
     std::fprintf(stderr, "pbd study: wrote %s\n", json.string().c_str());
   }
   if (plots.empty()) return;
-  tools.default_script = data_dir() / "plot_study.py";
   run_plot_script(tools, json, plots);
 }
 
@@ -71,19 +72,58 @@ Report read_report(const std::string& file) {
   return report_from_json(doc, file);
 }
 
-// --plot-script and --python, of `pbd study` and of `pbd study merge`.
+// --plot-script and --python, of `pbd study` and of `pbd study merge`. Their environment variables are read by
+// plot_tools(), not by CLI11, so that only the command line counts as asking for them (option_rules.hpp).
 void add_plot_options(CLI::App* cmd, PlotTools& tools) {
   cmd->add_option("--plot-script", tools.script,
-                  "The plot script of --plots (default: share/pbd/plot_study.py beside the program's folder)")
-      ->envname("PBD_PLOT_SCRIPT");
-  cmd->add_option("--python", tools.python, "The Python 3 with matplotlib that runs the plot script")
-      ->envname("PBD_PYTHON")
-      ->capture_default_str();
+                  "The plot script of --plots (default: $PBD_PLOT_SCRIPT, else share/pbd/plot_study.py beside the "
+                  "program's folder)");
+  cmd->add_option("--python", tools.python,
+                  "The Python 3 with matplotlib that runs the plot script (default: $PBD_PYTHON, else python3 on "
+                  "PATH)");
+}
+
+// The tools as given, the environment filling in what the command line did not give; refuses them without --plots.
+PlotTools plot_tools(const CLI::App& cmd, PlotTools tools) {
+  const std::string why = "they only draw the plots";
+  refuse_without(cmd, "--plot-script", "--plots", why);
+  refuse_without(cmd, "--python", "--plots", why);
+  auto env = [](const char* name) {
+    const char* v = std::getenv(name);
+    return v ? std::string(v) : std::string();
+  };
+  if (tools.script.empty()) tools.script = env("PBD_PLOT_SCRIPT");
+  if (!given(cmd, "--python")) tools.python = env("PBD_PYTHON");
+  if (tools.python.empty()) tools.python = "python3";
+  tools.default_script = data_dir() / "plot_study.py";
+  return tools;
+}
+
+// The options of `pbd study` that do nothing in the mode or with the options chosen are refused.
+void check_study_rules(const CLI::App& cmd) {
+  refuse_without(cmd, "--split", "--scaling", "only the scaling study runs one split; the main study runs every "
+                 "split of each --budgets");
+  const std::string scaling_why = "the scaling study runs one --split per scene, with no reference and no variants";
+  for (const char* option : {"--budgets", "--reference", "--reference-solver", "--reference-max", "--reference-seconds",
+                             "--variants", "--target"})
+    refuse_with(cmd, option, given(cmd, "--scaling"), "--scaling", scaling_why);
+  for (const char* option : {"--json", "--plots", "--format", "--commit", "--plot-script", "--python"})
+    refuse_with(cmd, option, given(cmd, "--estimate"), "--estimate", "it prints the plan and runs nothing");
+}
+
+// `pbd study merge` takes none of `pbd study`'s options: given before `merge` they would be ignored.
+void refuse_study_options(const CLI::App& study) {
+  for (const CLI::Option* option : study.get_options())
+    if (option->count() > 0 && option->get_name() != "--help")
+      throw Error("merge: " + option->get_name() + " is an option of `pbd study`, not of `pbd study merge` (its "
+                  "options --json, --plots, --format, --plot-script, --python and --allow-mixed-machines go after "
+                  "`merge`)");
 }
 
 struct MergeOptions {
   std::vector<std::string> files;
   std::string json, plots, format = "table";
+  bool allow_mixed_machines = false;
 };
 
 }  // namespace
@@ -142,11 +182,10 @@ void add_study_command(CLI::App& app) {
                   "DIR/study.json if no --json)");
   cmd->add_option("--shard", o->shard,
                   "Run only part I of N (I/N) of the combinations; join the parts' --json reports with `pbd study "
-                  "merge`");
+                  "merge`. auto: I and N from a Slurm job array (SLURM_ARRAY_TASK_ID of MIN..MAX or COUNT)");
   cmd->add_option("--commit", o->commit,
-                  "The commit the program was built from, for the report (scripts/study gives `git describe`; "
-                  "default: unknown)")
-      ->envname("PBD_COMMIT");
+                  "The commit the program was built from, for the report (default: $PBD_COMMIT, which scripts/study "
+                  "sets to `git describe`, else unknown)");
   auto plot = std::make_shared<PlotTools>();
   add_plot_options(cmd, *plot);
   cmd->add_flag("--quick", o->quick,
@@ -165,19 +204,32 @@ void add_study_command(CLI::App& app) {
   merge->add_option("--json", m->json, "Write the merged JSON report to FILE");
   merge->add_option("--plots", m->plots, "Write plots of the merged report to DIR");
   merge->add_option("--format", m->format, "What goes to stdout: table, csv or json")->capture_default_str();
-  add_plot_options(merge, *plot);
-  merge->callback([m, plot] {
+  merge->add_flag("--allow-mixed-machines", m->allow_mixed_machines,
+                  "Join shards that ran on machines of another CPU or core count (the merged report lists each "
+                  "machine); commit, version, build and options must still agree");
+  auto merge_plot = std::make_shared<PlotTools>();
+  add_plot_options(merge, *merge_plot);
+  merge->callback([m, merge, cmd, merge_plot] {
+    refuse_study_options(*cmd);
     if (m->format != "table" && m->format != "csv" && m->format != "json")
       throw Error("--format: \"" + m->format + "\" is not table, csv or json");
+    const PlotTools tools = plot_tools(*merge, *merge_plot);
+    if (!m->plots.empty()) check_plot_tools(tools);  // before the merge, as before a study
     std::vector<Report> parts;
     for (const std::string& f : m->files) parts.push_back(read_report(f));
-    output(merge_reports(parts, m->files), m->format, m->json, m->plots, *plot);
+    output(merge_reports(parts, m->files, {m->allow_mixed_machines}), m->format, m->json, m->plots, tools);
   });
-  cmd->callback([o, merge, plot] {
+  cmd->callback([o, merge, cmd, plot] {
     if (merge->parsed()) return;
+    check_study_rules(*cmd);
+    const PlotTools tools = plot_tools(*cmd, *plot);
+    if (o->commit.empty())
+      if (const char* commit = std::getenv("PBD_COMMIT")) o->commit = commit;
     const StudyPlan plan = make_plan(*o);
     if (plan.estimate) return estimate_study(plan);
-    output(run_study(plan), plan.format, plan.json, plan.plots, *plot);
+    // The plot script and its Python are checked before the first point, not after the whole study.
+    if (!plan.plots.empty()) check_plot_tools(tools);
+    output(run_study(plan), plan.format, plan.json, plan.plots, tools);
   });
 }
 

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <charconv>
+#include <optional>
+#include <cstdlib>
 #include <thread>
 
 namespace pbd::cli {
@@ -70,6 +72,42 @@ std::string all_threads() {
   std::string s;
   for (int t = 1; t <= n; ++t) s += (t > 1 ? "," : "") + std::to_string(t);
   return n == 1 ? "1" : s;
+}
+
+// An environment variable as an integer: nothing when it is not set; throws pbd::Error when it is not an integer.
+std::optional<int> int_env(const char* name) {
+  const char* v = std::getenv(name);
+  if (!v || !*v) return std::nullopt;
+  int n = 0;
+  if (!parse_int(v, n)) throw Error(std::string("--shard auto: ") + name + "=" + v + " is not an integer");
+  return n;
+}
+
+// --shard auto: part I of N from a Slurm job array. The array must be contiguous (sbatch --array=MIN-MAX): task
+// SLURM_ARRAY_TASK_ID is part ID − MIN + 1 of MAX − MIN + 1 (SLURM_ARRAY_TASK_COUNT when MAX is not set, MIN 1 when
+// it is not set either).
+void slurm_shard(int& shard, int& shards) {
+  const auto id = int_env("SLURM_ARRAY_TASK_ID");
+  if (!id)
+    throw Error("--shard auto: not in a Slurm job array (SLURM_ARRAY_TASK_ID is not set; submit with sbatch "
+                "--array=1-N, or give --shard I/N)");
+  const auto count = int_env("SLURM_ARRAY_TASK_COUNT"), min = int_env("SLURM_ARRAY_TASK_MIN"),
+             max = int_env("SLURM_ARRAY_TASK_MAX"), step = int_env("SLURM_ARRAY_TASK_STEP");
+  if (!count && !max)
+    throw Error("--shard auto: SLURM_ARRAY_TASK_ID is set but neither SLURM_ARRAY_TASK_COUNT nor "
+                "SLURM_ARRAY_TASK_MAX is: the number of parts is unknown");
+  const int first = min.value_or(1);
+  const int n = max ? *max - first + 1 : *count;
+  if ((step && *step != 1) || (count && *count != n))
+    throw Error("--shard auto: the job array is not contiguous (SLURM_ARRAY_TASK_COUNT " +
+                (count ? std::to_string(*count) : std::string("unset")) + ", MIN " + std::to_string(first) +
+                ", MAX " + (max ? std::to_string(*max) : std::string("unset")) +
+                "); submit it as --array=MIN-MAX, every index once");
+  if (n < 1 || *id < first || *id > first + n - 1)
+    throw Error("--shard auto: SLURM_ARRAY_TASK_ID " + std::to_string(*id) + " is outside the array " +
+                std::to_string(first) + ".." + std::to_string(first + n - 1));
+  shard = *id - first + 1;
+  shards = n;
 }
 
 }  // namespace
@@ -164,7 +202,8 @@ StudyPlan make_plan(const StudyOptions& o) {
   if (o.format != "table" && o.format != "csv" && o.format != "json")
     throw Error("--format: \"" + o.format + "\" is not table, csv or json");
   plan.format = o.format;
-  if (!o.shard.empty()) {
+  if (o.shard == "auto") slurm_shard(plan.shard, plan.shards);
+  else if (!o.shard.empty()) {
     const std::size_t slash = o.shard.find('/');
     if (slash == std::string::npos || !parse_int(o.shard.substr(0, slash), plan.shard) ||
         !parse_int(o.shard.substr(slash + 1), plan.shards) || plan.shards < 1 || plan.shard < 1 ||

@@ -27,7 +27,7 @@ struct StudyOptions {
   std::string json;                 ///< --json FILE
   std::string plots;                ///< --plots DIR
   std::string format = "table";     ///< --format table|csv|json (stdout)
-  std::string shard;                ///< --shard I/N
+  std::string shard;                ///< --shard I/N, or "auto": from a Slurm job array (make_plan reads it)
   std::string commit;               ///< --commit / $PBD_COMMIT: the commit the program was built from ("" = unknown)
   bool quick = false;               ///< --quick
   bool scaling = false;             ///< --scaling
@@ -86,7 +86,8 @@ struct StudyPlan {
 };
 
 /// Checks the options and resolves them into a plan; throws pbd::Error naming the bad value and listing the valid
-/// ones (unknown solver, scene or format, empty list, value out of range, a shard outside 1..N).
+/// ones (unknown solver, scene or format, empty list, value out of range, a shard outside 1..N, --shard auto
+/// outside a contiguous Slurm job array).
 StudyPlan make_plan(const StudyOptions& options);
 
 /// Every split of `budget` sweeps: s × (budget / s) for each divisor s, from 1 × budget to budget × 1.

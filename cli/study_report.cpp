@@ -253,12 +253,15 @@ void finish(Report& report) {
                          "): their error is not that of a state at rest");
   }
   const json& context = report.study["context"];
-  const int cores = context.value("cores", 1);
+  // null for a report merged from machines of other core counts (merge_reports)
+  const json cores = context.value("cores", json(nullptr));
+  const std::string cores_text = cores.is_number() ? cores.dump() + " cores" : "mixed machines";
   const double before = context.value("load_before", 0.0), during = context.value("load_during", 0.0);
   if (before > kBusyLoad || during > kBusyLoad) {
-    char w[256];
+    char w[320];
     std::snprintf(w, sizeof w, "the machine was busy: other processes kept %.2f threads runnable before the study "
-                  "and %.2f on average during it (%d cores); timings are not trustworthy", before, during, cores);
+                  "and %.2f on average during it (%s); timings are not trustworthy", before, during,
+                  cores_text.c_str());
     warnings.push_back(w);
   }
   const auto busy = std::count_if(records.begin(), records.end(), [](const Record& r) { return r.busy; });
@@ -447,28 +450,112 @@ Report report_from_json(const json& doc, const std::string& source) {
   }
 }
 
-Report merge_reports(const std::vector<Report>& parts, const std::vector<std::string>& sources) {
+namespace {
+
+// A field of a part's report, by its path from "study" ("git_commit", "context/cpu"); null when it is missing.
+json field(const Report& r, const std::string& path) {
+  const json::json_pointer pointer("/" + path);
+  return r.study.contains(pointer) ? r.study.at(pointer) : json(nullptr);
+}
+
+// "study.context.cpu is \"X\", a.json's is \"Y\"" when the part's field differs from the first part's.
+void same_field(const Report& part, const std::string& source, const Report& first, const std::string& first_source,
+                const std::string& path, const std::string& why) {
+  const json a = field(part, path), b = field(first, path);
+  if (a == b) return;
+  std::string name = "study." + path;
+  std::replace(name.begin(), name.end(), '/', '.');
+  throw Error(source + ": " + name + " is " + a.dump() + ", " + first_source + "'s is " + b.dump() + " (" + why + ")");
+}
+
+// "I/N" of a part's options (1 of 1 for a whole run).
+std::pair<int, int> shard_of(const json& options, const std::string& source) {
+  const json shard = options.value("shard", json(nullptr));
+  if (shard.is_null()) return {1, 1};
+  int i = 0, n = 0;
+  char tail = 0;
+  if (!shard.is_string() || std::sscanf(shard.get<std::string>().c_str(), "%d/%d%c", &i, &n, &tail) != 2 || i < 1 ||
+      i > n)
+    throw Error(source + ": study.options.shard is " + shard.dump() + ", not I/N");
+  return {i, n};
+}
+
+// The parts' shards must be 1..N of one N, each once.
+void check_shards(const std::vector<Report>& parts, const std::vector<std::string>& sources) {
+  std::map<int, std::string> seen;  // shard → the file that holds it
+  const int n = shard_of(parts.front().study.at("options"), sources.front()).second;
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    const auto [i, of] = shard_of(parts[p].study.at("options"), sources[p]);
+    const std::string name = of == 1 ? std::string("(whole run)") : std::to_string(i) + "/" + std::to_string(of);
+    if (of != n)
+      throw Error(sources[p] + ": study.options.shard is " + name + ", " + sources.front() + "'s is of " +
+                  std::to_string(n) + " (the shards of one study split it into the same number of parts)");
+    if (const auto it = seen.find(i); it != seen.end())
+      throw Error(sources[p] + ": shard " + name + " is given twice (also " + it->second + ")");
+    seen[i] = sources[p];
+  }
+  std::string missing;
+  for (int i = 1; i <= n; ++i)
+    if (!seen.count(i)) missing += (missing.empty() ? "" : ", ") + std::to_string(i) + "/" + std::to_string(n);
+  if (!missing.empty())
+    throw Error("the shards are incomplete: " + std::to_string(seen.size()) + " of " + std::to_string(n) +
+                " given, missing " + missing + " (study.options.shard of each file)");
+}
+
+// Each machine the parts ran on (CPU and cores), with its hosts and files.
+json machines_of(const std::vector<Report>& parts, const std::vector<std::string>& sources) {
+  json machines = json::array();
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    const json cpu = field(parts[p], "context/cpu"), cores = field(parts[p], "context/cores");
+    const json host = field(parts[p], "context/host");
+    auto it = std::find_if(machines.begin(), machines.end(),
+                           [&](const json& m) { return m["cpu"] == cpu && m["cores"] == cores; });
+    if (it == machines.end()) {
+      machines.push_back({{"cpu", cpu}, {"cores", cores}, {"hosts", json::array()}, {"reports", json::array()}});
+      it = machines.end() - 1;
+    }
+    if (std::find((*it)["hosts"].begin(), (*it)["hosts"].end(), host) == (*it)["hosts"].end())
+      (*it)["hosts"].push_back(host);
+    (*it)["reports"].push_back(sources[p]);
+  }
+  return machines;
+}
+
+}  // namespace
+
+Report merge_reports(const std::vector<Report>& parts, const std::vector<std::string>& sources,
+                     const MergeRules& rules) {
   if (parts.empty()) throw Error("merge: no reports given");
   Report out;
   out.study = parts.front().study;
   json options = out.study.at("options");
   options.erase("shard");
   double seconds = 0.0;
-  std::set<std::string> shards;
+  const std::string& first = sources.front();
   for (std::size_t p = 0; p < parts.size(); ++p) {
     const Report& part = parts[p];
+    const std::string& source = sources[p];
+    if (part.study.value("mode", "study") != out.study.value("mode", "study"))
+      throw Error(source + ": a " + part.study.value("mode", "study") + " report cannot join a " +
+                  out.study.value("mode", "study") + " report");
+    const std::string build = "the shards of one study come from one build of pbd";
+    same_field(part, source, parts.front(), first, "pbd_version", build);
+    same_field(part, source, parts.front(), first, "git_commit", build);
+    for (const char* key : {"context/compiler", "context/flags", "context/build_type"})
+      same_field(part, source, parts.front(), first, key, build);
+    if (!rules.allow_mixed_machines)
+      for (const char* key : {"context/cpu", "context/cores"})
+        same_field(part, source, parts.front(), first, key,
+                   "its timings do not compare with the other machine's; --allow-mixed-machines joins them and "
+                   "lists each machine");
     json o = part.study.at("options");
-    const std::string shard = o.value("shard", json(nullptr)).is_null() ? "" : o.at("shard").get<std::string>();
-    if (!shards.insert(shard).second)
-      throw Error(sources[p] + ": shard " + (shard.empty() ? std::string("(whole run)") : shard) +
-                  " is given twice");
     o.erase("shard");
     if (o != options)
-      throw Error(sources[p] + ": its study options differ from " + sources.front() + "'s (" + o.dump() + " vs " +
+      throw Error(source + ": its study options differ from " + first + "'s (" + o.dump() + " vs " +
                   options.dump() + ")");
-    if (part.study.value("mode", "study") != out.study.value("mode", "study"))
-      throw Error(sources[p] + ": a " + part.study.value("mode", "study") + " report cannot join a " +
-                  out.study.value("mode", "study") + " report");
+  }
+  check_shards(parts, sources);
+  for (const Report& part : parts) {
     seconds += part.study.value("seconds", 0.0);
     for (const SceneInfo& s : part.scenes)
       if (!find_scene(out, s.name)) out.scenes.push_back(s);
@@ -512,6 +599,24 @@ Report merge_reports(const std::vector<Report>& parts, const std::vector<std::st
       context[key] = std::max(context.value(key, 0.0), pc.value(key, 0.0));
   }
   out.study["parts"] = contexts;
+  // Every machine is named; with more than one the context claims none of them.
+  const json machines = machines_of(parts, sources);
+  out.study["machines"] = machines;
+  std::set<std::string> hosts;
+  for (const json& m : machines)
+    for (const json& h : m["hosts"]) hosts.insert(h.is_string() ? h.get<std::string>() : "?");
+  std::string host_list;
+  for (const std::string& h : hosts) host_list += (host_list.empty() ? "" : ", ") + h;
+  if (hosts.size() > 1) context["host"] = host_list;
+  if (machines.size() > 1) {
+    std::string cpus = std::to_string(machines.size()) + " machines: ";
+    for (std::size_t m = 0; m < machines.size(); ++m)
+      cpus += (m ? "; " : "") + (machines[m]["cpu"].is_string() ? machines[m]["cpu"].get<std::string>() : "?") +
+              " (" + machines[m]["cores"].dump() + " cores)";
+    context["cpu"] = cpus;
+    context["cores"] = nullptr;
+    context["mixed_machines"] = true;
+  }
   out.study["options"]["shard"] = nullptr;
   out.study["seconds"] = seconds;
   json merged = json::array();
@@ -528,15 +633,18 @@ void print_table(std::ostream& out, const Report& report) {
     const auto it = c.find(key);
     return it == c.end() || it->is_null() ? std::string("?") : it->is_string() ? it->get<std::string>() : it->dump();
   };
-  char line[640];
+  char line[1024];
+  // Merged from several machines, the context's cpu names them all (merge_reports) and there is no one core count.
+  const std::string machine = c.value("mixed_machines", false) ? text("cpu") : text("cpu") + ", " + text("cores") +
+                                                                                   " cores";
   std::snprintf(line, sizeof line,
-                "# pbd study (%s mode), %s, commit %s\n# %s; %s %s, %s\n# %s, %s cores; other processes runnable: "
+                "# pbd %s study (%s mode), %s, commit %s\n# %s; %s %s, %s\n# %s; other processes runnable: "
                 "%.2f before, %.2f during (max %.0f); load average %s at the start\n",
-                report.study.value("mode", "study").c_str(), text("date").c_str(), text("commit").c_str(),
-                text("compiler").c_str(), text("build_type").c_str(), text("flags").c_str(),
-                report.records.empty() ? "no records" : report.records.front().precision.c_str(), text("cpu").c_str(),
-                text("cores").c_str(), c.value("load_before", 0.0), c.value("load_during", 0.0),
-                c.value("load_during_max", 0.0), text("loadavg_start").c_str());
+                text("pbd_version").c_str(), report.study.value("mode", "study").c_str(), text("date").c_str(),
+                text("commit").c_str(), text("compiler").c_str(), text("build_type").c_str(), text("flags").c_str(),
+                report.records.empty() ? "no records" : report.records.front().precision.c_str(), machine.c_str(),
+                c.value("load_before", 0.0), c.value("load_during", 0.0), c.value("load_during_max", 0.0),
+                text("loadavg_start").c_str());
   out << line;
   int width = 14;  // the solver column: as wide as the longest name ("serial-colored+chebyshev")
   for (const Record& r : report.records) width = std::max(width, int(r.solver.size()));

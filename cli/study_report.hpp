@@ -93,10 +93,20 @@ nlohmann::json report_json(const Report& report);
 /// `source` and the missing or malformed key.
 Report report_from_json(const nlohmann::json& doc, const std::string& source);
 
-/// Joins shards' reports: their records, scenes, references and shared-nothing references; the options must
-/// agree apart from the shard. The context is the first part's with the highest load any part saw (each part's own
-/// is kept under study["parts"]). Throws pbd::Error naming the file that does not fit.
-Report merge_reports(const std::vector<Report>& parts, const std::vector<std::string>& sources);
+/// What `pbd study merge` lets through.
+struct MergeRules {
+  bool allow_mixed_machines = false;  ///< shards of other CPUs or core counts (--allow-mixed-machines)
+};
+
+/// Joins shards' reports: their records, scenes, references and shared-nothing references. The parts must be the
+/// whole set of one study: shards 1..N of one N, each once (or one whole run); the same options apart from the
+/// shard, mode, pbd version, commit and build (compiler, flags, build type); and the same machine (CPU and cores)
+/// unless `rules` allow mixed machines. The context is the first part's with the highest load any part saw; each
+/// part's own is kept under study["parts"], each machine (CPU, cores, hosts, files) under study["machines"], and with
+/// mixed machines the context's cpu names them all, its cores is null and context["mixed_machines"] is true.
+/// Throws pbd::Error naming the file and the field that do not fit.
+Report merge_reports(const std::vector<Report>& parts, const std::vector<std::string>& sources,
+                     const MergeRules& rules = {});
 
 /// The table on stdout: context, one section per scene, the best splits, the dominance check, the warnings.
 void print_table(std::ostream& out, const Report& report);

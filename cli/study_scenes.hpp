@@ -1,11 +1,8 @@
 #pragma once
-// The scenes `pbd study` accepts: built-in scenes, scene files, and generated ones:
-//  - "cloth<N>": the hanging cloth (N×N particles on a 1 m square, two corners pinned, PBD stretch k = 1 and XPBD
-//    bending of one material for every N), 1 s (60 steps at 60 Hz) for every N;
-//  - "cloth<N>-rest": the same cloth with damping, run until it hangs at rest: its exact RMS stretch is 0;
-//  - "chain30": 30 links of 10 g hanging from a pin, XPBD compliance α = 1e-3 m/N, damped to rest: link k (from
-//    the top) carries the weight T_k of the particles below it and stretches by exactly α·T_k.
-// Every scene can be run as a variant (scene_variants.hpp), which edits its JSON before it is parsed.
+// The scenes `pbd study` runs, those of every command (scene_dir.hpp: built-in scenes, scene files and the
+// generated ones of generated_scenes.hpp), each as a variant (scene_variants.hpp), which edits its JSON before it is
+// parsed; and the closed forms the quasi-static generated scenes and the fibers on a curve are measured against.
+#include "generated_scenes.hpp"
 #include "scene_dir.hpp"
 #include "study_record.hpp"
 
@@ -16,20 +13,8 @@
 
 namespace pbd::cli {
 
-/// A generated scene offered by name, for `pbd list`.
-struct GeneratedScene {
-  std::string name;         ///< e.g. cloth100
-  long particles = 0;       ///< its particles
-  std::string description;  ///< one line
-};
-
-/// The generated scenes offered by name (any cloth<N>, cloth<N>-rest with 2 ≤ N ≤ 4096 is accepted too).
-std::vector<GeneratedScene> generated_scenes();
-
 /// Whether `name` is a generated hanging cloth cloth<N> or cloth<N>-rest (and not a built-in scene or a file).
 bool is_generated_cloth(const std::string& name);
-/// Whether `name` is any generated scene (a cloth or the chain).
-bool is_generated_scene(const std::string& name);
 
 /// Loads a built-in scene, a generated one or a scene file as `variant` (scene_variants.hpp; "plain": as it is);
 /// throws pbd::Error listing the valid names, or naming the variant that does not apply.

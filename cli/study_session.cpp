@@ -363,7 +363,8 @@ Report run_study(const StudyPlan& plan) {
                             {"iterations", plan.reference.iterations}, {"max_budget", plan.reference_max},
                             {"max_seconds", plan.reference_seconds}};
   }
-  report.study = {{"command", env["command"]}, {"date", env["date"]}, {"git_commit", env["git_commit"]},
+  report.study = {{"pbd_version", env["pbd_version"]}, {"command", env["command"]}, {"date", env["date"]},
+                  {"git_commit", env["git_commit"]},
                   {"seconds", elapsed()}, {"mode", plan.scaling ? "scaling" : "study"}, {"context", context},
                   {"options", options}};
   // Scenes no group of this shard touched are left out of its report.

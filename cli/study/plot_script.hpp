@@ -11,9 +11,13 @@ namespace pbd::cli {
 /// The script and the interpreter that run it.
 struct PlotTools {
   std::string script;                    ///< --plot-script / $PBD_PLOT_SCRIPT; "" = default_script
-  std::string python = "python3";        ///< --python / $PBD_PYTHON: a path, or a name looked up on PATH
+  std::string python = "python3";        ///< --python, else $PBD_PYTHON, else python3: a path, or a name on PATH
   std::filesystem::path default_script;  ///< share/pbd/plot_study.py beside the program (set by the caller)
 };
+
+/// Checks, before a study, that its plots can be drawn: the script is a file and the interpreter starts and imports
+/// matplotlib (`python -c "import matplotlib"`); throws pbd::Error naming what is missing.
+void check_plot_tools(const PlotTools& tools);
 
 /// Runs `python script json dir` and waits for it; throws pbd::Error naming the script path tried when it does not
 /// exist, and the command when it cannot start or fails.

@@ -2,6 +2,10 @@
 
 #include "load_monitor.hpp"
 
+#include <pbd/version.hpp>
+
+#include <unistd.h>
+
 #include <ctime>
 #include <fstream>
 #include <thread>
@@ -56,6 +60,11 @@ std::string utc_now() {
   return s;
 }
 
+std::string host_name() {
+  char name[256] = {};
+  return gethostname(name, sizeof name - 1) == 0 ? std::string(name) : std::string();
+}
+
 std::string compiler() {
 #if defined(__clang__)
   return std::string("clang ") + __clang_version__;
@@ -69,22 +78,26 @@ std::string compiler() {
 }  // namespace
 
 nlohmann::json study_context(const nlohmann::json& env) {
-  return {{"compiler", or_null(compiler())},
+  return {{"pbd_version", pbd::version},
+          {"compiler", or_null(compiler())},
           {"flags", PBD_CXX_FLAGS},
           {"build_type", or_null(PBD_BUILD_TYPE)},
           {"cpu", env["machine"]["cpu"]},
           {"cores", env["machine"]["nproc"]},
+          {"host", env["machine"]["host"]},
           {"date", env["date"]},
           {"commit", env["git_commit"]},
           {"loadavg_start", or_null(load_average())}};
 }
 
 nlohmann::json study_environment(const std::string& commit) {
-  return {{"command", or_null(command_line())},
+  return {{"pbd_version", pbd::version},
+          {"command", or_null(command_line())},
           {"date", utc_now()},
           {"machine",
            {{"nproc", std::thread::hardware_concurrency()},
             {"cpu", or_null(cpu_model())},
+            {"host", or_null(host_name())},
             {"load_average_at_start", or_null(load_average())}}},
           {"git_commit", commit.empty() ? "unknown" : commit}};
 }
