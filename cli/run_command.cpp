@@ -162,7 +162,9 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) throw Error(dir.string() + ": cannot create the frame directory (" + ec.message() + ")");
-    series.emplace(dir, scene.name, parse_frame_format(o.format), frame_topology(world, scene.bodies));
+    // The scene's dt in double: frame times are step × dt, and a float world's dt is 1/60 rounded (90 steps: 1.5000000782).
+    series.emplace(dir, scene.name, parse_frame_format(o.format), frame_topology(world, scene.bodies),
+                   scene.world.params.dt);
   }
   bool torn = false;  // fibers broke since the last frame: its topology is made anew (the broken ones not drawn)
   auto frame = [&](int step) {

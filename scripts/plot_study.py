@@ -164,12 +164,24 @@ def panels(n, w=3.6, h=2.9):
     return fig, [axes[k // cols][k % cols] for k in range(n)]
 
 
+def report_version(doc):
+    """pbd's version that made the report (study.pbd_version; None in reports older than the field)."""
+    info = doc.get("study") or {}
+    return info.get("pbd_version") or (info.get("context") or {}).get("pbd_version")
+
+
+def machine(ctx):
+    """"CPU, N cores"; a merge of several machines (context.mixed_machines) names them all in cpu, with no core count."""
+    cpu = ctx.get("cpu") or "unknown CPU"
+    return cpu if ctx.get("mixed_machines") or ctx.get("cores") is None else f"{cpu}, {ctx['cores']} cores"
+
+
 def stamp(doc):
     """"CPU, N cores · commit C · date D · pbd V" of a report, each part that it has (the version only if there)."""
     info = doc.get("study") or {}
     ctx = info.get("context") or {}
-    version = doc.get("version") or info.get("version") or ctx.get("version")
-    parts = [f"{ctx.get('cpu') or 'unknown CPU'}, {ctx.get('cores', '?')} cores",
+    version = report_version(doc)
+    parts = [machine(ctx),
              f"commit {info.get('git_commit') or ctx.get('commit') or 'unknown'}",
              str(info.get("date") or ctx.get("date") or "date unknown")]
     return " · ".join(parts + [f"pbd {version}"] * bool(version))
@@ -529,10 +541,9 @@ def ns_per_projection(st, out):
 def summary(st, out):
     info, ctx = st.info, st.info.get("context") or {}
     commit, load = info.get("git_commit") or ctx.get("commit") or "unknown", lambda k: fmt(ctx.get(k), ".2g")
-    version = st.doc.get("version") or info.get("version") or ctx.get("version")
+    version = report_version(st.doc)
     lines = [f"# pbd study ({st.mode} mode)" + (f", pbd {version}" if version else ""), "",
-             f"{info.get('date') or ctx.get('date', '?')}, commit {commit}, CPU {ctx.get('cpu') or 'unknown'}, "
-             f"{ctx.get('cores', '?')} cores, load before {load('load_before')}, during {load('load_during')} "
+             f"{info.get('date') or ctx.get('date', '?')}, commit {commit}, CPU {machine(ctx)}, load before {load('load_before')}, during {load('load_during')} "
              f"(max {load('load_during_max')}), {fmt(info.get('seconds'), '.4g')} s in total.", ""]
     if info.get("warnings") or info.get("busy"):
         lines += ["**Warning:**", ""] + [f"- {w}" for w in info.get("warnings") or ["the study was marked busy"]] + [""]

@@ -16,7 +16,7 @@ objects, one per body. Then TET_SCENE (one tet body of a box generator with Neo-
 meshio reads each frame's surface triangles (the OBJ frame's faces) and one tetra cell per tet, and its volume_ratio
 and strain recomputed with numpy from the step-0 frame as the rest shape. Then scenes/balls.json (5 bodies) and
 scenes/balls-tets.json (5 tet bodies): every point, triangle and tet with its body's id and arrays, in meshio and in
-the OBJ frame's objects; and rope.json's times after 90 steps of 1/60 s in double (1.5, exactly). The second form
+the OBJ frame's objects; and rope.json's times after 90 steps of 1/60 s in float and double (1.5, exactly). The second form
 reads TEST_SCENE, balls and balls-tets frames with VTK's vtkXMLUnstructuredGridReader and checks that VTK sees what
 xml.etree and meshio see; it exits 77 (a skip for ctest) if VTK's Python module is not installed. Exits non-zero on
 the first failed check.
@@ -506,16 +506,18 @@ def main():
           f"--every 2: {sorted(os.listdir(out))}")
     steps = [d.get("file") for d in ET.parse(os.path.join(out, "rope_and_cloth.pvd")).getroot().iter("DataSet")]
     check(steps == ["rope_and_cloth_00000.vtu", "rope_and_cloth_00002.vtu"], f"--every 2: the .pvd lists {steps}")
-    # Times are step × dt, written exactly: 90 steps of 1/60 s are 1.5 s (a sum of 90 steps is 1.4999999999999996).
-    out = os.path.join(work, "times")
-    shutil.rmtree(out, ignore_errors=True)
-    cmd = [pbd, "run", os.path.join(scene_dir, "rope.json"), "--frames", out, "--format", "vtu", "--steps", "90",
-           "--every", "90", "--precision", "double"]
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    check(r.returncode == 0, f"{' '.join(cmd)} exited {r.returncode}: {r.stderr}")
-    times = [d.get("timestep") for d in ET.parse(os.path.join(out, "rope.pvd")).getroot().iter("DataSet")]
-    check(times == ["0", "1.5"], f"rope, 90 steps of 1/60 s: the .pvd's times are {times}, expected 0 and 1.5")
-    check(read_frame(os.path.join(out, "rope_00090.vtu"))["time"] == 1.5, "rope, step 90: TimeValue is not 1.5")
+    # Times are step × the scene's dt, written exactly: 90 steps of 1/60 s are 1.5 s (a sum of 90 steps is
+    # 1.4999999999999996; the float world's dt, 1/60 rounded, would give 1.5000000782), in both precisions.
+    for precision in ("float", "double"):
+        out = os.path.join(work, "times")
+        shutil.rmtree(out, ignore_errors=True)
+        cmd = [pbd, "run", os.path.join(scene_dir, "rope.json"), "--frames", out, "--format", "vtu", "--steps", "90",
+               "--every", "90", "--precision", precision]
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        check(r.returncode == 0, f"{' '.join(cmd)} exited {r.returncode}: {r.stderr}")
+        times = [d.get("timestep") for d in ET.parse(os.path.join(out, "rope.pvd")).getroot().iter("DataSet")]
+        check(times == ["0", "1.5"], f"rope in {precision}, 90 steps of 1/60 s: the .pvd's times are {times}")
+        check(read_frame(os.path.join(out, "rope_00090.vtu"))["time"] == 1.5, f"rope in {precision}: TimeValue")
     # A bad format is refused, naming the valid ones.
     r = subprocess.run([pbd, "run", test_scene, "--frames", out, "--format", "ply"], capture_output=True, text=True)
     check(r.returncode != 0 and "obj" in r.stderr + r.stdout and "vtu" in r.stderr + r.stdout,

@@ -56,12 +56,12 @@ def report():
     best = [{"scene": r["scene"], "solver": r["solver"], "threads": r["threads"], "budget": r["budget"],
              "substeps": r["substeps"], "iterations": r["iterations"], "primary_error": r["primary_error"]}
             for r in records if r["substeps"] == 1]
-    return {"schema": 3, "version": VERSION, "scenes": scenes, "records": records, "best_splits": best,
+    return {"schema": 3, "scenes": scenes, "records": records, "best_splits": best,
             "references": [{"scene": n, "converged": n == "cloth30", "solver": "colored", "substeps": 64,
                             "iterations": 1, "seconds": 1.0, "failures": ["changes at half its budget"] * (n != "cloth30")}
                            for n in ("cloth30", "cloth100")],
             "shared_nothing": [], "measures": {"stretch_pct": {"label": "stretch", "type": "stretch", "unit": "%"}},
-            "study": {"mode": "study", "date": DATE, "git_commit": COMMIT, "busy": True,
+            "study": {"mode": "study", "date": DATE, "git_commit": COMMIT, "busy": True, "pbd_version": VERSION,
                       "options": {"target_pct": 1.0},
                       "context": {"cpu": CPU, "cores": 2, "date": DATE, "commit": COMMIT}}}
 
@@ -152,9 +152,15 @@ def main():
     check(any("not converged" in t for t in ref_texts), "reference_distance: cloth100's reference not marked")
     # Without a version (reports before it had one): the rest of the stamp, no "pbd".
     plain = copy.deepcopy(doc)
-    del plain["version"]
+    del plain["study"]["pbd_version"]
     text = plot_study.stamp(plain)
     check(COMMIT in text and "pbd" not in text, f"without a version: the stamp {text!r}")
+    # A merge of several machines (`pbd study merge --allow-mixed-machines`): cpu names them all, no core count.
+    mixed = copy.deepcopy(doc)
+    mixed["study"]["context"].update(cpu="2 machines: A (2 cores); B (4 cores)", cores=None, mixed_machines=True)
+    text = plot_study.stamp(mixed)
+    check("2 machines: A (2 cores); B (4 cores)" in text and "None" not in text and "? cores" not in text,
+          f"mixed machines: the stamp {text!r}")
     print(f"check_plots: OK: {len(PLOTS)} plots stamped with machine, commit, date and version; busy points in "
           f"their solvers' colours, ringed")
 
