@@ -133,7 +133,9 @@ Ended run_tetgen(const std::filesystem::path& dir, const std::vector<std::string
   argv.push_back(nullptr);
   pid_t pid = 0;
   e = ::posix_spawnp(&pid, "tetgen", &actions, nullptr, argv.data(), environ);
-  if (e == ENOENT) throw Error(message(source, ": tetgen is not installed; run scripts/deps"));
+  if (e == ENOENT)
+    throw Error(message(source, ": tetgen is not installed (Debian's package tetgen: apt install tetgen; "
+                                "scripts/deps in a source tree)"));
   if (e != 0) throw Error(message(source, ": cannot run tetgen (", std::strerror(e), ")"));
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0)

@@ -256,7 +256,8 @@ TEST(Tetrahedralize, SaysWhenTetgenIsMissing) {
   const test::TempDir empty("pbd_no_tetgen");
   const ScopedEnv path("PATH", empty.path().string());
   EXPECT_EQ(error_of([] { tetrahedralize(cube_mesh(), {}, "cube.obj"); }),
-            "cube.obj: tetgen is not installed; run scripts/deps");
+            "cube.obj: tetgen is not installed (Debian's package tetgen: apt install tetgen; scripts/deps in a "
+            "source tree)");
 }
 
 // A directory holding a fake `tetgen` (a shell script with `body`), first on PATH while the object lives.
