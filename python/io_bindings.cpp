@@ -109,11 +109,14 @@ void bind_io(py::module_& m) {
       m, "FrameSeries",
       "Frames of one simulation in one folder as `pbd run --frames` writes them: DIR/<stem>_<step>.obj or .vtu and "
       "for vtu DIR/<stem>.pvd (io's frame_series.hpp). Call finish() at the end.");
-  series.def(py::init([](const fs::path& directory, const std::string& stem, const std::string& format) {
-               return FrameSeries(directory, stem, parse_frame_format(format), FrameTopology{});
+  series.def(py::init([](const fs::path& directory, const std::string& stem, const std::string& format,
+                          std::optional<double> dt) {
+               return dt ? FrameSeries(directory, stem, parse_frame_format(format), FrameTopology{}, *dt)
+                         : FrameSeries(directory, stem, parse_frame_format(format), FrameTopology{});
              }),
-             py::arg("directory"), py::arg("stem"), py::arg("format") = "vtu",
-             "a series in an existing folder; format \"obj\" or \"vtu\"", sig);
+             py::arg("directory"), py::arg("stem"), py::arg("format") = "vtu", py::arg("dt") = py::none(),
+             "a series in an existing folder; format \"obj\" or \"vtu\". Frame times are step × dt: give the scene's "
+             "dt (scene.dt), else the world's, which a float world rounds (90 steps of 1/60 s: 1.5000000782 s)", sig);
   series.def("finish", &FrameSeries::finish, "Writes the .pvd if frames were listed since it was last written.", sig);
   series.def("frame_file", &FrameSeries::frame_file, py::arg("step"), "DIR/<stem>_<step as %05d>.obj or .vtu", sig);
   series.def_property_readonly("pvd_file", &FrameSeries::pvd_file, "DIR/<stem>.pvd (written for vtu only)");

@@ -19,6 +19,9 @@ void bind_scene(py::module_& m) {
       .def_readonly("steps", &Scene::steps, "the scene's suggested number of steps")
       .def_readonly("primary_error", &Scene::primary_error, "the error its results are judged by ('' = not stated)")
       .def_property_readonly(
+          "dt", [](const Scene& s) { return s.world.params.dt; },
+          "its time step (s) in double, as written (a float world rounds it; FrameSeries(dt=) times frames by it)")
+      .def_property_readonly(
           "triangles",
           [](const Scene& s) {
             py::array_t<std::uint32_t> t({py::ssize_t(s.triangles.size()), py::ssize_t(3)});

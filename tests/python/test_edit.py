@@ -125,6 +125,15 @@ def test_frame_series_writes_vtu_frames_and_their_pvd(tmp_path, world_type):
     assert series.frames_written == 3 and series.frame_file(2) == tmp_path / "rope_00002.vtu"
     files = [d.get("file") for d in ET.parse(series.pvd_file).getroot().iter("DataSet")]
     assert files == ["rope_00000.vtu", "rope_00001.vtu", "rope_00002.vtu"]
+    # Times are step × dt; the scene's dt in double gives 90 steps of 1/60 s as 1.5 s in both precisions.
+    (tmp_path / "timed").mkdir()
+    timed = pbd.FrameSeries(tmp_path / "timed", "rope", "vtu", dt=scene.dt)
+    timed.write(w, 90)
+    timed.finish()
+    assert scene.dt == 1.0 / 60.0
+    assert [d.get("timestep") for d in ET.parse(timed.pvd_file).getroot().iter("DataSet")] == ["1.5"]
+    with pytest.raises(pbd.Error):
+        pbd.FrameSeries(tmp_path, "rope", "vtu", dt=0.0)
     with pytest.raises(pbd.Error):
         pbd.FrameSeries(tmp_path, "a/b", "vtu")
     with pytest.raises(pbd.Error):
