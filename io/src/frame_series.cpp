@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <unistd.h>
 
 namespace pbd {
 namespace {
@@ -73,13 +74,26 @@ std::filesystem::path FrameSeries::frame_file(long step) const {
   return dir_ / (stem_ + suffix);
 }
 
+void FrameSeries::prepare() const {
+  remove_stale_temporaries(dir_, stem_);
+  // A probe of the folder written as a frame is (write_file_atomically), removed at once: a folder on a read-only
+  // or full file system is refused before the run, not after its first step. Named as a temporary of this process,
+  // so that the next run removes it should this one be killed before it does.
+  const std::filesystem::path probe = dir_ / message(stem_, ".probe.", ::getpid(), ".0.tmp");
+  write_file_atomically(probe, "pbd\n", NonRegularFile::refuse);
+  std::error_code ec;
+  std::filesystem::remove(probe, ec);
+}
+
 std::filesystem::path FrameSeries::pvd_file() const { return dir_ / (stem_ + ".pvd"); }
 
 template <class Real> void FrameSeries::write(const World<Real>& world, long step) {
   if (step < 0) throw Error(message(frame_file(step).string(), ": the step must not be negative (", step, ")"));
   const std::filesystem::path file = frame_file(step);
+  // A frame's name is made up here, not given by the user: whatever else has taken it (a FIFO, a device) is
+  // refused without being opened, where writing to it could block forever.
   if (format_ == FrameFormat::obj) {
-    write_obj_frame(file, world, topology_);
+    write_file_atomically(file, obj_frame(world, topology_, file.string()), NonRegularFile::refuse);
     ++written_;
     return;
   }
@@ -89,7 +103,8 @@ template <class Real> void FrameSeries::write(const World<Real>& world, long ste
     cells_ = vtu_cell_constraints(world, topology_);
   // step × dt: the time of `step` steps as a count, where world.time() is their sum (which drifts from it).
   const double time = double(step) * dt_.value_or(double(world.params().dt));
-  write_file_atomically(file, vtu_frame_at_time(world, topology_, *cells_, time, file.string()));
+  write_file_atomically(file, vtu_frame_at_time(world, topology_, *cells_, time, file.string()),
+                        NonRegularFile::refuse);
   ++written_;
   pvd_[step] = {time, file.filename().string()};
   pvd_pending_ = true;
@@ -102,7 +117,7 @@ void FrameSeries::finish() {
   std::vector<PvdFrame> frames;
   frames.reserve(pvd_.size());
   for (const auto& [step, frame] : pvd_) frames.push_back(frame);
-  write_pvd(pvd_file(), frames);
+  write_file_atomically(pvd_file(), pvd_text(frames), NonRegularFile::refuse);
   pvd_pending_ = false;
   pvd_written_at_ = std::chrono::steady_clock::now();
 }

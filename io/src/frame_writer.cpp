@@ -1,6 +1,7 @@
 #include "pbd/io/frame_writer.hpp"
 
 #include "pbd/io/atomic_file.hpp"
+#include "pbd/io/finite_state.hpp"
 
 #include <cstdio>
 
@@ -26,6 +27,7 @@ std::string object_name(const std::string& name) {
 
 template <class Real> std::string obj_frame(const World<Real>& world, const FrameTopology& topology, const std::string& what) {
   check_frame_topology(topology, world.num_particles(), what);
+  check_finite_state(world, what);  // "nan" in a frame is a file no OBJ loader (pbd's included) reads back
   std::string out;
   append(out, "# pbd frame: t = %.6f s, %u particles\n", world.time(), world.num_particles());
   const auto x = world.positions();

@@ -3,6 +3,7 @@
 #include "base64.hpp"
 #include "pbd/detail/message.hpp"
 #include "pbd/io/atomic_file.hpp"
+#include "pbd/io/finite_state.hpp"
 #include "pbd/metrics.hpp"
 
 #include <algorithm>
@@ -339,6 +340,7 @@ std::string vtu_frame_at_time(const World<Real>& world, const FrameTopology& top
                               double time, const std::string& what) {
   check_frame_topology(topology, world.num_particles(), what);
   check_cell_constraints(world, topology, cells, what);
+  check_finite_state(world, what);  // a frame of a state gone non-finite shows nothing; the run stops before it
   const FrameArrays arrays = frame_arrays(world, topology);
   const std::vector<FiberReading> fibers = arrays.fibers ? world.fibers() : std::vector<FiberReading>{};
   const std::vector<FiberReading> tet_fibers =

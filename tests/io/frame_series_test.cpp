@@ -1,7 +1,8 @@
 // Frame series (frame_series.hpp): the stem check, the format names, OBJ frames with one object per body, VTU
 // frames of one piece with a body id per point and cell whose binary arrays decode to the world's values bit for
 // bit, cell arrays only for the constraint types the scene has, the .pvd listing every frame with its time
-// (step × dt), and failed writes that leave nothing behind.
+// (step × dt), and failed writes that leave nothing behind: no frame of a non-finite state, no frame written into
+// a FIFO or device that took a frame's name, no temporary of a killed run left once the next one prepares.
 #include "error_checks.hpp"
 #include "pbd/io/build_world.hpp"
 #include "pbd/io/frame_series.hpp"
@@ -12,6 +13,11 @@
 #include "vtu_text.hpp"
 
 #include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
@@ -337,6 +343,88 @@ TEST(FrameSeries, AFailedWriteLeavesNoHalfFrameAndNoTemporary) {
   }
   test::expect_words(message, {"big_00000.vtu", "write failed"});
   EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << "no frame, no .pvd, no temporary";
+}
+
+// A state gone non-finite is never written: the error names the frame and the particle, and nothing is left.
+TEST(FrameSeries, AFrameOfANonFiniteStateIsRefusedNamingTheParticle) {
+  for (FrameFormat format : {FrameFormat::obj, FrameFormat::vtu})
+    for (const bool position : {true, false}) {
+      TwoBodies<float> s;
+      const test::TempDir dir("pbd_frame_series");
+      FrameSeries series(dir.path(), "two", format, s.topology);
+      series.write(s.world, 0);
+      (position ? s.world.positions() : s.world.velocities())(1, 5) = std::numeric_limits<float>::quiet_NaN();
+      test::expect_words(test::error_of([&] { series.write(s.world, 1); }),
+                         {std::string("two_00001.") + name(format), "particle 5",
+                          position ? "non-finite position" : "non-finite velocity"});
+      EXPECT_EQ(series.frames_written(), 1u);
+      series.finish();
+      EXPECT_FALSE(std::filesystem::exists(series.frame_file(1)));
+      EXPECT_EQ(files_in(dir.path()), format == FrameFormat::vtu ? 2u : 1u) << "frame 0 (and the .pvd) only";
+    }
+}
+
+// A FIFO (or a device) that took a frame's or the .pvd's name is refused by name and left as it is, never opened:
+// opening a FIFO for writing waits for a reader. (The test holds a reader, so that a writer that opens it fails
+// this test rather than hangs it.)
+TEST(FrameSeries, AFifoNamedLikeAFrameOrThePvdIsRefusedWithoutOpeningIt) {
+  const TwoBodies<float> s;
+  for (FrameFormat format : {FrameFormat::obj, FrameFormat::vtu})
+    for (const bool pvd : {false, true}) {
+      if (pvd && format == FrameFormat::obj) continue;
+      const test::TempDir dir("pbd_frame_series");
+      FrameSeries series(dir.path(), "two", format, s.topology);
+      const std::filesystem::path taken = pvd ? series.pvd_file() : series.frame_file(0);
+      ASSERT_EQ(::mkfifo(taken.c_str(), 0666), 0);
+      const int reader = ::open(taken.c_str(), O_RDONLY | O_NONBLOCK);
+      ASSERT_GE(reader, 0);
+      test::expect_words(test::error_of([&] {
+                           series.write(s.world, 0);
+                           series.finish();
+                         }),
+                         {taken.filename().string(), "not a regular file"});
+      char byte;
+      EXPECT_LE(::read(reader, &byte, 1), 0) << "nothing was written into the FIFO";
+      ::close(reader);
+      EXPECT_TRUE(std::filesystem::is_fifo(taken));
+    }
+}
+
+// Temporaries "<file>.<pid>.<n>.tmp" of a process that no longer runs (a run killed by SIGKILL) are removed by the
+// next series' prepare(); those of processes that run are kept, and so is everything else.
+TEST(FrameSeries, PrepareRemovesTheTemporariesOfDeadProcessesOnly) {
+  const pid_t dead = ::fork();
+  if (dead == 0) ::_exit(0);
+  ASSERT_GT(dead, 0);
+  ASSERT_EQ(::waitpid(dead, nullptr, 0), dead);
+  const TwoBodies<float> s;
+  const test::TempDir dir("pbd_frame_series");
+  const std::string mine = std::to_string(::getpid()), gone = std::to_string(dead);
+  for (const std::string& name : std::vector<std::string>{
+           "two_00003.vtu." + gone + ".7.tmp", "two.pvd." + gone + ".0.tmp", "two_00003.vtu." + mine + ".7.tmp",
+           "two_00004.obj.1.2.tmp", "other.obj." + gone + ".1.tmp", "two_00005.vtu", "two_00006.vtu.x.1.tmp"})
+    std::ofstream(dir / name) << "partial";
+  FrameSeries series(dir.path(), "two", FrameFormat::vtu, s.topology);
+  series.prepare();
+  for (const std::string& name : {"two_00003.vtu." + gone + ".7.tmp", "two.pvd." + gone + ".0.tmp"})
+    EXPECT_FALSE(std::filesystem::exists(dir / name)) << name;
+  for (const std::string& name : std::vector<std::string>{"two_00003.vtu." + mine + ".7.tmp", "two_00004.obj.1.2.tmp",
+                                                          "other.obj." + gone + ".1.tmp", "two_00005.vtu",
+                                                          "two_00006.vtu.x.1.tmp"})
+    EXPECT_TRUE(std::filesystem::exists(dir / name)) << name;
+  EXPECT_EQ(files_in(dir.path()), 5u) << "and no probe file left";
+}
+
+// prepare() refuses a folder no file can be created in, before any frame: one that does not exist, /sys (sysfs:
+// refused even to root).
+TEST(FrameSeries, PrepareRefusesAFolderThatCannotHoldAFile) {
+  const TwoBodies<float> s;
+  const FrameSeries missing("/nonexistent-pbd-dir", "two", FrameFormat::vtu, s.topology);
+  test::expect_words(test::error_of([&] { missing.prepare(); }),
+                     {"/nonexistent-pbd-dir/two.probe.", "cannot open for writing"});
+  if (!std::filesystem::is_directory("/sys/kernel")) return;
+  const FrameSeries sysfs("/sys/kernel", "two", FrameFormat::obj, s.topology);
+  test::expect_words(test::error_of([&] { sysfs.prepare(); }), {"/sys/kernel/two.probe.", "cannot"});
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // OBJ frames: what write_obj_frame writes, read back (header, one object per body, every vertex, faces and lines
 // 1-based); which stretch constraints frame_topology draws as lines, body by body; errors naming the file, and no
-// half-written frame.
+// half-written frame; a FIFO without a reader is an error, not a hang.
 #include "error_checks.hpp"
 #include "pbd/io/frame_writer.hpp"
 #include "pbd/io/generators.hpp"
@@ -8,6 +8,8 @@
 #include "temp_dir.hpp"
 
 #include <gtest/gtest.h>
+
+#include <sys/stat.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -144,6 +146,18 @@ TEST(FrameWriter, AnUnwritablePathIsAnErrorNamingTheFile) {
                      {"taken.obj", "it is a folder"});
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator()), 1)
       << "the temporary is removed";
+}
+
+// A file the caller named that is a FIFO gets the bytes straight, but only with a reader: without one, opening it
+// would wait forever; it is an error naming it instead.
+TEST(FrameWriter, AFifoWithoutAReaderIsAnErrorNotAHang) {
+  const ClothAndRope<float> s;
+  const test::TempDir dir("pbd_frame_writer");
+  const auto fifo = dir / "f.obj";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0666), 0);
+  test::expect_words(test::error_of([&] { write_obj_frame(fifo, s.world, frame_topology(s.world, s.triangles)); }),
+                     {"f.obj", "FIFO that no process reads"});
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
 }
 
 TEST(FrameWriter, AFailedWriteLeavesNoFile) {

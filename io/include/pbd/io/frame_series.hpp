@@ -32,7 +32,9 @@ FrameFormat parse_frame_format(const std::string& text);
 /// or a control byte (below 0x20, or 0x7f), so that no frame lands outside its folder.
 void check_frame_stem(const std::string& stem);
 
-/// Writes the frames of one world, one call per frame; every file goes through write_file_atomically.
+/// Writes the frames of one world, one call per frame; every file goes through write_file_atomically, and a frame
+/// file or .pvd name that something other than a regular file has taken (a FIFO, a device, a folder) is refused
+/// without being opened.
 class FrameSeries {
  public:
   /// A series in folder `dir` (which must exist) named `stem` (check_frame_stem), drawing `topology`. Throws
@@ -49,9 +51,13 @@ class FrameSeries {
   /// drifts (so a world stepped other than by `step` steps of dt is not timed by this). The .pvd is rewritten after
   /// each of the first kPvdEveryFrame frames, then at most once per second (so a long run's rewrites add up to a
   /// bounded multiple of its size, and a stopped run's .pvd lags by at most a second), and by finish(). Throws
-  /// pbd::Error naming the file that could not be written, or the body that does not fit the world; a failed frame is
-  /// not listed.
+  /// pbd::Error naming the file that could not be written, the body that does not fit the world, or the first
+  /// particle whose position or velocity is not finite (nothing is written then); a failed frame is not listed.
   template <class Real> void write(const World<Real>& world, long step);
+  /// Before the first frame: removes the temporaries of this stem that a killed run left in the folder
+  /// (remove_stale_temporaries), and writes and removes a probe file "<stem>.probe.<pid>.0.tmp" there. Throws pbd::Error naming
+  /// the probe and the system's reason if the folder cannot hold a file (missing, read-only, full).
+  void prepare() const;
   /// Draws `topology` from the next frame on (after fibers broke: frame_topology made anew draws the ones left).
   void set_topology(FrameTopology topology) {
     topology_ = std::move(topology);

@@ -14,7 +14,8 @@ namespace pbd {
 /// triangles ("f") and its lines ("l"), but not its tets: OBJ has no volume cells, so a tet body is its boundary
 /// triangles, its interior particles vertices no face uses. Indices are 1-based over the whole file, so vertex i + 1
 /// is particle i.
-/// Throws pbd::Error naming `what` if the topology does not fit the world (check_frame_topology).
+/// Throws pbd::Error naming `what` if the topology does not fit the world (check_frame_topology), or naming the first
+/// particle whose position or velocity is not finite (check_finite_state).
 template <class Real> std::string obj_frame(const World<Real>& world, const FrameTopology& topology, const std::string& what);
 
 /// Writes obj_frame to `file` through write_file_atomically: a failure leaves no half-written frame and no temporary.

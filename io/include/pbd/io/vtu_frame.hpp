@@ -61,7 +61,8 @@ struct VtuCellConstraints {
 template <class Real> VtuCellConstraints vtu_cell_constraints(const World<Real>& world, const FrameTopology& topology);
 
 /// The text of a .vtu frame of `world` at world.time(). Throws pbd::Error naming `what` if the topology does not fit
-/// the world, or if `cells` was found for other constraints (the world's constraint counts differ).
+/// the world, if `cells` was found for other constraints (the world's constraint counts differ), or naming the first
+/// particle whose position or velocity is not finite (check_finite_state).
 template <class Real>
 std::string vtu_frame(const World<Real>& world, const FrameTopology& topology, const VtuCellConstraints& cells,
                       const std::string& what);
