@@ -3,9 +3,11 @@
 // One convention for every way a command line can be wrong: a usage error (an unknown subcommand or option, a value
 // out of range, an option that needs another) and a failure (a scene that does not parse, a write that fails) both
 // print `pbd: error: ...` on stderr and exit with status 2; --help (on every subcommand) and --version print on
-// stdout and exit 0. CLI11's own exit codes (105, 106, ...) and message style never reach the user.
+// stdout and exit 0. CLI11's own exit codes (105, 106, ...) and message style never reach the user. A run stopped by
+// SIGINT or SIGTERM exits with 128 + the signal's number once its outputs are complete (stop_signals.hpp).
 #include "commands.hpp"
 #include "pbd/error.hpp"
+#include "stop_signals.hpp"
 
 #include <pbd/version.hpp>
 
@@ -80,6 +82,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::cerr << "pbd: error: " << usage_message(app, e) << " (see `" << command_path(app) << " --help`)\n";
     return kUsageError;
+  } catch (const pbd::cli::Interrupted& e) {
+    std::fflush(stdout);
+    std::cerr << "pbd: " << e.what() << "\n";
+    return 128 + e.signal;
   } catch (const std::exception& e) {  // pbd::Error, pbd::coloring::Error, I/O errors
     std::fflush(stdout);
     std::cerr << "pbd: error: " << e.what() << "\n";

@@ -3,24 +3,30 @@
 // a noisy measure: runs are compared by the average), for every volume constraint the volume reached against its
 // target, and the final state hash (a determinism check with --expect-hash); --stats writes each step's phase times
 // as CSV, --breaks the fibers that broke (step, fiber, strain, force) as CSV.
+//
+// Outputs are complete whatever stops a run: the CSV files are written step by step (streamed_file.hpp), each frame
+// whole (atomic_file.hpp), and on an error, a non-finite state (checked after every step, before its frame) or
+// SIGINT/SIGTERM (stop_signals.hpp) the .pvd is rewritten to list every frame written before the run ends.
 #include "commands.hpp"
-#include "pbd/io/atomic_file.hpp"
 #include "pbd/io/build_world.hpp"
+#include "pbd/io/finite_state.hpp"
 #include "pbd/io/frame_series.hpp"
+#include "pbd/io/streamed_file.hpp"
 #include "option_rules.hpp"
 #include "pbd/metrics.hpp"
 #include "scene_dir.hpp"
+#include "stop_signals.hpp"
 
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <numeric>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -56,19 +62,20 @@ std::string hex(std::uint64_t h) {
 constexpr const char* kStatsHeader =
     "step,time_s,seconds,seconds_integrate,seconds_collisions,seconds_coloring,seconds_solve,seconds_waiting,"
     "seconds_hierarchy,solve_threads,substeps,sweeps,colors,collisions\n";
-void stats_row(std::ostringstream& csv, int step, double time, const StepStats& s) {
+std::string stats_row(int step, double time, const StepStats& s) {
   char line[320];
   std::snprintf(line, sizeof line, "%d,%.9g,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%d,%d,%d,%u,%zu\n", step, time, s.seconds,
                 s.seconds_integrate, s.seconds_collisions, s.seconds_coloring, s.seconds_solve, s.seconds_waiting,
                 s.seconds_hierarchy, s.solve_threads, s.substeps, s.sweeps, unsigned(s.colors), s.collisions);
-  csv << line;
+  return line;
 }
 
 // One CSV row per fiber a step broke (the header is kBreaksHeader): World::last_breaks.
 // A fiber's row leaves particle_c and particle_d empty; its force is in N, a tet fiber's (a stress) in Pa.
 constexpr const char* kBreaksHeader =
     "step,time_s,type,index,set,particle_a,particle_b,particle_c,particle_d,strain,force,force_unit\n";
-void break_rows(std::ostringstream& csv, std::span<const FiberBreak> breaks) {
+std::string break_rows(std::span<const FiberBreak> breaks) {
+  std::string csv;
   for (const FiberBreak& b : breaks) {
     char line[300];
     int n = std::snprintf(line, sizeof line, "%lld,%.9g,%s,%u,%u", static_cast<long long>(b.step), b.time, b.type,
@@ -80,8 +87,9 @@ void break_rows(std::ostringstream& csv, std::span<const FiberBreak> breaks) {
     }
     const char* unit = b.arity == 2 ? "N" : "Pa";
     std::snprintf(line + n, sizeof line - std::size_t(n), ",%.9g,%.9g,%s\n", b.strain, b.force, unit);
-    csv << line;
+    csv += line;
   }
+  return csv;
 }
 
 // "12 stretch, 0 bending, 0 area, 1 volume, 2 anchor": the constraints of every type, from the list: the types a
@@ -143,7 +151,50 @@ struct RunErrors {
   }
 };
 
+// What a run writes as it goes: the frames (with the .pvd), the per-step statistics and the breaks.
+struct RunOutputs {
+  std::optional<FrameSeries> series;
+  std::optional<StreamedFile> stats, breaks;
+
+  // Completes what was written so far: the .pvd lists every frame written, the CSV files are closed.
+  void finish() {
+    if (series) series->finish();
+    if (stats) stats->close();
+    if (breaks) breaks->close();
+  }
+  // The same after the run failed: a failure here is printed, and the run's own error is the one reported.
+  void finish_after_failure() noexcept {
+    try {
+      finish();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "pbd run: also: %s\n", e.what());
+    }
+  }
+};
+
+// The outputs of a run, opened and checked before its first step: a folder, a full device or a read-only file
+// system is refused now rather than after the run.
+template <class Real> RunOutputs open_outputs(const Scene& scene, const RunOptions& o, const World<Real>& world) {
+  RunOutputs out;
+  if (!o.stats.empty()) out.stats.emplace(o.stats, kStatsHeader);
+  if (!o.breaks.empty()) out.breaks.emplace(o.breaks, kBreaksHeader);
+  if (!o.frames.empty()) {
+    const std::filesystem::path dir = o.frames;
+    check_frame_stem(scene.name);  // before the folder is made
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw Error(dir.string() + ": cannot create the frame directory (" + ec.message() + ")");
+    // The scene's dt in double: frame times are step × dt, and a float world's dt is 1/60 rounded (90 steps:
+    // 1.5000000782).
+    out.series.emplace(dir, scene.name, parse_frame_format(o.format), frame_topology(world, scene.bodies),
+                       scene.world.params.dt);
+    out.series->prepare();
+  }
+  return out;
+}
+
 template <class Real> void run(const Scene& scene, const RunOptions& o, int steps, int threads) {
+  const StopSignals signals;
   World<Real> world = build_world<Real>(scene.world);
   StepParams<Real> params = world.params();
   params.solver = *parse_solver(o.solver);
@@ -155,24 +206,14 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
   if (o.hierarchy || o.hierarchy_levels) params.hierarchy.enabled = true;
   if (o.hierarchy_levels) params.hierarchy.levels = *o.hierarchy_levels;
   world.set_params(params);
-  std::optional<FrameSeries> series;
-  if (!o.frames.empty()) {
-    const std::filesystem::path dir = o.frames;
-    check_frame_stem(scene.name);  // before the folder is made
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) throw Error(dir.string() + ": cannot create the frame directory (" + ec.message() + ")");
-    // The scene's dt in double: frame times are step × dt, and a float world's dt is 1/60 rounded (90 steps: 1.5000000782).
-    series.emplace(dir, scene.name, parse_frame_format(o.format), frame_topology(world, scene.bodies),
-                   scene.world.params.dt);
-  }
+  RunOutputs out = open_outputs(scene, o, world);
   bool torn = false;  // fibers broke since the last frame: its topology is made anew (the broken ones not drawn)
   auto frame = [&](int step) {
     torn = torn || !world.last_breaks().empty();
-    if (!series || step % o.every != 0) return;
-    if (torn) series->set_topology(frame_topology(world, scene.bodies));
+    if (!out.series || step % o.every != 0) return;
+    if (torn) out.series->set_topology(frame_topology(world, scene.bodies));
     torn = false;
-    series->write(world, step);
+    out.series->write(world, step);
   };
   const VolumeConstraints<Real>& volumes = world.volumes();
   std::printf("# scene %s: %u particles; constraints: %s\n", scene.name.c_str(), world.num_particles(),
@@ -180,31 +221,43 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
   std::printf("# solver %s on %d threads, %s, dt %.6g s, %d substeps x %d iterations, %d steps\n", o.solver.c_str(),
               is_parallel(params.solver) ? threads : 1, sizeof(Real) == 4 ? "float" : "double", double(params.dt),
               params.substeps, params.iterations, steps);
-  std::ostringstream csv;
-  if (!o.stats.empty()) csv << kStatsHeader;
-  std::ostringstream breaks_csv;
-  breaks_csv << kBreaksHeader;
   std::size_t broken = 0;
-  frame(0);
   std::vector<double> ms;
   RunErrors errors;
   auto last_report = std::chrono::steady_clock::now();
-  for (int s = 1; s <= steps; ++s) {
-    const auto t0 = std::chrono::steady_clock::now();
-    world.step();
-    const auto t1 = std::chrono::steady_clock::now();
-    ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-    if (!o.stats.empty()) stats_row(csv, s, world.time(), world.last_step_stats());
-    broken += world.last_breaks().size();
-    if (!o.breaks.empty()) break_rows(breaks_csv, world.last_breaks());
-    errors.add(world);
-    frame(s);
-    if (std::chrono::duration<double>(t1 - last_report).count() > 1.0) {
-      std::fprintf(stderr, "pbd run: step %d of %d\n", s, steps);
-      last_report = t1;
+  int done = 0;  // the steps whose outputs are written
+  try {
+    frame(0);
+    for (int s = 1; s <= steps && !signals.received(); ++s) {
+      const auto t0 = std::chrono::steady_clock::now();
+      world.step();
+      const auto t1 = std::chrono::steady_clock::now();
+      // Before anything of the step is written: a frame of NaN is no frame (and pbd's OBJ loader refuses it).
+      check_finite_state(world, "step " + std::to_string(s));
+      ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+      if (out.stats) out.stats->append(stats_row(s, world.time(), world.last_step_stats()));
+      broken += world.last_breaks().size();
+      if (out.breaks && !world.last_breaks().empty()) out.breaks->append(break_rows(world.last_breaks()));
+      errors.add(world);
+      frame(s);
+      done = s;
+      if (std::chrono::duration<double>(t1 - last_report).count() > 1.0) {
+        std::fprintf(stderr, "pbd run: step %d of %d\n", s, steps);
+        last_report = t1;
+      }
     }
+  } catch (...) {
+    out.finish_after_failure();
+    std::fflush(stdout);
+    std::fprintf(stderr, "pbd run: the run stopped after step %d of %d; the outputs written before are complete\n",
+                 done, steps);
+    throw;
   }
-  if (!world.positions().allFinite()) throw Error("the simulation produced non-finite positions");
+  out.finish();  // the .pvd lists every frame
+  if (const int signal = signals.received())
+    throw Interrupted(signal, "stopped by " + std::string(signal == SIGINT ? "SIGINT" : "SIGTERM") + " after step " +
+                                  std::to_string(done) + " of " + std::to_string(steps) +
+                                  "; the outputs written are complete");
   std::vector<double> sorted = ms;
   std::sort(sorted.begin(), sorted.end());
   const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / double(std::max<std::size_t>(1, ms.size()));
@@ -223,14 +276,11 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     std::printf("volume %zu: %.6g m^3, target %.6g m^3 (%.2fx rest), error %+.3f%%\n", i, now / 6, target / 6,
                 vc.pressure.at(world.time()), 100.0 * (now / target - 1.0));
   }
-  if (series) series->finish();  // the .pvd lists every frame
+  const std::optional<FrameSeries>& series = out.series;
   if (series && series->frames_written())
     std::printf("wrote %zu frames to %s%s\n", series->frames_written(), o.frames.c_str(),
                 series->format() == FrameFormat::vtu ? (" (series: " + series->pvd_file().string() + ")").c_str() : "");
-  if (!o.stats.empty()) {
-    write_file_atomically(o.stats, csv.str());
-    std::printf("wrote per-step statistics to %s\n", o.stats.c_str());
-  }
+  if (!o.stats.empty()) std::printf("wrote per-step statistics to %s\n", o.stats.c_str());
   if (broken) {  // of the fibers and tet fibers there were
     std::size_t left = 0;
     for_each_type<BuiltinConstraintTypes<Real>>([&](auto type, auto) {
@@ -239,10 +289,7 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     });
     std::printf("fibers broken: %zu of %zu\n", broken, broken + left);
   }
-  if (!o.breaks.empty()) {
-    write_file_atomically(o.breaks, breaks_csv.str());
-    std::printf("wrote the %zu breaks to %s\n", broken, o.breaks.c_str());
-  }
+  if (!o.breaks.empty()) std::printf("wrote the %zu breaks to %s\n", broken, o.breaks.c_str());
   const std::string hash = hex(position_hash(world));
   std::printf("state hash: %s\n", hash.c_str());
   if (!o.expect_hash.empty() && hash != o.expect_hash)

@@ -3,17 +3,24 @@
 (--expect-hash), writes per-step statistics (--stats) and the fibers that broke (--breaks), says how many threads really run; an unknown subcommand is
 named; a write that fails anywhere (stdout, --json, --stats, frames) ends with status 2 and a message, leaving no
 half-written file; a scene's name cannot send files outside the frame folder; a scene over the size limits is
-refused before anything is built; a value beyond float's range names the file and the key.
+refused before anything is built; a value beyond float's range names the file and the key; a run whose state goes
+non-finite stops before writing it and leaves complete outputs; outputs that cannot be written are refused before
+the first step; a FIFO named like a frame is refused, not waited on.
 
 Usage: check_run.py PBD OUT_DIR [--sanitized]"""
+import errno
 import json
 import os
+import tempfile
 import re
 import resource
 import signal
 import stat
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from run_outputs import Invalid, check_frames, check_stats  # noqa: E402
 
 
 def fail(msg):
@@ -182,6 +189,89 @@ def check_breaks(pbd, out):
                                       "yield_strain must be at least toe_strain"])
 
 
+def check_nonfinite(pbd, out):
+    """Gravity of 3e38 m/s² (in float's range) takes two free particles' velocities past float's range after 113
+    steps. The run stops at the first non-finite state, before writing anything of it, naming the step and the
+    particle; every frame before it is finite and listed in the .pvd (it used to list 16 of them, and 886 frames
+    after it held nan), the statistics hold every step before it (they used to be lost)."""
+    scene = write_scene(os.path.join(out, "blowup.json"), gravity=[0, 0, -3e38],
+                        bodies=[{"type": "particles", "positions": [[0, 0, 0], [1, 0, 0]]}])
+    for fmt in ("vtu", "obj"):
+        frames, stats = os.path.join(out, "blowup_" + fmt), os.path.join(out, f"blowup_{fmt}.csv")
+        r = expect_error(pbd, ["run", scene, "--steps", "1000", "--frames", frames, "--format", fmt,
+                               "--stats", stats], ["particle", "non-finite"])
+        try:
+            steps, rows = check_frames(frames, "t", fmt), check_stats(stats)
+        except Invalid as e:
+            fail(f"non-finite run, {fmt}: {e}")
+        if len(steps) <= 20 or steps != list(range(len(rows) + 1)):
+            fail(f"non-finite run, {fmt}: frames {steps[:3]}..{steps[-3:]}, statistics of steps 1..{len(rows)}")
+        if f"step {len(rows) + 1}" not in r.stderr:
+            fail(f"non-finite run, {fmt}: the error does not name step {len(rows) + 1}: {r.stderr!r}")
+
+
+def refused_at_once(pbd, args, words):
+    """`pbd run rope` for 10^8 steps (minutes) with `args`, which must be refused before the first step."""
+    try:
+        r = subprocess.run([pbd, "run", "rope", "--steps", "100000000"] + args, capture_output=True, text=True,
+                           timeout=120)
+    except subprocess.TimeoutExpired:
+        fail(f"{args}: not refused before the run")
+    if r.returncode != 2 or not all(w in r.stderr for w in words):
+        fail(f"{args}: status {r.returncode}, stderr {r.stderr!r} (expected 2 and {words})")
+
+
+def read_only_folder(out):
+    """A folder on a read-only file system (a read-only bind mount, as root), else None."""
+    src, ro = os.path.join(out, "ro_src"), os.path.join(out, "ro")
+    os.makedirs(src, exist_ok=True)
+    os.makedirs(ro, exist_ok=True)
+    subprocess.run(["mount", "--bind", "-o", "ro", src, ro], capture_output=True)
+    try:  # os.path.ismount does not see a bind mount of the same file system: try a write instead
+        open(os.path.join(ro, "probe"), "w").close()
+    except OSError as e:
+        if e.errno == errno.EROFS:
+            return ro
+    return None
+
+
+def check_early_refusals(pbd, out):
+    """--stats, --breaks and --frames that cannot be written are refused before the first step, not after the run:
+    a folder, /dev/full, /sys (no file can be created there, even by root), a read-only file system."""
+    for flag in ("--stats", "--breaks"):
+        refused_at_once(pbd, [flag, out], [out, "folder"])
+        refused_at_once(pbd, [flag, "/dev/full"], ["/dev/full", "No space left"])
+        if os.path.isdir("/sys/kernel"):
+            refused_at_once(pbd, [flag, "/sys/kernel/pbd.csv"], ["/sys/kernel/pbd.csv", "cannot open"])
+    if os.path.isdir("/sys/kernel"):
+        refused_at_once(pbd, ["--frames", "/sys/kernel"], ["/sys/kernel/rope.probe", "cannot"])
+    ro = read_only_folder(out)
+    if ro:
+        try:
+            refused_at_once(pbd, ["--stats", os.path.join(ro, "s.csv")], ["s.csv", "Read-only file system"])
+            refused_at_once(pbd, ["--frames", ro], ["rope.probe", "Read-only file system"])
+        finally:
+            subprocess.run(["umount", ro])
+
+
+def check_frame_fifo(pbd, out):
+    """A FIFO that took a frame's name is refused by name; waiting for a reader would block forever."""
+    for fmt, taken in (("obj", "rope_00001.obj"), ("vtu", "rope_00001.vtu"), ("vtu", "rope.pvd")):
+        frames = tempfile.mkdtemp(dir=out, prefix="fifo_")
+        os.mkfifo(os.path.join(frames, taken))
+        try:
+            r = subprocess.run([pbd, "run", "rope", "--steps", "3", "--frames", frames, "--format", fmt],
+                               capture_output=True, text=True, timeout=120)
+        except subprocess.TimeoutExpired:
+            fail(f"a FIFO named {taken} in --frames: pbd blocked on it")
+        if r.returncode != 2 or taken not in r.stderr or "not a regular file" not in r.stderr:
+            fail(f"a FIFO named {taken}: status {r.returncode}, stderr {r.stderr!r}")
+        if not stat.S_ISFIFO(os.stat(os.path.join(frames, taken)).st_mode):
+            fail(f"the FIFO {taken} was replaced")
+        if any(name.endswith(".tmp") for name in os.listdir(frames)):
+            fail(f"a FIFO named {taken}: temporaries left: {os.listdir(frames)}")
+
+
 def main(pbd, out, sanitized):
     os.makedirs(out, exist_ok=True)
     check_breaks(pbd, out)
@@ -189,8 +279,11 @@ def main(pbd, out, sanitized):
     check_threads(pbd)
     check_write_errors(pbd, out)
     check_scene_errors(pbd, out, sanitized)
+    check_nonfinite(pbd, out)
+    check_early_refusals(pbd, out)
+    check_frame_fifo(pbd, out)
     print("ok: --breaks, state hash and --expect-hash, --stats, --threads, write errors, scene names, size limits, "
-          "float range, OBJ volume errors")
+          "float range, OBJ volume errors, a non-finite state, early refusals, FIFOs among the frames")
 
 
 if __name__ == "__main__":
