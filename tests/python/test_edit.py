@@ -1,4 +1,5 @@
 """Removal, the generators (cloth, rope, grains, meshes), built-in scenes by name and the data folder, and frames."""
+import os
 import re
 import xml.etree.ElementTree as ET
 
@@ -138,6 +139,32 @@ def test_frame_series_writes_vtu_frames_and_their_pvd(tmp_path, world_type):
         pbd.FrameSeries(tmp_path, "a/b", "vtu")
     with pytest.raises(pbd.Error):
         pbd.FrameSeries(tmp_path, "rope", "png")
+
+
+def test_frame_series_writes_no_non_finite_frame_and_never_into_a_fifo(tmp_path, world_type):
+    scene = pbd.load_scene("rope")
+    w = pbd.build_world(scene) if world_type is pbd.World else pbd.build_world_double(scene)
+    series = pbd.FrameSeries(tmp_path, "rope", "vtu")
+    series.write(w, 0, scene=scene)
+    x = w.positions()
+    x[3, 1] = np.nan
+    with pytest.raises(pbd.Error, match="rope_00001.vtu: particle 3 has a non-finite position"):
+        series.write(w, 1)
+    del x
+    series.finish()
+    assert sorted(os.listdir(tmp_path)) == ["rope.pvd", "rope_00000.vtu"]
+    # A FIFO that took a frame's name is refused, not opened (a writer would wait for a reader forever; the reader
+    # held here makes such a writer fail this test instead of hanging it).
+    (tmp_path / "fifo").mkdir()
+    fifo = tmp_path / "fifo" / "rope_00000.obj"
+    os.mkfifo(fifo)
+    reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        w2 = pbd.build_world(scene) if world_type is pbd.World else pbd.build_world_double(scene)
+        with pytest.raises(pbd.Error, match="rope_00000.obj: cannot write: it is not a regular file"):
+            pbd.FrameSeries(tmp_path / "fifo", "rope", "obj").write(w2, 0, scene=scene)
+    finally:
+        os.close(reader)
 
 
 def test_write_obj_frame_writes_every_particle_and_triangle(tmp_path, world_type):
