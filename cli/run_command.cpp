@@ -348,7 +348,8 @@ void add_run_command(CLI::App& app) {
                    ? std::string()
                    : "a state hash is 16 lowercase hex digits, as `pbd run` prints it";
       });
-  cmd->add_option("--stats", o->stats, "Write each step's phase times (s) and counts to this CSV file");
+  cmd->add_option("--stats", o->stats,
+                  "Write each step's phase times (s) and counts to this CSV file, a row as each step ends");
   cmd->add_option("--breaks", o->breaks,
                   "Write the fibers that broke (step, time, fiber, set, particles, strain, force in N) to this CSV file");
   cmd->add_option("--precision", o->precision, "float or double")

@@ -44,7 +44,8 @@ def _check_vtu(path):
     size = struct.unpack("<Q", raw[:8])[0]
     width = 4 if array.get("type") == "Float32" else 8
     if size != len(raw) - 8 or size != 3 * width * int(piece.get("NumberOfPoints")):
-        raise Invalid(f"{path}: positions of {size} bytes, {len(raw) - 8} there, for {piece.get('NumberOfPoints')} points")
+        points = piece.get("NumberOfPoints")
+        raise Invalid(f"{path}: positions of {size} bytes, {len(raw) - 8} there, for {points} points")
     values = struct.unpack(f"<{size // width}{'f' if width == 4 else 'd'}", raw[8:])
     if not all(math.isfinite(v) for v in values):
         raise Invalid(f"{path}: a non-finite position")
