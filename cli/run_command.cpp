@@ -254,8 +254,8 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     throw;
   }
   out.finish();  // the .pvd lists every frame
-  if (const int signal = signals.received())
-    throw Interrupted(signal, "stopped by " + std::string(signal == SIGINT ? "SIGINT" : "SIGTERM") + " after step " +
+  if (const int number = signals.received())
+    throw Interrupted(number, "stopped by " + std::string(number == SIGINT ? "SIGINT" : "SIGTERM") + " after step " +
                                   std::to_string(done) + " of " + std::to_string(steps) +
                                   "; the outputs written are complete");
   std::vector<double> sorted = ms;

@@ -22,7 +22,7 @@ class StopSignals {
 /// Thrown once a run stopped by a signal has completed its outputs: main() prints the message and exits with
 /// 128 + signal.
 struct Interrupted : std::runtime_error {
-  Interrupted(int signal, const std::string& what) : std::runtime_error(what), signal(signal) {}
+  Interrupted(int number, const std::string& what) : std::runtime_error(what), signal(number) {}
   int signal;
 };
 
