@@ -3,6 +3,7 @@
 // counted views of a World's particle storage.
 #include "bindings.hpp"
 
+#include "pbd/detail/real_mass.hpp"
 #include "pbd/types.hpp"
 
 #include <pybind11/numpy.h>
@@ -45,6 +46,20 @@ py::array_t<Real, py::array::c_style> real_array(py::handle obj, const std::stri
                           ", got " + shape_text(a));
   }
   return py::array_t<Real, py::array::c_style | py::array::forcecast>::ensure(a);
+}
+
+/// A mass in kg from Python (a double) as Real, for particle `index` of call `fn` (detail::real_mass: 1e39 in float
+/// is a pbd::Error, not a pinned particle).
+template <class Real> Real mass_arg(double mass, const char* fn, std::size_t index) {
+  return detail::real_mass<Real>(mass, fn, index);
+}
+
+/// Masses (N,) in kg as Real, each as mass_arg converts it; particles numbered from `first`.
+template <class Real> VectorX<Real> masses_arg(py::handle obj, const char* fn, py::ssize_t n, std::size_t first) {
+  const auto m = real_array<double>(obj, std::string(fn) + ": masses", 0, n);
+  VectorX<Real> out(m.shape(0));
+  for (py::ssize_t i = 0; i < m.shape(0); ++i) out[i] = mass_arg<Real>(m.at(i), fn, first + std::size_t(i));
+  return out;
 }
 
 /// A 3-vector from any sequence or array of 3 numbers.

@@ -36,6 +36,29 @@
 #include "pbd/error.hpp"
 #include "pbd/version.hpp"
 
+#include <exception>
+#include <string>
+
+namespace {
+
+PyObject* error_type = nullptr;  // pbd.Error, which the module keeps alive
+
+// pbd::Error → pbd.Error with its whole message. PyErr_SetString, which pybind11's own translation calls, decodes the
+// message as strict UTF-8 and on failure raises the exception with no message at all: a message quoting a byte of no
+// valid UTF-8 sequence (pbd::io escapes those, but a host's own message may not) keeps it as \xNN instead.
+void translate_error(std::exception_ptr p) {
+  try {
+    if (p) std::rethrow_exception(p);
+  } catch (const pbd::Error& e) {
+    const std::string what = e.what();
+    PyObject* text = PyUnicode_DecodeUTF8(what.data(), Py_ssize_t(what.size()), "backslashreplace");
+    PyErr_SetObject(error_type, text);
+    Py_XDECREF(text);
+  }
+}
+
+}  // namespace
+
 PYBIND11_MODULE(pbd, m) {
   namespace py = pybind11;
   // Every def writes its own text signature (signature.hpp), which pybind11's would hide.
@@ -43,7 +66,8 @@ PYBIND11_MODULE(pbd, m) {
   options.disable_function_signatures();
   m.doc() = "pbd: data-parallel Position Based Dynamics (Python bindings of pbd::World)";
   m.attr("__version__") = pbd::version;
-  py::register_exception<pbd::Error>(m, "Error", PyExc_RuntimeError);
+  error_type = py::register_exception<pbd::Error>(m, "Error", PyExc_RuntimeError).ptr();
+  py::register_exception_translator(translate_error);  // tried before register_exception's own
   m.attr("Error").attr("__doc__") = "Invalid input to pbd: the message names the offending item (pbd::Error).";
   pbd::python::bind_params(m);
   pbd::python::bind_results(m);

@@ -86,11 +86,12 @@ template <class Real> void bind_world(py::module_& m, const char* name, const ch
   // ---- particles ----
   cls.def(
       "add_particle",
-      [](W& w, py::object position, Real mass, py::object velocity) {
+      [](W& w, py::object position, double mass, py::object velocity) {
         w.check_no_views("add_particle");
         const Vec x = vec3<Real>(position, "add_particle: position");
         const Vec v = velocity.is_none() ? Vec::Zero() : vec3<Real>(velocity, "add_particle: velocity");
-        return w.get("add_particle").add_particle(x, mass, v);
+        auto& world = w.get("add_particle");
+        return world.add_particle(x, mass_arg<Real>(mass, "add_particle", world.num_particles()), v);
       },
       py::arg("position"), py::arg("mass"), py::arg("velocity") = py::none(),
       "Adds a particle at position (m) with mass in kg (PINNED: fixed) and velocity (m/s); returns its index.", sig);
@@ -99,15 +100,19 @@ template <class Real> void bind_world(py::module_& m, const char* name, const ch
       [](W& w, py::object positions, py::object masses) {
         w.check_no_views("add_particles");
         const auto x = real_array<Real>(positions, "add_particles: positions", 3);
-        const auto mass = real_array<Real>(masses, "add_particles: masses", 0, x.shape(0));
+        auto& world = w.get("add_particles");
+        const VectorX<Real> M = masses_arg<Real>(masses, "add_particles", x.shape(0), world.num_particles());
         const Eigen::Map<const Matrix3X<Real>> X(x.data(), 3, x.shape(0));
-        const Eigen::Map<const VectorX<Real>> M(mass.data(), mass.shape(0));
-        return w.get("add_particles").add_particles(X, M);
+        return world.add_particles(X, M);
       },
       py::arg("positions"), py::arg("masses"),
       "Adds N particles: positions (N, 3) in m, masses (N,) in kg (PINNED: fixed); returns the first index.", sig);
   cls.def(
-      "set_mass", [](W& w, std::int64_t i, Real mass) { w.get("set_mass").set_mass(index_arg(i, "set_mass: particle"), mass); },
+      "set_mass",
+      [](W& w, std::int64_t i, double mass) {
+        const Index p = index_arg(i, "set_mass: particle");
+        w.get("set_mass").set_mass(p, mass_arg<Real>(mass, "set_mass", p));
+      },
       py::arg("particle"), py::arg("mass"), "Sets a particle's mass in kg (PINNED pins it).", sig);
   cls.def_property_readonly("num_particles", [](W& w) { return w.get("num_particles").num_particles(); },
                             "number of particles");

@@ -3,12 +3,23 @@
 
 #include "pbd/detail/message.hpp"
 #include "pbd/solver.hpp"
+#include "pbd/step_limits.hpp"
+
+#include <limits>
 
 namespace pbd {
 
 template <class Real> void check_mass(Real mass, const char* fn, std::size_t index) {
   if (std::isnan(mass) || !(mass > Real(0)))
     throw Error(detail::message(fn, ": particle ", index, ": mass must be > 0 (or kPinned), got ", mass));
+  // The world keeps 1 / mass: where Real cannot hold it as a normal number, a huge mass would be pinned without a
+  // word (its inverse rounds to 0) or lose its motion, and a tiny one get an infinite inverse.
+  const Real inverse = Real(1) / mass;
+  if (!std::isinf(mass) && !(inverse >= std::numeric_limits<Real>::min() && inverse <= std::numeric_limits<Real>::max()))
+    throw Error(detail::message(fn, ": particle ", index, ": mass ", mass, " kg is out of range for ",
+                                sizeof(Real) == 4 ? "float" : "double", ": its inverse ", inverse,
+                                " is not a normal number (the mass must be in [", Real(1) / std::numeric_limits<Real>::max(),
+                                ", ", Real(1) / std::numeric_limits<Real>::min(), "], or kPinned)"));
 }
 
 template <class Real>
@@ -63,8 +74,14 @@ void check_stiffness(const Stiffness& s, const std::string& what) {
 template <class Real> void check_params(const StepParams<Real>& p) {
   if (!std::isfinite(p.dt) || !(p.dt > Real(0)))
     throw Error(detail::message("set_params: dt must be finite and > 0, got ", p.dt));
-  if (p.substeps < 1) throw Error(detail::message("set_params: substeps must be >= 1, got ", p.substeps));
-  if (p.iterations < 0) throw Error(detail::message("set_params: iterations must be >= 0, got ", p.iterations));
+  if (p.substeps < 1 || p.substeps > kMaxSubsteps)
+    throw Error(detail::message("set_params: substeps must be in [1, ", kMaxSubsteps, "], got ", p.substeps));
+  if (p.iterations < 0 || p.iterations > kMaxIterations)
+    throw Error(detail::message("set_params: iterations must be in [0, ", kMaxIterations, "], got ", p.iterations));
+  if (sweeps_per_step(p.substeps, p.iterations) > kMaxSweepsPerStep)
+    throw Error(detail::message("set_params: substeps × iterations is ", sweeps_per_step(p.substeps, p.iterations),
+                                " sweeps a step, more than the limit of ", kMaxSweepsPerStep,
+                                " (pbd/step_limits.hpp: far more than any step needs to converge)"));
   if (!p.gravity.allFinite()) throw Error("set_params: gravity is not finite");
   if (!std::isfinite(p.damping) || p.damping < Real(0))
     throw Error(detail::message("set_params: damping must be finite and >= 0, got ", p.damping));

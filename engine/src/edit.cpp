@@ -11,6 +11,8 @@
 #include "tear.hpp"
 #include "tear_cells.hpp"
 
+#include <limits>
+
 #include <pbd/graph_coloring/validate.hpp>
 
 #include <cmath>
@@ -69,8 +71,10 @@ Index World<Real>::add_particles_by_inverse_mass(const Positions& positions, con
   for (Eigen::Index j = 0; j < positions.cols(); ++j) {
     if (!finite<Real>(positions.col(j)))
       throw Error(detail::message(fn, ": particle ", first + j, ": position is not finite"));
-    if (!std::isfinite(w[j]) || !(w[j] >= Real(0)))
-      throw Error(detail::message(fn, ": particle ", first + j, ": inverse mass must be finite and >= 0, got ", w[j]));
+    // A subnormal inverse mass is a mass beyond what Real holds (check_mass): 0 pins, anything else is normal.
+    if (!std::isfinite(w[j]) || !(w[j] == Real(0) || w[j] >= std::numeric_limits<Real>::min()))
+      throw Error(detail::message(fn, ": particle ", first + j, ": inverse mass must be 0 (pinned) or a finite normal "
+                                  "number > 0, got ", w[j]));
   }
   const Eigen::Index n = first + positions.cols();
   state_.x.conservativeResize(3, n);

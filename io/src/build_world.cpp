@@ -3,6 +3,7 @@
 #include "pbd/detail/message.hpp"
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -27,8 +28,10 @@ template <class Real> void check_range(const WorldDescription& d) {
   for (Index i = 0; i < d.num_particles(); ++i) {
     if (!fits3(d.positions.col(i))) bad(detail::message("the position of particle ", i), shown(d.positions.col(i)));
     if (!fits3(d.velocities.col(i))) bad(detail::message("the velocity of particle ", i), shown(d.velocities.col(i)));
-    if (!fits(d.inverse_masses[i]))
-      bad(detail::message("the inverse mass of particle ", i), detail::message(d.inverse_masses[i]));
+    // An inverse mass that rounds to 0 in Real would pin the particle, and a subnormal one lose its motion.
+    const double w = d.inverse_masses[i];
+    if (!fits(w) || (w > 0.0 && !(std::abs(Real(w)) >= std::numeric_limits<Real>::min())))
+      bad(detail::message("the inverse mass of particle ", i), detail::message(w));
   }
   for_each_type<BuiltinConstraintTypes<double>>([&](auto type, auto) {
     using C = typename decltype(type)::type;

@@ -1,6 +1,7 @@
 #include "pbd/io/generators.hpp"
 
 #include "pbd/detail/message.hpp"
+#include "pbd/detail/real_mass.hpp"
 #include "pbd/io/description_builder.hpp"
 
 #include <cmath>
@@ -16,7 +17,7 @@ template <class Target> Body add_cloth(Target& world, const ClothOptions& o, std
   if (stretch_set && *stretch_set >= world.constraint_sets().size())
     throw Error(detail::message("add_cloth: constraint set ", *stretch_set, " does not exist"));
   const Index n = Index(o.resolution);
-  const Real m = Real(o.mass / double(n * n));
+  const Real m = detail::real_mass<Real>(o.mass / double(n * n), "add_cloth", world.num_particles());
   const Real spacing = Real(o.size / double(n - 1));
   Matrix3X<Real> x(3, Eigen::Index(n) * n);
   VectorX<Real> mass = VectorX<Real>::Constant(Eigen::Index(n) * n, m);
@@ -66,10 +67,11 @@ template <class Target> Body add_rope(Target& world, const RopeOptions& o, std::
   const Index n = Index(o.particles);
   const double spacing = o.length / double(n - 1);
   Matrix3X<Real> x(3, n);
-  VectorX<Real> mass = VectorX<Real>::Constant(n, Real(o.mass));
+  const Real m = detail::real_mass<Real>(o.mass, "add_rope", world.num_particles() + 1);
+  VectorX<Real> mass = VectorX<Real>::Constant(n, m);
   for (Index i = 0; i < n; ++i) x.col(i) = (origin + dir.normalized() * (spacing * double(i))).cast<Real>();
   mass[0] = Target::kPinned;
-  mass[n - 1] = Real(o.end_mass);
+  mass[n - 1] = detail::real_mass<Real>(o.end_mass, "add_rope", world.num_particles() + n - 1);
   Body body;
   body.first_particle = world.add_particles(x, mass);
   body.num_particles = n;
@@ -125,7 +127,8 @@ template <class Target> Body add_grains(Target& world, const GrainsOptions& o) {
             Vec3<Real>(Real(origin.x() + lx + dx), Real(origin.y() + ly + dy), Real(origin.z() + lz + dz));
       }
   Body body;
-  body.first_particle = world.add_particles(x, VectorX<Real>::Constant(Eigen::Index(n), Real(o.mass)));
+  const Real m = detail::real_mass<Real>(o.mass, "add_grains", world.num_particles());
+  body.first_particle = world.add_particles(x, VectorX<Real>::Constant(Eigen::Index(n), m));
   body.num_particles = n;
   world.velocities().rightCols(Eigen::Index(n)) = velocity.cast<Real>().replicate(1, Eigen::Index(n));
   return body;

@@ -269,6 +269,9 @@ private:
       read_endianness_check();
       expect_binary_end("$EndMeshFormat");
     } else {
+      // An ASCII file is text throughout, the sections after $Elements (not read) included.
+      if (const auto nul = detail::nul_byte(data_))
+        throw Error(message(source_, ":", nul->line, ": a NUL byte at column ", nul->column, " (not a text file)"));
       expect_end("$EndMeshFormat", "the format line");
     }
   }

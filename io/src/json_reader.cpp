@@ -2,8 +2,11 @@
 
 #include "pbd/detail/message.hpp"
 
+#include "text_fields.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <utility>
 
 namespace pbd::detail {
@@ -17,16 +20,64 @@ std::string head(const std::string& s, std::size_t max, bool& cut) {
   return s.substr(0, n);
 }
 
-// Appends `c`, control characters as \xNN.
-void append_printable(std::string& out, char c) {
-  const auto u = static_cast<unsigned char>(c);
-  if (u < 0x20 || u == 0x7f) {
-    const char* hex = "0123456789abcdef";
-    out += "\\x";
-    out += hex[u >> 4];
-    out += hex[u & 15];
-  } else {
-    out += c;
+// Length of the valid UTF-8 sequence at s[i] (1 to 4 bytes; overlong forms and surrogates are not valid), or 0.
+std::size_t utf8_length(std::string_view s, std::size_t i) {
+  const auto at = [&](std::size_t k) { return i + k < s.size() ? static_cast<unsigned char>(s[i + k]) : 0u; };
+  const unsigned b = at(0);
+  if (b < 0x80) return 1;
+  const std::size_t n = b >= 0xC2 && b <= 0xDF ? 2 : b >= 0xE0 && b <= 0xEF ? 3 : b >= 0xF0 && b <= 0xF4 ? 4 : 0;
+  if (n == 0) return 0;
+  for (std::size_t k = 1; k < n; ++k)
+    if ((at(k) & 0xC0) != 0x80) return 0;
+  const unsigned b1 = at(1);
+  if ((b == 0xE0 && b1 < 0xA0) || (b == 0xED && b1 > 0x9F) || (b == 0xF0 && b1 < 0x90) || (b == 0xF4 && b1 > 0x8F))
+    return 0;
+  return n;
+}
+
+// The code point of the valid sequence of `n` bytes at s[i].
+char32_t code_point(std::string_view s, std::size_t i, std::size_t n) {
+  const auto u = [&](std::size_t k) { return char32_t(static_cast<unsigned char>(s[i + k])); };
+  if (n == 1) return u(0);
+  char32_t c = u(0) & (n == 2 ? 0x1F : n == 3 ? 0x0F : 0x07);
+  for (std::size_t k = 1; k < n; ++k) c = (c << 6) | (u(k) & 0x3F);
+  return c;
+}
+
+// A control character (C0, DEL, C1) or a zero-width, line-separating or bidirectional format character: invisible,
+// or reordering the text around it.
+bool invisible(char32_t c) {
+  return c < 0x20 || (c >= 0x7F && c <= 0x9F) || (c >= 0x200B && c <= 0x200F) || (c >= 0x2028 && c <= 0x202E) ||
+         (c >= 0x2066 && c <= 0x2069) || c == 0xFEFF;
+}
+
+void append_hex(std::string& out, unsigned char u) {
+  const char* hex = "0123456789abcdef";
+  out += "\\x";
+  out += hex[u >> 4];
+  out += hex[u & 15];
+}
+
+// Appends `s` for a message: valid UTF-8 whatever `s` holds (a byte of no valid sequence as \xNN, so that no reader
+// of the message, Python's exception among them, fails to decode it and loses it), an ASCII control character as
+// \xNN and any other invisible one as \uNNNN, so that the message shows what is there.
+void append_printable(std::string& out, std::string_view s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const std::size_t n = utf8_length(s, i);
+    const char32_t c = n == 0 ? 0 : code_point(s, i, n);
+    if (n == 0 || c < 0x80) {
+      if (n == 0 || invisible(c)) append_hex(out, static_cast<unsigned char>(s[i]));
+      else out += s[i];
+      ++i;
+    } else if (invisible(c)) {
+      char code[8];
+      std::snprintf(code, sizeof code, "\\u%04x", unsigned(c));
+      out += code;
+      i += n;
+    } else {
+      out.append(s, i, n);
+      i += n;
+    }
   }
 }
 
@@ -58,7 +109,18 @@ public:
     return true;
   }
 
+  // nlohmann's lexer takes a NUL byte for the end of the input: an error the lexer met at or after the first one
+  // (`position` counts the bytes read, that one included) is that byte, and without any error, what follows it was
+  // dropped unread. Either way the NUL byte is refused, naming where it is.
+  void refuse_nul(std::size_t position) const {
+    if (nul_ == std::string::npos || position <= nul_) return;
+    const TextPosition at = *nul_byte(text_);
+    throw Error(message(printable(file_), ": parse error at line ", at.line, ", column ", at.column,
+                        ": a NUL byte, a control character no JSON text holds (is this a binary file?)"));
+  }
+
   bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& e) {
+    refuse_nul(position);
     std::string what = e.what();
     if (const auto end = what.find("] "); what.rfind("[json.exception.", 0) == 0 && end != std::string::npos)
       what.erase(0, end + 2);
@@ -72,8 +134,9 @@ public:
       if (!open_.empty()) where = reading() + ": ";
     }
     bool cut = false;
-    what = head(what, 240, cut) + (cut ? "..." : "");
-    throw Error(message(file_, ": ", where, what));
+    std::string shown;  // nlohmann quotes the bytes it read last as they are: any byte of the file
+    append_printable(shown, head(what, 240, cut));
+    throw Error(message(printable(file_), ": ", where, shown, cut ? "..." : ""));
   }
 
 private:
@@ -118,6 +181,7 @@ private:
 
   json& root_;
   const std::string& text_;
+  const std::size_t nul_ = text_.find('\0');  // the first NUL byte, if any
   const std::string& file_;
   std::vector<json*> open_;        // the arrays and objects being read, outermost first
   std::vector<std::string> path_;  // per open one, the token of the element being read in it
@@ -126,25 +190,45 @@ private:
 
 }  // namespace
 
+std::string printable(std::string_view s) {
+  std::string out;
+  append_printable(out, s);
+  return out;
+}
+
+std::optional<std::pair<std::size_t, char32_t>> forbidden_character(std::string_view s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const std::size_t n = utf8_length(s, i);
+    if (n == 0) return std::pair<std::size_t, char32_t>{i, char32_t(static_cast<unsigned char>(s[i]))};
+    if (const char32_t c = code_point(s, i, n); invisible(c)) return std::pair<std::size_t, char32_t>{i, c};
+    i += n;
+  }
+  return std::nullopt;
+}
+
 nlohmann::json parse_json(const std::string& text, const std::string& file) {
   nlohmann::json root;
   StrictDom dom(root, text, file);
   try {
     nlohmann::json::sax_parse(text, &dom, nlohmann::json::input_format_t::json, /*strict=*/true);
   } catch (const nlohmann::json::exception& e) {  // parse_error reports every syntax error; this is a safety net
-    throw Error(message(file, ": ", e.what()));
+    throw Error(message(printable(file), ": ", printable(e.what())));
   }
+  dom.refuse_nul(text.size() + 1);  // a valid text followed by a NUL byte: what follows it was never read
   return root;
 }
 
 std::string quoted(const std::string& s) {
   bool cut = false;
-  std::string out = "\"";
+  std::string escaped;
   for (char c : head(s, 64, cut)) {
-    if (c == '"' || c == '\\') out += '\\';
-    append_printable(out, c);
+    if (c == '"' || c == '\\') escaped += '\\';
+    escaped += c;
   }
-  return out + (cut ? "...\"" : "\"");
+  std::string out = "\"";
+  append_printable(out, escaped);
+  out += cut ? "...\"" : "\"";
+  return out;
 }
 
 std::string pointer_token(const std::string& key) {
@@ -153,9 +237,9 @@ std::string pointer_token(const std::string& key) {
   for (char c : head(key, 64, cut)) {
     if (c == '~') out += "~0";
     else if (c == '/') out += "~1";
-    else append_printable(out, c);
+    else out += c;
   }
-  return out + (cut ? "..." : "");
+  return printable(out) + (cut ? "..." : "");
 }
 
 std::string describe(const nlohmann::json& v) {
@@ -165,7 +249,7 @@ std::string describe(const nlohmann::json& v) {
 }
 
 void json_fail(const std::string& file, const std::string& path, const std::string& what) {
-  throw Error(message(file, ": ", path.empty() ? "/" : path, ": ", what));
+  throw Error(message(printable(file), ": ", path.empty() ? "/" : path, ": ", what));
 }
 
 double json_number(const nlohmann::json& v, const std::string& file, const std::string& path, double lo, double hi) {
@@ -236,7 +320,16 @@ bool JsonObject::boolean(const std::string& key, bool fallback) const {
 std::string JsonObject::string(const std::string& key) const {
   const auto& v = at(key);
   if (!v.is_string()) fail(key, message("expected a string, got ", describe(v)));
-  return v.get<std::string>();
+  std::string s = v.get<std::string>();
+  // A scene's strings end up in file names, messages and reports: a control character or a bidirectional override
+  // there would hide or reorder what a reader sees.
+  if (const auto bad = forbidden_character(s)) {
+    char code[16];
+    std::snprintf(code, sizeof code, "U+%04X", unsigned(bad->second));
+    fail(key, message(detail::quoted(s), ": character ", code, " at byte ", bad->first, " is a control or format character "
+                      "(invisible, or reordering the text); a scene's strings may not hold one"));
+  }
+  return s;
 }
 std::string JsonObject::string(const std::string& key, const std::string& fallback) const {
   return has(key) ? string(key) : fallback;

@@ -8,6 +8,9 @@
 #include <array>
 #include <cstddef>
 #include <limits>
+#include <optional>
+#include <string_view>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -17,6 +20,14 @@ namespace pbd::detail {
 /// deeper than kMaxJsonDepth is a pbd::Error naming `file` and the line and column, or the key (JSON Pointer).
 nlohmann::json parse_json(const std::string& text, const std::string& file);
 inline constexpr std::size_t kMaxJsonDepth = 64;
+
+/// `s` as valid UTF-8 for a message: a byte of no valid UTF-8 sequence and a control character as \xNN. Every
+/// text a message quotes from input (file names included) goes through it.
+std::string printable(std::string_view s);
+/// The byte offset and code point of the first character of `s` that a scene's string may not hold: a control
+/// character (C0, DEL, C1), a zero-width or bidirectional format character (U+200B-U+200F, U+2028-U+202E,
+/// U+2066-U+2069, U+FEFF); or a byte of no valid UTF-8 sequence (as its value). Nothing when there is none.
+std::optional<std::pair<std::size_t, char32_t>> forbidden_character(std::string_view s);
 
 /// `s` in double quotes for a message: control characters escaped, cut to 64 bytes.
 std::string quoted(const std::string& s);

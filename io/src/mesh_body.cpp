@@ -3,6 +3,7 @@
 
 #include "edge_table.hpp"
 #include "pbd/detail/message.hpp"
+#include "pbd/detail/real_mass.hpp"
 #include "pbd/closed_mesh.hpp"
 #include "pbd/io/description_builder.hpp"
 
@@ -71,7 +72,8 @@ Body add_mesh(Target& world, const TriangleMesh& mesh, const MeshBodyOptions& o,
     if (i >= n) throw Error(detail::message("add_mesh: pinned vertex ", i, " out of range (", n, " vertices)"));
   const Eigen::Vector3d origin(o.origin[0], o.origin[1], o.origin[2]);
   Matrix3X<Real> x = ((mesh.positions * o.scale).colwise() + origin).template cast<Real>();
-  VectorX<Real> mass = VectorX<Real>::Constant(n, Real(o.mass / double(n)));
+  const Real m = detail::real_mass<Real>(o.mass / double(n), "add_mesh", world.num_particles());
+  VectorX<Real> mass = VectorX<Real>::Constant(n, m);
   for (Index i : o.pinned) mass[i] = Target::kPinned;
   Body body;
   body.first_particle = world.add_particles(x, mass);

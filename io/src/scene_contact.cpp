@@ -50,6 +50,8 @@ void read_contact_body(const JsonObject& o, const Body& body, DescriptionBuilder
   b.radius = c.number("radius", 0.0, kMaxContactRadius, 0.0);
   b.material = read_contact_material(c);
   b.self_collision = c.boolean("self_collision", false);
+  if (b.self_collision && !(b.radius > 0.0))  // points of one body cannot touch: docs/scenes.md calls it invalid
+    c.fail("self_collision", "needs a \"radius\" > 0 (at least half the rest edge): points never touch one another");
   b.interior = interior_particles(body);
   c.reject_unknown_keys();
   try {

@@ -1,6 +1,7 @@
 #include "pbd/io/tet_body.hpp"
 
 #include "pbd/detail/message.hpp"
+#include "pbd/detail/real_mass.hpp"
 #include "pbd/io/description_builder.hpp"
 #include "pbd/io/shape_match_clusters.hpp"
 
@@ -53,7 +54,9 @@ Body add_tet_body(Target& world, const TetMesh& mesh, const TetBodyOptions& o, c
   }
   for (Index v = 0; v < n; ++v)
     if (!(mass[v] > 0.0)) throw Error(detail::message("add_tet_body: vertex ", v, " belongs to no tet"));
-  VectorX<Real> masses = mass.cast<Real>();
+  VectorX<Real> masses(n);
+  for (Index v = 0; v < n; ++v)
+    masses[v] = detail::real_mass<Real>(mass[v], "add_tet_body", world.num_particles() + v);
   for (Index i : o.pinned) masses[i] = Target::kPinned;
   const Eigen::Vector3d origin(o.origin[0], o.origin[1], o.origin[2]);
   const Matrix3X<Real> x = ((mesh.positions * o.scale).colwise() + origin).template cast<Real>();

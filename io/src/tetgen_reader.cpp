@@ -39,6 +39,8 @@ public:
     if (text.size() > kMaxTetMeshBytes)
       throw Error(
           message(source, ": ", text.size(), " bytes, more than the ", kMaxTetMeshBytes, " a mesh file may have"));
+    if (const auto nul = detail::nul_byte(text))  // even in a comment: a text file holds none
+      throw Error(message(source, ":", nul->line, ": a NUL byte at column ", nul->column, " (not a text file)"));
   }
 
   // Moves to the next line with data; false at the end of the text.

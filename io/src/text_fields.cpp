@@ -1,5 +1,6 @@
 #include "text_fields.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <limits>
 #include <system_error>
@@ -42,6 +43,15 @@ std::optional<double> number_field(std::string_view field) {
   }
   if (error != std::errc()) return std::nullopt;
   return value;
+}
+
+std::optional<TextPosition> nul_byte(std::string_view text) {
+  const std::size_t at = text.find('\0');
+  if (at == std::string_view::npos) return std::nullopt;
+  const std::string_view before = text.substr(0, at);
+  const std::size_t line_start = before.rfind('\n');
+  const std::size_t column = line_start == std::string_view::npos ? at + 1 : at - line_start;
+  return TextPosition{1 + std::size_t(std::count(before.begin(), before.end(), '\n')), column};
 }
 
 std::string shown(std::string_view field) {

@@ -19,6 +19,14 @@ std::optional<std::int64_t> integer_field(std::string_view field);
 /// finiteness check names it.
 std::optional<double> number_field(std::string_view field);
 
+/// Line and column (both from 1) of a byte of a text.
+struct TextPosition {
+  std::size_t line = 0, column = 0;
+};
+/// Where the first NUL byte of `text` is, or nothing. A text file holds none: a reader that took one for the end of
+/// the text would silently drop what follows it, so every text reader refuses one, naming this position.
+std::optional<TextPosition> nul_byte(std::string_view text);
+
 /// `field` as a message shows it: at most 40 characters, bytes that are not printable ASCII as '?'.
 std::string shown(std::string_view field);
 

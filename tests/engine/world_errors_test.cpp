@@ -1,6 +1,7 @@
 // Bad input to the World API: a pbd::Error naming the offending item, and the world left unchanged.
 #include "pbd/io/mesh_generators.hpp"
 #include "world_access.hpp"
+#include "pbd/step_limits.hpp"
 #include "pbd/world.hpp"
 
 #include <gtest/gtest.h>
@@ -104,6 +105,36 @@ TEST(WorldErrors, NegativeZeroOrNaNMass) {
   expect_rejected([](auto& w) { w.set_mass(1, nan); }, {"particle 1", "mass"});
 }
 
+TEST(WorldErrors, MassesWhoseInverseTheRealTypeCannotHoldAreRefusedNotPinned) {
+  // In float the inverse of a mass over about 8.5e37 kg is subnormal, and past about 1e45 kg it rounds to 0, the
+  // inverse mass of a pinned particle.
+  World<float> f;
+  f.add_particle({0, 0, 0}, 1.0f);
+  auto refused = [](const std::function<void()>& call) {
+    try {
+      call();
+    } catch (const Error& e) {
+      return std::string(e.what()).find("out of range for float") != std::string::npos;
+    }
+    return false;
+  };
+  for (const float bad : {1e38f, 3e38f, 1e-39f}) {
+    EXPECT_TRUE(refused([&] { f.add_particle({0, 0, 0}, bad); })) << bad;
+    EXPECT_TRUE(refused([&] { f.set_mass(0, bad); })) << bad;
+  }
+  ASSERT_EQ(f.inverse_masses().size(), 1);
+  EXPECT_EQ(f.inverse_masses()[0], 1.0f);  // the refused set_mass calls changed nothing
+  f.add_particle({0, 0, 0}, 1.0f);
+  EXPECT_EQ(f.add_particle({0, 0, 0}, 1e37f), 2u);  // its inverse is a normal float: not pinned
+  EXPECT_GT(f.inverse_masses()[2], 0.0f);
+  f.add_particle({0, 0, 0}, World<float>::kPinned);  // infinity still pins
+  EXPECT_EQ(f.inverse_masses()[3], 0.0f);
+  expect_rejected([](auto& w) { w.add_particle({0, 0, 0}, 1e-320); }, {"particle 3", "out of range for double"});
+  Matrix3X<double> x = Matrix3X<double>::Zero(3, 1);
+  expect_rejected([&](auto& w) { w.add_particles_by_inverse_mass(x, Eigen::VectorXd::Constant(1, 1e-320)); },
+                  {"particle 3", "inverse mass", "normal"});
+}
+
 TEST(WorldErrors, BatchOfParticlesIsAllOrNothing) {
   Matrix3X<double> x = Matrix3X<double>::Zero(3, 4);
   Eigen::VectorXd m = Eigen::VectorXd::Ones(4);
@@ -157,6 +188,29 @@ TEST(WorldErrors, BadStepParameters) {
   expect_rejected(with([](auto& p) { p.iterations = -1; }), {"iterations"});
   expect_rejected(with([](auto& p) { p.gravity.x() = inf; }), {"gravity"});
   expect_rejected(with([](auto& p) { p.damping = -1; }), {"damping"});
+}
+
+TEST(WorldErrors, StepParametersAskingForMoreSweepsThanTheLimitAreRefused) {
+  auto with = [](int substeps, int iterations) {
+    return [=](World<double>& w) {
+      StepParams<double> p = w.params();
+      p.substeps = substeps;
+      p.iterations = iterations;
+      w.set_params(p);
+    };
+  };
+  expect_rejected(with(kMaxSubsteps + 1, 1), {"substeps must be in [1, 100000]"});
+  expect_rejected(with(1, kMaxIterations + 1), {"iterations must be in [0, 100000]"});
+  expect_rejected(with(100'000, 100'000), {"substeps × iterations is 10000000000 sweeps", "limit of 1000000"});
+  expect_rejected(with(kMaxSubsteps, 11), {"sweeps a step"});
+  World<double> w;
+  StepParams<double> p;
+  p.substeps = 1000;
+  p.iterations = 1000;  // at the limit
+  EXPECT_NO_THROW(w.set_params(p));
+  p.substeps = kMaxSubsteps;
+  p.iterations = 0;  // a sub-step without sweeps counts as one
+  EXPECT_NO_THROW(w.set_params(p));
 }
 
 TEST(WorldErrors, ValidCallsStillWorkAfterARejectedOne) {

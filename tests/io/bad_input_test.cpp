@@ -7,6 +7,7 @@
 #include "temp_dir.hpp"
 #include "pbd/io/obj_loader.hpp"
 #include "pbd/io/scene.hpp"
+#include "pbd/io/tet_mesh_reader.hpp"
 
 #include <gtest/gtest.h>
 
@@ -61,8 +62,8 @@ TEST(BadInputScene, SweepOrderIsForwardOrSymmetric) {
 
 TEST(BadInputScene, PrimaryErrorIsAKnownMeasure) {
   EXPECT_EQ(parse_scene(kScene, "ok.json").primary_error, "");  // not stated: the study picks
-  const std::string volume = replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": \"volume\"");
-  EXPECT_EQ(parse_scene(volume, "ok.json").primary_error, "volume");
+  const std::string stretch = replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": \"stretch\"");
+  EXPECT_EQ(parse_scene(stretch, "ok.json").primary_error, "stretch");
   const std::string reference = replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": \"reference\"");
   EXPECT_EQ(parse_scene(reference, "ok.json").primary_error, "reference");  // the study's distance from its reference
   expect_scene_error(replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": \"energy\""),
@@ -128,13 +129,144 @@ TEST(BadInputScene, EveryValueFitsFloatSoTheErrorNamesTheKeyNotAConversion) {
 
 TEST(BadInputScene, TheNameIsAPlainFileNameNotAPath) {
   // It names the frames `pbd run --frames DIR` writes: "../../x" used to put them two folders above DIR.
-  for (const char* name : {"../../x", "a/b", "/etc/x", "a\\\\b", "..", ".", "", "a\\u0001b"})
+  for (const char* name : {"../../x", "a/b", "/etc/x", "a\\\\b", "..", ".", ""})
     expect_scene_error(replaced(kScene, "\"name\": \"t\"", std::string("\"name\": \"") + name + "\""),
                        {"bad.json: /name: ", "plain file name"});
   expect_scene_error(replaced(kScene, "\"name\": \"t\"", "\"name\": \"" + std::string(101, 'x') + "\""),
                      {"/name", "at most 100 bytes"});
   EXPECT_EQ(parse_scene(replaced(kScene, "\"name\": \"t\"", "\"name\": \"cloth-fold_2.v1\""), "ok.json").name,
             "cloth-fold_2.v1");
+}
+
+TEST(BadInputScene, StringsHoldNoControlOrBidirectionalCharacters) {
+  // U+202E (right-to-left override) made "x\u202Egpj.json" show as "xnosj.jpg"; every string key is checked alike.
+  for (const char* c : {"\\u202e", "\\u0001", "\\u0085", "\\u200b", "\\u2066", "\\ufeff", "\\u2028"}) {
+    const std::string in = std::string("a") + c + "b";
+    expect_scene_error(replaced(kScene, "\"name\": \"t\"", "\"name\": \"" + in + "\""),
+                       {"bad.json: /name: ", "control or format character"});
+    expect_scene_error(replaced(kScene, "\"description\": \"d\"", "\"description\": \"" + in + "\""),
+                       {"bad.json: /description: ", "control or format character"});
+    expect_scene_error(replaced(kScene, "\"rope\"", "\"" + in + "\""), {"/bodies/1/type", "control or format"});
+    expect_scene_error(replaced(kScene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": \"" + in + "\""),
+                       {"/primary_error", "control or format"});
+  }
+  // The message shows the character escaped, never the character itself (it would reorder the message).
+  const std::string message = error_of([&] { parse_scene(replaced(kScene, "\"name\": \"t\"", "\"name\": \"x\\u202egpj.json\""), "b.json"); });
+  expect_words(message, {"U+202E", "\"x\\u202egpj.json\""});
+  EXPECT_EQ(message.find("\u202e"), std::string::npos) << message;
+  EXPECT_EQ(parse_scene(replaced(kScene, "\"name\": \"t\"", "\"name\": \"caf\u00e9 \u4e2d\""), "ok.json").name,
+            "caf\u00e9 \u4e2d");  // other characters stay allowed
+  expect_scene_error(replaced(kScene, "\"name\": \"t\"", "\"name\": \"a\\u0000b\""), {"/name", "U+0000", "a\\x00b"});
+}
+
+// Every message is valid UTF-8, whatever bytes the file holds (Python decodes it as such: a byte of no valid
+// sequence used to leave pbd.Error without any message).
+bool valid_utf8(const std::string& s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const auto b = static_cast<unsigned char>(s[i]);
+    const std::size_t n = b < 0x80 ? 1 : (b >> 5) == 6 ? 2 : (b >> 4) == 14 ? 3 : (b >> 3) == 30 ? 4 : 0;
+    if (n == 0 || i + n > s.size()) return false;
+    for (std::size_t k = 1; k < n; ++k)
+      if ((static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return false;
+    i += n;
+  }
+  return true;
+}
+
+TEST(BadInputScene, MessagesAreValidUtf8WhateverBytesTheFileHolds) {
+  // A scene typed with smart quotes saved as cp1252: 0x93 and 0x94 where the quotes belong.
+  const std::string cp1252 = replaced(kScene, "\"name\": \"t\"", "\"name\": \x93t\x94");
+  std::string message = error_of([&] { parse_scene(cp1252, "smart\xff.json"); });
+  expect_words(message, {"smart\\xff.json: ", "line 1, column", "\\x93"});
+  EXPECT_TRUE(valid_utf8(message)) << message;
+  for (const char* bytes : {"\xc3", "\xe2\x80", "\xed\xa0\x80", "\xc0\xaf", "\xf8\x88\x80\x80\x80", "\xff\xfe"}) {
+    message = error_of([&] { parse_scene(replaced(kScene, "\"name\": \"t\"", std::string("\"name\": ") + bytes), "b.json"); });
+    EXPECT_TRUE(valid_utf8(message)) << message;
+    expect_words(message, {"b.json: parse error at line 1"});
+  }
+}
+
+TEST(BadInputScene, ANulByteIsRefusedWhereverItIsNotTakenForTheEnd) {
+  // nlohmann's lexer ends the text at a NUL byte: valid JSON, then "\0garbage", used to load.
+  expect_scene_error(kScene + std::string("\0garbage", 8), {"bad.json: parse error at line 8, column 2", "NUL byte"});
+  expect_scene_error(kScene + std::string("\n\0", 2), {"parse error at line 9, column 1", "NUL byte"});
+  expect_scene_error(replaced(kScene, "\"d\",", std::string("\"d\",\0", 5)), {"line 1, column", "NUL byte"});
+  expect_scene_error(kScene + "\n{}", {"parse error at line 9"});  // trailing content without a NUL, as before
+}
+
+TEST(BadInputScene, SelfCollisionNeedsARadius) {
+  // docs/scenes.md: self_collision needs a radius (points never touch); so does nothing else in "contact".
+  const std::string rope = "\"direction\": [1, 0, 0]";
+  expect_scene_error(replaced(kScene, rope, rope + ", \"contact\": {\"self_collision\": true}"),
+                     {"bad.json: /bodies/1/contact/self_collision: ", "radius"});
+  expect_scene_error(replaced(kScene, rope, rope + ", \"contact\": {\"radius\": 0, \"self_collision\": true}"),
+                     {"/bodies/1/contact/self_collision", "radius"});
+  EXPECT_NO_THROW(parse_scene(replaced(kScene, rope, rope + ", \"contact\": {\"radius\": 0.1, \"self_collision\": true}"), "ok.json"));
+  EXPECT_NO_THROW(parse_scene(replaced(kScene, rope, rope + ", \"contact\": {\"self_collision\": false}"), "ok.json"));
+}
+
+TEST(BadInputScene, PrimaryErrorNeedsWhatItMeasuresInTheScene) {
+  // pbd study refused these and pbd run took them; the parser refuses them now, for every command.
+  auto with = [](const std::string& scene, const std::string& measure) {
+    return replaced(scene, "\"description\": \"d\"", "\"description\": \"d\", \"primary_error\": \"" + measure + "\"");
+  };
+  expect_scene_error(with(kScene, "bending"), {"bad.json: /primary_error: the scene has no bending constraint to measure"});
+  expect_scene_error(with(kScene, "volume"), {"/primary_error: the scene has no volume constraint to measure"});
+  expect_scene_error(with(kScene, "overlap"), {"/primary_error: the scene has no contact body with a radius to measure"});
+  const std::string no_collider = replaced(kScene, "\"colliders\": [{\"type\": \"plane\", \"normal\": [0, 0, 1], \"offset\": 0}]", "\"colliders\": []");
+  expect_scene_error(with(no_collider, "penetration"), {"/primary_error: the scene has no collider to measure"});
+  for (const char* measure : {"stretch", "penetration", "reference"})
+    EXPECT_EQ(parse_scene(with(kScene, measure), "ok.json").primary_error, measure);
+  const std::string radius = replaced(kScene, "\"direction\": [1, 0, 0]", "\"direction\": [1, 0, 0], \"contact\": {\"radius\": 0.1}");
+  EXPECT_EQ(parse_scene(with(radius, "overlap"), "ok.json").primary_error, "overlap");
+}
+
+TEST(BadInputScene, MassesWhoseInverseFloatCannotHoldAreRefusedNotPinned) {
+  // A grip's mass may be up to float's largest, 3.4e38; in float its inverse is then subnormal, and a
+  // heavier one would round to 0 and pin the particle without a word.
+  const std::string rope = "\"direction\": [1, 0, 0]";
+  auto grip = [&](const char* mass) {
+    return replaced(kScene, rope, rope + ", \"grips\": [{\"particles\": [2], \"mass\": " + mass + "}]");
+  };
+  expect_scene_error(grip("3e38"), {"bad.json: /bodies/1: particle 2 of rope_1", "not a normal float"});
+  expect_scene_error(grip("1e38"), {"/bodies/1: particle 2", "not a normal float"});
+  EXPECT_NO_THROW(parse_scene(grip("1e37"), "ok.json"));
+  // the tet body's masses come from its density and volume
+  const std::string tets = R"({"name": "t", "dt": 0.01, "bodies": [{"type": "tets", "scale": 1e9, "density": 1e9,
+    "generator": {"type": "box", "cells": [1, 1, 1], "size": [1000, 1000, 1000]}, "tet_volume": {}}]})";
+  expect_scene_error(tets, {"/bodies/0: particle 0 of tets_0", "not a normal float"});
+}
+
+TEST(BadInputScene, ValuesWhoseStepOverflowsFloatAreRefusedAtLoadNamingTheKey) {
+  // In float's range, but the step squares a speed and divides a compliance by the sub-step squared: these used to
+  // end the run as "non-finite positions", naming nothing.
+  expect_scene_error(replaced(kScene, "\"dt\": 0.01", "\"dt\": 0.01, \"gravity\": [0, 0, -3e38]"),
+                     {"bad.json: /gravity: ", "float"});
+  expect_scene_error(replaced(kScene, "[0,1,0]", "[0,3e38,0]"), {"bad.json: /bodies/0/velocities/1: ", "speed", "float"});
+  expect_scene_error(replaced(kScene, "\"stiffness\": 1}", "\"compliance\": 3e38}"),
+                     {"bad.json: /bodies/0/stretch/compliance: ", "sub-step", "float"});
+  expect_scene_error(replaced(kScene, "\"offset\": 0}", "\"offset\": 0}, {\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 3e38}"),
+                     {"/colliders/1/radius", "out of range"});
+  const std::string rope = "\"direction\": [1, 0, 0]";
+  expect_scene_error(replaced(kScene, rope, rope + ", \"grips\": [{\"particles\": [2], \"velocity\": [1e20, 0, 0]}]"),
+                     {"/bodies/1/grips/0/velocity", "speed"});
+  expect_scene_error(replaced(kScene, rope, rope + ", \"tethers\": {\"compliance\": 1e38}"),
+                     {"/bodies/1/tethers/compliance", "sub-step"});
+  EXPECT_NO_THROW(parse_scene(replaced(kScene, "\"dt\": 0.01", "\"dt\": 0.01, \"gravity\": [0, 0, -1e15]"), "ok.json"));
+}
+
+TEST(BadInputScene, SubstepsAndIterationsAreBounded) {
+  // 100,000 of each (10^10 sweeps a step) used to run with no progress and no end.
+  auto with = [](const char* substeps, const char* iterations) {
+    return replaced(kScene, "\"dt\": 0.01", std::string("\"dt\": 0.01, \"substeps\": ") + substeps + ", \"iterations\": " + iterations);
+  };
+  expect_scene_error(with("100000", "100000"), {"bad.json: /iterations: ", "10000000000 sweeps a step", "limit of 1000000"});
+  expect_scene_error(with("100001", "1"), {"bad.json: /substeps: ", "out of range [1, 100000]"});
+  expect_scene_error(with("1", "100001"), {"bad.json: /iterations: ", "out of range [0, 100000]"});
+  expect_scene_error(with("100000", "11"), {"bad.json: /iterations: ", "1100000 sweeps a step"});
+  EXPECT_EQ(parse_scene(replaced(kScene, "\"dt\": 0.01", "\"dt\": 0.01, \"substeps\": 100000"), "ok.json")
+                .world.params.substeps, 100000);  // at the default 10 iterations: 10^6 sweeps, the limit
+  EXPECT_EQ(parse_scene(with("1000", "1000"), "ok.json").world.params.substeps, 1000);
 }
 
 // --- scenes: oversized ------------------------------------------------------------------------------------------
@@ -241,7 +373,7 @@ TEST_F(BadInputSceneMesh, TheErrorNamesTheSceneTheKeyTheMeshAndItsLine) {
   std::filesystem::create_directories(dir / "folder.obj");
   expect_words(scene_error("folder.obj"), {"/bodies/0/obj: ", "folder.obj", "not a regular file"});
   expect_words(scene_error(""), {"/bodies/0/obj", "file name is empty"});
-  expect_words(scene_error("tetra.obj\\u0000.png"), {"/bodies/0/obj", "NUL"});
+  expect_words(scene_error("tetra.obj\\u0000.png"), {"/bodies/0/obj", "U+0000", "tetra.obj\\x00.png"});
   write("twice.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 1\n");  // would give stretch (0, 0)
   expect_words(scene_error("twice.obj"), {"/bodies/0/obj: ", "twice.obj:4: ", "vertex 1 twice"});
 }
@@ -267,6 +399,23 @@ TEST_F(BadInputSceneMesh, SpecialFilesAreNotRead) {
 }
 
 // --- OBJ: empty, binary, truncated --------------------------------------------------------------------------
+
+TEST(BadInputTetMesh, ANulByteIsRefusedInEveryTextFormatEvenInACommentOrAnUnreadSection) {
+  const std::string node = "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n", ele = "1 4 0\n1 1 2 3 4\n";
+  EXPECT_EQ(parse_tetgen(node, "t.node", ele, "t.ele").tets.size(), 1u);
+  const std::string nul("\0", 1);
+  expect_words(error_of([&] { parse_tetgen(node + "# x" + nul + "y\n", "t.node", ele, "t.ele"); }),
+               {"t.node:6: a NUL byte at column 4"});
+  expect_words(error_of([&] { parse_tetgen(node, "t.node", "1 4 0\n1 1 2 3 4" + nul + "\n", "t.ele"); }),
+               {"t.ele:2: a NUL byte at column 10"});
+  const std::string msh = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
+                          "$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n";
+  EXPECT_EQ(parse_gmsh(msh, "t.msh").tets.size(), 1u);
+  expect_words(error_of([&] { parse_gmsh(msh + "$NodeData\n" + nul + "\n", "t.msh"); }),
+               {"t.msh:16: a NUL byte at column 1"});
+  // OBJ: refused as a byte that is not text (BadInputObj.BinaryDataNamesTheLineAndTheByte)
+  expect_obj_error(kTetra + "# x" + nul + "\n", {"bad.obj:9", "byte 0x00"});
+}
 
 TEST(BadInputObj, EmptyFilesAndFilesWithoutFaces) {
   expect_obj_error("", {"bad.obj", "empty (0 bytes)"});

@@ -192,6 +192,11 @@ TEST(BuildWorld, RefusesValuesOutOfFloatRangeNamingThem) {
     w.add_particle({0, 0, 0}, 1e-300);  // inverse mass 1e300
     expect_throws(w, {"inverse mass of particle 3", "1e+300"});
   }
+  for (const double heavy : {1e50, 1e40}) {  // inverse masses that round to 0 (pinned) or are subnormal in float
+    World<double> w = small_world();
+    w.add_particle({0, 0, 0}, heavy);
+    expect_throws(w, {"inverse mass of particle 3", heavy == 1e50 ? "1e-50" : "1e-40"});
+  }
   {
     World<double> w = small_world();
     w.add_stretch(0, 2, 0, 1e200);

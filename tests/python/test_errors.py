@@ -43,8 +43,9 @@ def test_bad_stiffness(world_type, stiffness, message):
 @pytest.mark.parametrize("field, value, message", [
     ("dt", 0.0, "set_params: dt must be finite and > 0, got 0"),
     ("dt", -1.0, "set_params: dt must be finite and > 0, got -1"),
-    ("substeps", 0, "set_params: substeps must be >= 1, got 0"),
-    ("iterations", -1, "set_params: iterations must be >= 0, got -1"),
+    ("substeps", 0, r"set_params: substeps must be in \[1, 100000\], got 0"),
+    ("substeps", 100001, r"set_params: substeps must be in \[1, 100000\], got 100001"),
+    ("iterations", -1, r"set_params: iterations must be in \[0, 100000\], got -1"),
     ("damping", -1.0, "set_params: damping must be finite and >= 0"),
     ("collision_margin", float("inf"), "set_params: collision_margin must be finite and >= 0"),
     ("jacobi_omega", 2.0, r"set_params: jacobi_omega must be in \(0, 2\)"),
@@ -58,6 +59,70 @@ def test_bad_params(world_type, field, value, message):
     with pytest.raises(pbd.Error, match=message):
         w.params = p
     assert w.params.dt == before.dt and w.params.substeps == before.substeps  # unchanged
+
+
+def test_sweeps_per_step_are_bounded(world_type):
+    # 100,000 sub-steps of 100,000 sweeps (10^10 a step) used to be accepted, and a step never ended.
+    w = world_type()
+    p = w.params
+    p.substeps, p.iterations = 100000, 100000
+    with pytest.raises(pbd.Error, match=r"substeps × iterations is 10000000000 sweeps a step, more than the limit of 1000000"):
+        w.params = p
+    assert w.params.substeps == 1
+    p.substeps, p.iterations = 1000, 1000
+    w.params = p
+    assert w.params.substeps == 1000
+
+
+def test_a_mass_the_world_cannot_hold_is_an_error_not_a_pinned_particle():
+    # 1e39 becomes infinity in float, the mass of a pinned particle; 1e38's inverse is subnormal in float.
+    w = pbd.World()
+    w.add_particle((0, 0, 0), 1.0)
+    for mass in (1e39, 1e38):
+        with pytest.raises(pbd.Error, match=r"add_particle: particle 1: mass .* kg is (beyond the range of|out of range for) float"):
+            w.add_particle((0, 0, 0), mass)
+        with pytest.raises(pbd.Error, match="set_mass: particle 0: mass"):
+            w.set_mass(0, mass)
+        with pytest.raises(pbd.Error, match="add_particles: particle 2: mass"):
+            w.add_particles(np.zeros((2, 3)), np.array([1.0, mass]))
+    assert w.num_particles == 1 and w.inverse_masses()[0] == 1.0
+    w.add_particle((0, 0, 0), w.kPinned)  # infinity still pins
+    assert w.inverse_masses()[1] == 0.0
+    d = pbd.WorldDouble()
+    d.add_particle((0, 0, 0), 1e39)  # double holds it
+    assert d.inverse_masses()[0] > 0.0
+    with pytest.raises(pbd.Error, match=r"particle 0: mass .*e\+38 kg is out of range for float"):
+        pbd.World().add_cloth(resolution=2, mass=1e39)
+
+
+def test_messages_quoting_bytes_that_are_not_utf8_keep_their_words(tmp_path):
+    # Smart quotes typed in cp1252 (0x93, 0x94): pbd.Error used to have an empty message (Python could not decode it).
+    text = '{"name": \x93t\x94, "dt": 0.01, "bodies": []}'.encode("latin-1")
+    path = tmp_path / "smart.json"
+    path.write_bytes(text)
+    for call in (lambda: pbd.load_scene(str(path)), lambda: pbd.parse_scene(text, "smart.json")):
+        with pytest.raises(pbd.Error) as e:
+            call()
+        assert "smart.json: parse error at line 1, column" in str(e.value)
+        assert "\\x93" in str(e.value)
+
+
+def test_scene_strings_refuse_control_and_bidi_characters():
+    scene = {"name": "x\u202egpj", "dt": 0.01, "bodies": []}
+    with pytest.raises(pbd.Error, match=r"/name: .*U\+202E .*control or format character"):
+        pbd.parse_scene(json.dumps(scene), "s.json")
+
+
+def test_load_scene_refuses_a_primary_error_the_scene_cannot_measure(tmp_path):
+    scene = {"name": "s", "dt": 0.01, "primary_error": "bending",
+             "bodies": [{"type": "rope", "particles": 3, "stretch": {}}]}
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(scene))
+    with pytest.raises(pbd.Error, match="/primary_error: the scene has no bending constraint to measure"):
+        pbd.load_scene(str(path))
+    scene["primary_error"] = "stretch"
+    path.write_text(json.dumps(scene))
+    assert pbd.load_scene(str(path)).primary_error == "stretch"
 
 
 def test_bad_mass_and_colliders(world_type):
