@@ -1,4 +1,4 @@
-// `pbd study merge` and finish() on 100,000 records of 1,000 scenes: every pass is n log n (sorted, or looked up
+// `pbd study merge` and finish() on 150,000 records of 1,000 scenes: every pass is n log n (sorted, or looked up
 // by scene), so this takes seconds; a pass that compares every record with every other (the Pareto front, dominance,
 // strong scaling) or searches the scenes per record takes minutes, and ctest's TIMEOUT of this test
 // (tests/cli/CMakeLists.txt) fails it. The results are checked against their definitions on a small report.
@@ -18,12 +18,14 @@ namespace {
 
 using json = nlohmann::json;
 
-// A shard's report: `records` records, half of them in scene "big", the others spread over `scenes` - 1 scenes.
+// A shard's report: `records` records, half of them in scene "...big", the others spread over `scenes` - 1 scenes.
 // Times and errors are drawn from a small set, so that there are ties; some errors are infinite or NaN.
 Report shard(int index, int shards, int records, int scenes, const char* mode) {
   Report r;
   json names = json::array();
-  for (int s = 0; s < scenes; ++s) names.push_back(s == 0 ? std::string("big") : "s" + std::to_string(s));
+  // Long names alike but for their end, as generated scenes' are: comparing two of them costs what it does.
+  const std::string prefix(64, 's');
+  for (int s = 0; s < scenes; ++s) names.push_back(prefix + (s == 0 ? std::string("big") : std::to_string(1000 + s)));
   r.study = {{"mode", mode}, {"seconds", 1.0}, {"context", {{"cpu", "CPU"}, {"cores", 2}, {"load_before", 0.0}}},
              {"options", {{"scenes", names}, {"shard", std::to_string(index) + "/" + std::to_string(shards)}}}};
   for (int s = 0; s < scenes; ++s) {
@@ -36,7 +38,7 @@ Report shard(int index, int shards, int records, int scenes, const char* mode) {
   for (int i = 0; i < records; ++i) {
     const int k = i * shards + index;  // distinct across shards
     Record c;
-    c.scene = i % 2 == 0 ? "big" : names[std::size_t(1 + k % (scenes - 1))].get<std::string>();
+    c.scene = names[i % 2 == 0 ? 0 : std::size_t(1 + k % (scenes - 1))].get<std::string>();
     c.solver = solvers[k % 3];
     c.threads = c.solver == std::string("serial") ? 1 : 1 + k % 2;
     c.substeps = 1 + k % 7;
@@ -59,18 +61,18 @@ bool pareto_by_definition(const Record& r, const std::vector<Record>& all) {
   });
 }
 
-TEST(StudyMergeScale, MergesAHundredThousandRecords) {
-  const int records = 50000, scenes = 1000;
+TEST(StudyMergeScale, MergesAHundredAndFiftyThousandRecords) {
+  const int records = 75000, scenes = 1000;
   const Report merged = merge_reports({shard(1, 2, records, scenes, "study"), shard(2, 2, records, scenes, "study")},
                                       {"a.json", "b.json"});
   ASSERT_EQ(merged.records.size(), std::size_t(2 * records));
   EXPECT_EQ(merged.scenes.size(), std::size_t(scenes));
-  EXPECT_EQ(merged.scenes.front().name, "big");
+  EXPECT_EQ(merged.scenes.front().name, std::string(64, 's') + "big");
   // In the order of the options' scenes, then by budget and substeps.
   EXPECT_TRUE(std::is_sorted(merged.records.begin(), merged.records.begin() + records, [](const Record& a, const Record& b) {
     return std::make_pair(a.budget(), a.substeps) < std::make_pair(b.budget(), b.substeps);
   }));
-  EXPECT_EQ(merged.records[std::size_t(records)].scene, "s1");
+  EXPECT_EQ(merged.records[std::size_t(records)].scene, std::string(64, 's') + "1001");
   EXPECT_FALSE(merged.dominance.empty());
   EXPECT_FALSE(merged.time_to_target.empty());
   std::ostream discard(nullptr);  // formats every line, keeps none
