@@ -26,4 +26,15 @@ inline void refuse_with(const CLI::App& cmd, const std::string& option, bool con
   if (given(cmd, option) && condition) throw Error(option + " does nothing with " + what + " (" + why + ")");
 }
 
+/// Refuses an option given an empty value (`--budgets ''`): to the command an empty value is the option not given,
+/// so its default would run in silence. Flags take no value and are not concerned.
+inline void refuse_empty_values(const CLI::App& cmd) {
+  for (const CLI::Option* option : cmd.get_options())
+    if (option->get_type_size_max() > 0)
+      for (const std::string& value : option->results())
+        if (value.empty())
+          throw Error(option->get_name() + ": the value is empty (give one, or leave the option out for its "
+                      "default)");
+}
+
 }  // namespace pbd::cli

@@ -10,13 +10,13 @@
 #include "pbd/io/atomic_file.hpp"
 #include "plot_script.hpp"
 #include "study_options.hpp"
+#include "report_reader.hpp"
 #include "study_report.hpp"
 #include "study_session.hpp"
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -58,18 +58,6 @@ void output(const Report& report, const std::string& format, const std::string& 
   }
   if (plots.empty()) return;
   run_plot_script(tools, json, plots);
-}
-
-Report read_report(const std::string& file) {
-  std::ifstream f(file);
-  if (!f) throw Error("merge: cannot read " + file);
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(f);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(file + ": not JSON (" + e.what() + ")");
-  }
-  return report_from_json(doc, file);
 }
 
 // --plot-script and --python, of `pbd study` and of `pbd study merge`. Their environment variables are read by
@@ -150,10 +138,10 @@ void add_study_command(CLI::App& app) {
                   "whose fibers have a curve; --quick 2,4)");
   cmd->add_option("--split", o->split, "SUBSTEPSxITERATIONS of --scaling (default 1x10)");
   cmd->add_option("--steps", o->steps, "Steps per run (default: each scene's own; --quick at most 20)")
-      ->check(CLI::Range(1, 100000000));
+      ->check(CLI::Range(1, kMaxSteps));
   cmd->add_option("--precision", o->precision, "float or double")->capture_default_str();
   cmd->add_option("--repeats", o->repeats, "Timed runs per combination after the warm-up (default 3; --quick 1)")
-      ->check(CLI::Range(1, 1000));
+      ->check(CLI::Range(1, kMaxRepeats));
   cmd->add_option("--reference", o->reference,
                   "SUBSTEPSxITERATIONS the reference starts at (double; default twice the largest budget, as "
                   "substeps: 512x1; --quick 8x1); while it is not converged (its change at half its budget above a "
@@ -163,11 +151,11 @@ void add_study_command(CLI::App& app) {
                   "threads)");
   cmd->add_option("--reference-max", o->reference_max,
                   "The most sweeps per step the reference is raised to (default 4096; --quick: not raised)")
-      ->check(CLI::Range(2, 1000000));
+      ->check(CLI::Range(2, kMaxReferenceBudget));
   cmd->add_option("--reference-seconds", o->reference_seconds,
                   "The longest one scene's reference may take, from the estimate of its next doubling (default 120; "
                   "--quick 2)")
-      ->check(CLI::Range(0.0, 1e7));
+      ->check(CLI::Range(0.0, kMaxReferenceSeconds));
   cmd->add_option("--variants", o->variants,
                   "Comma-separated: plain, tethers, hierarchy, tethers+hierarchy (default: every one that applies "
                   "to each scene and that this build parses); a variant edits the scene JSON before parsing");
@@ -211,6 +199,7 @@ void add_study_command(CLI::App& app) {
   add_plot_options(merge, *merge_plot);
   merge->callback([m, merge, cmd, merge_plot] {
     refuse_study_options(*cmd);
+    refuse_empty_values(*merge);
     if (m->format != "table" && m->format != "csv" && m->format != "json")
       throw Error("--format: \"" + m->format + "\" is not table, csv or json");
     const PlotTools tools = plot_tools(*merge, *merge_plot);
@@ -221,6 +210,7 @@ void add_study_command(CLI::App& app) {
   });
   cmd->callback([o, merge, cmd, plot] {
     if (merge->parsed()) return;
+    refuse_empty_values(*cmd);
     check_study_rules(*cmd);
     const PlotTools tools = plot_tools(*cmd, *plot);
     if (o->commit.empty())

@@ -9,7 +9,7 @@
 #include <charconv>
 #include <optional>
 #include <cstdlib>
-#include <thread>
+#include <oneapi/tbb/global_control.h>
 
 namespace pbd::cli {
 namespace {
@@ -68,7 +68,7 @@ std::vector<StudySolver> solver_list(const std::string& text) {
 }
 
 std::string all_threads() {
-  const int n = std::max(1, int(std::thread::hardware_concurrency()));
+  const int n = machine_threads();
   std::string s;
   for (int t = 1; t <= n; ++t) s += (t > 1 ? "," : "") + std::to_string(t);
   return n == 1 ? "1" : s;
@@ -110,7 +110,22 @@ void slurm_shard(int& shard, int& shards) {
   shards = n;
 }
 
+// Refuses thread counts above what this machine runs: a task arena of more threads runs on fewer, and its points
+// would be reported as timed on threads that never ran. --estimate runs nothing and may plan for another machine
+// (scripts/slurm-study checks the options of the nodes' parts on the machine that submits them).
+void check_machine_threads(const StudyPlan& plan) {
+  const int most = machine_threads();
+  if (plan.estimate || plan.threads.back() <= most) return;
+  throw Error("--threads: " + std::to_string(plan.threads.back()) + " is more than the " + std::to_string(most) +
+              " threads this machine runs (its points would be timed on " + std::to_string(most) +
+              "); give at most " + std::to_string(most));
+}
+
 }  // namespace
+
+int machine_threads() {
+  return std::max(1, int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+}
 
 std::vector<std::string> default_study_scenes() {
   // Every built-in scene but `pile`, the granular scale case (10,000 grains: one of its runs takes seconds, and the
@@ -142,8 +157,9 @@ Split parse_split(const std::string& flag, const std::string& text) {
   if (x == std::string::npos || !parse_int(text.substr(0, x), s.substeps) ||
       !parse_int(text.substr(x + 1), s.iterations))
     throw Error(flag + ": \"" + text + "\" is not SUBSTEPSxITERATIONS (such as 2x5)");
-  if (s.substeps < 1 || s.substeps > 10000 || s.iterations < 1 || s.iterations > 100000)
-    throw Error(flag + ": \"" + text + "\" is out of range (substeps 1..10000, iterations 1..100000)");
+  if (s.substeps < 1 || s.substeps > kMaxSubsteps || s.iterations < 1 || s.iterations > kMaxIterations)
+    throw Error(flag + ": \"" + text + "\" is out of range (substeps 1.." + std::to_string(kMaxSubsteps) +
+                ", iterations 1.." + std::to_string(kMaxIterations) + ")");
   return s;
 }
 
@@ -163,11 +179,14 @@ StudyPlan make_plan(const StudyOptions& o) {
   plan.solvers = solver_list(!o.solvers.empty() ? o.solvers : o.scaling ? "colored,jacobi,block"
                                                                           : "serial,colored,jacobi,block");
   plan.default_solvers = o.solvers.empty();
-  plan.threads = int_list("--threads", !o.threads.empty() ? o.threads : o.scaling ? all_threads() : "1,2", 1, 1024);
+  // The default of the main study, 1 and 2, is 1 alone on a machine that runs one thread.
+  const std::string default_threads = o.scaling || machine_threads() == 1 ? all_threads() : "1,2";
+  plan.threads = int_list("--threads", !o.threads.empty() ? o.threads : default_threads, 1, kMaxStudyThreads);
+  check_machine_threads(plan);
   // --quick: the smoke test: budgets of 2 and 4 sweeps, at most 20 steps, one timed run, an 8x1 reference.
   plan.default_budgets = o.budgets.empty();
   plan.budgets = int_list("--budgets", !o.budgets.empty() ? o.budgets : o.quick ? "2,4" : "1,2,4,8,16,32,64,128,256",
-                          1, 4096);
+                          1, kMaxStudyBudget);
   if (!o.split.empty()) plan.split = parse_split("--split", o.split);
   plan.steps = o.steps;
   plan.max_steps = o.quick ? 20 : 0;

@@ -85,9 +85,14 @@ struct StudyPlan {
   bool estimate = false;                 ///< print the plan and its estimated cost per scene, run nothing
 };
 
+/// The most threads this process runs at once: oneTBB's max_allowed_parallelism (the CPUs it may use), which a task
+/// arena of more threads does not exceed (`pbd run --threads` runs on as many). `pbd study --threads` is refused
+/// above it, but with --estimate.
+int machine_threads();
+
 /// Checks the options and resolves them into a plan; throws pbd::Error naming the bad value and listing the valid
-/// ones (unknown solver, scene or format, empty list, value out of range, a shard outside 1..N, --shard auto
-/// outside a contiguous Slurm job array).
+/// ones (unknown solver, scene or format, empty list, value out of range, more threads than machine_threads(), a
+/// shard outside 1..N, --shard auto outside a contiguous Slurm job array).
 StudyPlan make_plan(const StudyOptions& options);
 
 /// Every split of `budget` sweeps: s × (budget / s) for each divisor s, from 1 × budget to budget × 1.

@@ -1,5 +1,6 @@
 #include "study_scenes.hpp"
 
+#include "json_file.hpp"
 #include "pbd/error.hpp"
 #include "scene_variants.hpp"
 
@@ -9,8 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace pbd::cli {
 namespace {
@@ -21,6 +20,9 @@ using json = nlohmann::json;
 // averaged over. Not their speed: with many substeps, a residual correction δ of each substep is a velocity δ/h,
 // large for small h however still the cloth hangs.
 constexpr double kSettledMotion = 1e-3;
+
+// The largest scene file read, as pbd::load_scene's: a scene file names generators and meshes, it holds none.
+constexpr std::uintmax_t kMaxSceneFileBytes = 64u << 20;
 
 bool is_generated(const std::string& name) { return is_generated_scene(name); }
 
@@ -33,14 +35,9 @@ json scene_json(const std::string& name, std::string& source) {
   }
   const std::filesystem::path file = names_a_file(name) ? std::filesystem::path(name)
                                                    : builtin_scene_dir() / (name + ".json");
-  std::ifstream in(file);
-  if (!in) throw Error(file.string() + ": cannot read the scene file");
   source = file.string();
-  try {
-    return json::parse(in);
-  } catch (const json::exception& e) {
-    throw Error(file.string() + ": not JSON (" + e.what() + ")");
-  }
+  // Read as the report is (json_file.hpp): a FIFO is refused before it can block, nesting is bounded.
+  return read_json_file(file, "scene file", kMaxSceneFileBytes);
 }
 
 }  // namespace
@@ -50,7 +47,12 @@ bool is_generated_cloth(const std::string& name) { return is_generated(name) && 
 void check_study_scene(const std::string& name) {
   if (generated_scene_json(name)) return;
   if (names_a_file(name)) {
-    if (!std::filesystem::exists(name)) throw Error("--scene: no such scene file \"" + name + "\"");
+    std::error_code ec;
+    const auto status = std::filesystem::status(name, ec);
+    if (!std::filesystem::exists(status)) throw Error("--scene: no such scene file \"" + name + "\"");
+    // Before it is opened: a FIFO would block the study's first read.
+    if (!std::filesystem::is_regular_file(status))
+      throw Error("--scene: \"" + name + "\" is not a regular file");
     return;
   }
   if (is_builtin_scene(name)) return;
@@ -179,11 +181,6 @@ Errors known_answer_errors(const KnownAnswer& a, const Matrix3X<double>& x) {
   }
   out["extension_pct"] = {std::sqrt(sum2 / a.links), max};
   return out;
-}
-
-std::vector<ExtraMeasure> known_answer_measures() {
-  return {{"extension_pct", "link extension error", "% of alpha*T"},
-          {"curve_pct", "fiber force off its curve", "% of the yield force"}};
 }
 
 }  // namespace pbd::cli

@@ -58,13 +58,8 @@ template <class Real> bool has_curve(const World<Real>& world);
 template <class Real> Errors curve_errors(const World<Real>& world);
 
 /// For a chain: each link's extension against α·T_k, in % of α·T_k (RMS and maximum over the links), as the
-/// measure "extension_pct"; nothing for other kinds. `x` holds the chain's particles first, the pin first.
+/// measure "extension_pct" (study_record.hpp's known_answer_measures() labels it); nothing for other kinds. `x`
+/// holds the chain's particles first, the pin first.
 Errors known_answer_errors(const KnownAnswer& answer, const Matrix3X<double>& x);
-
-/// The label and unit of the measures known_answer_errors adds (for the report's "measures").
-struct ExtraMeasure {
-  std::string key, label, unit;
-};
-std::vector<ExtraMeasure> known_answer_measures();
 
 }  // namespace pbd::cli

@@ -3,7 +3,9 @@
 
 Two shards of a tiny study (about a second each) are merged; then copies of them with one field changed are refused,
 naming the file and the field: an incomplete set (1 of 2), a shard given twice, a whole run next to a shard, other
-options, another pbd version, another commit, another build, another machine (CPU or cores). --allow-mixed-machines
+options, another pbd version, another commit, another build, another machine (CPU or cores). So is what pbd did not
+write (issue 48), at once and naming the file and the key: a FIFO or a folder, an empty list of rounds, nesting
+150,000 deep, a missing key, corrupted values (1e30 threads, 0 substeps, negative times, a hash that is not hex). --allow-mixed-machines
 joins the other machine's shard, and the merged report then lists each machine and its context claims none of them
 (JSON and table). The study report and the merged one carry the version (study.pbd_version, context.pbd_version, the
 table's first line).
@@ -25,7 +27,8 @@ def fail(msg):
 
 
 def run(pbd, args, expect=0):
-    r = subprocess.run([pbd] + args, capture_output=True, text=True)
+    # A timeout: a FIFO given as a report used to block the merge forever.
+    r = subprocess.run([pbd] + args, capture_output=True, text=True, timeout=120)
     if r.returncode != expect:
         fail(f"pbd {' '.join(args)}: status {r.returncode} (expected {expect})\nstderr: {r.stderr}")
     return r
@@ -33,6 +36,8 @@ def run(pbd, args, expect=0):
 
 def refused(pbd, files, words, extra=()):
     r = run(pbd, ["study", "merge", *files, *extra], expect=2)
+    if r.stderr.count("\n") != 1:
+        fail(f"merge {files}: expected one line of error, got {r.stderr!r}")
     if not r.stderr.startswith("pbd: error: ") or any(w not in r.stderr for w in words):
         fail(f"merge {files}: expected an error with {words}, got {r.stderr!r}")
 
@@ -111,8 +116,54 @@ def main(pbd, version, out):
     # Mixed machines are allowed, not another commit.
     commit = variant(out, shard2, "commit2.json", lambda d: d["study"].update(git_commit="0123abcd"))
     refused(pbd, [a, commit], ["study.git_commit"], ["--allow-mixed-machines"])
+    check_bad_reports(pbd, out, a, shard2)
     print("ok: the version in every report; merge refuses incomplete, repeated, mixed shards naming file and field; "
-          "--allow-mixed-machines lists each machine")
+          "--allow-mixed-machines lists each machine; a report that pbd did not write is refused naming file and key")
+
+
+def check_bad_reports(pbd, out, a, shard2):
+    """What the issue 48 audit gave merge: each refused at once (no crash, no hang), naming the file and the key."""
+    # Not regular files: a FIFO blocked the read forever; a folder failed as basic_filebuf::underflow.
+    fifo = os.path.join(out, "fifo.json")
+    if os.path.exists(fifo):
+        os.remove(fifo)
+    os.mkfifo(fifo)
+    refused(pbd, [a, fifo], [fifo + ": cannot read the study report (not a regular file)"])
+    refused(pbd, [a, out], [out + ": cannot read the study report (not a regular file)"])
+
+    def set_key(*path, value):
+        def edit(d):
+            for key in path[:-1]:
+                d = d[key]
+            d[path[-1]] = value
+        return edit
+
+    def drop_options(d):
+        del d["study"]["options"]
+
+    def no_rounds(d):  # a tiny study on 1 thread has no shared-nothing run: one is added
+        d["shared_nothing"] = [{"scene": "rope", "threads": 2, "speedups": [], "speedup": None, "speedup_min": None,
+                                "speedup_max": None}]
+
+    for name, edit, words in (
+            ("no-rounds.json", no_rounds, ["shared_nothing[0].speedups: the list is empty"]),
+            ("threads.json", set_key("records", 0, "threads", value=1e30),
+             ["records[0].threads: 1e+30 is not an integer"]),
+            ("substeps.json", set_key("records", 0, "substeps", value=0),
+             ["records[0].substeps: 0 is out of range [1, 10000]"]),
+            ("time.json", set_key("records", 0, "ms_per_step", value=-2.5),
+             ["records[0].ms_per_step: -2.5 is out of range [0, "]),
+            ("seconds.json", set_key("references", 0, "seconds", value=-1), ["references[0].seconds: -1 is out of"]),
+            ("hash.json", set_key("records", 0, "state_hash", value="zz"),
+             ["records[0].state_hash: \"zz\" is not 16 lower-case hex digits"]),
+            ("no-options.json", drop_options, ["study.options: missing"])):
+        refused(pbd, [a, variant(out, shard2, name, edit)], [os.path.join(out, name) + ": " + words[0]])
+    # Nested 150,000 deep: copying it overflowed the stack.
+    deep = os.path.join(out, "deep.json")
+    text = json.dumps({**shard2, "study": {**shard2["study"], "context": {"cpu": "DEEP"}}})
+    with open(deep, "w") as f:
+        f.write(text.replace('"DEEP"', "[" * 150000 + "]" * 150000))
+    refused(pbd, [a, deep], [deep + ": study.context.cpu[0]", "nested more than 64 deep"])
 
 
 if __name__ == "__main__":

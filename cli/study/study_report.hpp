@@ -1,7 +1,6 @@
 #pragma once
 // The results of `pbd study`: what is derived from the records (Pareto front, best split per budget, dominance,
 // strong scaling), the table, CSV and JSON forms of the report, and the merge of shards' reports.
-#include "study_options.hpp"
 #include "study_record.hpp"
 
 #include <nlohmann/json.hpp>
@@ -89,9 +88,7 @@ void finish(Report& report);
 
 /// The report as JSON (schema 3; docs/results.md describes every field).
 nlohmann::json report_json(const Report& report);
-/// The report read back from JSON (the references without their in-memory samples); throws pbd::Error naming
-/// `source` and the missing or malformed key.
-Report report_from_json(const nlohmann::json& doc, const std::string& source);
+/// (The report read back from a file: report_reader.hpp.)
 
 /// What `pbd study merge` lets through.
 struct MergeRules {

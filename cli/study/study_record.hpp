@@ -11,6 +11,16 @@
 
 namespace pbd::cli {
 
+/// The ranges of `pbd study`'s options (study_options.cpp), which a report read back keeps to as well.
+inline constexpr int kMaxStudyThreads = 1024;         ///< --threads (and no more than the machine runs)
+inline constexpr int kMaxStudyBudget = 4096;          ///< --budgets: sweeps per step
+inline constexpr int kMaxSubsteps = 10000;            ///< substeps of a split (--reference, --split)
+inline constexpr int kMaxIterations = 100000;         ///< iterations of a split
+inline constexpr int kMaxRepeats = 1000;              ///< --repeats: timed runs
+inline constexpr int kMaxSteps = 100000000;           ///< --steps: steps per run
+inline constexpr int kMaxReferenceBudget = 1000000;   ///< --reference-max: sweeps per step of the reference
+inline constexpr double kMaxReferenceSeconds = 1e7;   ///< --reference-seconds
+
 /// RMS and maximum of one error measure over its items, in the measure's unit.
 struct ErrorValue {
   double rms = 0.0;  ///< RMS over the items
@@ -26,6 +36,15 @@ using Errors = std::map<std::string, ErrorValue>;
 /// converged reference's step (run-averaged; Record::trajectory_error_mm is its "final"). An elastic body's strain is
 /// its physics, not the solver's error, and ranks nothing; how far the solver lands from converged does.
 inline constexpr const char* kReferenceMeasure = "ref_error_mm";
+
+/// The label and unit of the measures known_answer_errors (study_scenes.hpp) adds, for the report's "measures".
+struct ExtraMeasure {
+  std::string key, label, unit;
+};
+inline std::vector<ExtraMeasure> known_answer_measures() {
+  return {{"extension_pct", "link extension error", "% of alpha*T"},
+          {"curve_pct", "fiber force off its curve", "% of the yield force"}};
+}
 
 /// The measure name and unit scale of an engine violation type ("stretch" → {"stretch_pct", 100}), from its Measure.
 std::pair<std::string, double> measure_of(const std::string& violation_type);
