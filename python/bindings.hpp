@@ -13,6 +13,7 @@ void bind_scene(py::module_& m);         // scene_bindings.cpp: Scene, load_scen
 void bind_world_float(py::module_& m);   // world_float.cpp: World, build_world and the metrics on World
 void bind_world_double(py::module_& m);  // world_double.cpp: WorldDouble, build_world_double, the metrics on it
 void bind_io(py::module_& m);            // io_bindings.cpp: data_dir, load_scene, frames, mesh generators (after the worlds)
+void bind_faults(py::module_& m);         // fault_bindings.cpp: _inject_fault, _clear_fault (tests only)
 void bind_tets(py::module_& m);          // tet_bindings.cpp: TetMesh, NeoHookeanMaterial, Body, add_tet_body (after the worlds)
 
 }  // namespace pbd::python

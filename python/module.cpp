@@ -76,4 +76,5 @@ PYBIND11_MODULE(pbd, m) {
   pbd::python::bind_world_double(m);
   pbd::python::bind_io(m);
   pbd::python::bind_tets(m);  // adds add_tet_body to World and WorldDouble
+  pbd::python::bind_faults(m);
 }

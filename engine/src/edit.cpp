@@ -2,6 +2,8 @@
 // throws pbd::Error naming the offending item and leaves the world unchanged), parameters, and validate().
 #include "pbd/world.hpp"
 
+#include "step_undo.hpp"
+
 #include "pbd/checks.hpp"
 #include "pbd/detail/message.hpp"
 #include "pbd/closed_mesh.hpp"
@@ -211,12 +213,17 @@ void World<Real>::remove(std::span<const Index> indices, const char* what, bool 
 // broken fiber's two ends break with it (tear_cells.hpp); surfaces are torn along the broken edges (tear.hpp), which
 // may remove more constraints. The arrays every color walks are laid out once, after all the removals: each layout
 // is a pass over the whole model.
-template <class Real> void World<Real>::break_fibers() {
+template <class Real> void World<Real>::break_fibers(detail::StepUndo<Real>& undo) {
   breaks_.clear();
   copies_.clear();
   if (!detail::fibers_break(model_)) return;
   breaks_ = detail::find_breaks(model_, state_, std::llround(state_.time / double(params_.dt)));
   if (breaks_.empty()) return;
+  undo.keep_model(model_);  // the edits change the model: a later failure puts it back (step_undo.hpp)
+  apply_breaks();
+}
+
+template <class Real> void World<Real>::apply_breaks() {
   detail::for_each_store(model_.stores, [&](const auto& st, auto) {  // the broken ones, type by type
     using C = typename std::decay_t<decltype(st)>::value_type;
     if constexpr (takes_material<C>()) {
@@ -429,7 +436,8 @@ template <class Real, class... C> auto members_of_each_type(std::tuple<C...>*) {
   template void World<Real>::set_time(double);                               \
   template std::vector<coloring::NamedStats> World<Real>::color_statistics(const coloring::Options&) const; \
   template void World<Real>::validate() const;                                                     \
-  template void World<Real>::break_fibers();                                                       \
+  template void World<Real>::break_fibers(detail::StepUndo<Real>&);                                                       \
+  template void World<Real>::apply_breaks();                                                       \
   template void World<Real>::remove<StretchConstraint<Real>>(std::span<const Index>, const char*, bool); \
   template void World<Real>::remove<AnchorConstraint<Real>>(std::span<const Index>, const char*, bool);  \
   template void World<Real>::remove<BendingConstraint<Real>>(std::span<const Index>, const char*, bool); \

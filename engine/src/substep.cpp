@@ -10,6 +10,7 @@
 // Both give the same bits: every pass gives the same bits however its loop is cut (tested).
 #include "substep.hpp"
 
+#include "fault_injection.hpp"
 #include "fibers.hpp"
 #include "contact/particle_contacts.hpp"
 #include "contact/scratch.hpp"
@@ -188,8 +189,12 @@ template <class Real, class Runner> void substep(StepContext<Real>& c, Runner& r
     predict(b, e);
   });
   const auto t2 = clock::now();
+  // Fault points (tests: fault_injection.hpp) after each phase, only where the step's own thread runs the sub-step:
+  // a team's members run it together, and its step's points follow the team (run_substeps).
+  if constexpr (!Runner::kTeam) fault_point(FaultPhase::predict);
   // 3. contacts (a team's step has none)
   if constexpr (!Runner::kTeam) generate_contacts(c, run.parallel);
+  if constexpr (!Runner::kTeam) fault_point(FaultPhase::contacts);
   const auto t3 = clock::now();
   // 4. solve: the hierarchy's coarse-to-fine pass (hierarchy.hpp) on the runner's loops, then the sweeps
   if (hierarchy) {
@@ -209,6 +214,7 @@ template <class Real, class Runner> void substep(StepContext<Real>& c, Runner& r
   // 4b. the fibers' plastic flow at the solved positions (fibers.hpp; never on a team: step_on_team)
   if constexpr (!Runner::kTeam)
     if (c.flow) flow_fibers(m, p);
+  if constexpr (!Runner::kTeam) fault_point(FaultPhase::solve);
   const auto t4 = clock::now();
   // 5. update (integrate.hpp), from the padded copy when the solved positions are there; free bodies get back the
   // momentum and angular momentum the solve changed (free_bodies.hpp); then restitution (Müller et al. 2006 §3.5):
@@ -231,6 +237,7 @@ template <class Real, class Runner> void substep(StepContext<Real>& c, Runner& r
   if constexpr (!Runner::kTeam)
     apply_restitution<Real>(k.collisions.items, k.collision_lambda, k.particle_contacts.items,
                             k.particle_contact_lambda, w, v, c.params.gravity.norm() * h);
+  if constexpr (!Runner::kTeam) fault_point(FaultPhase::update);
   if (run.leader()) {
     st.x.swap(k.p);
     const auto t5 = clock::now();
@@ -284,6 +291,7 @@ template <class Real> SubstepsReport run_substeps(StepContext<Real>& c) {
     first->begin(c.state.time + double(c.h));
     substeps_on_team(c, first, out);
     out.on_team = true;
+    for (const FaultPhase phase : {FaultPhase::predict, FaultPhase::solve, FaultPhase::update}) fault_point(phase);
     return out;
   }
   ForkRunner<Real> run{c, is_parallel(c.params.solver)};

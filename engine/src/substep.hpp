@@ -41,7 +41,8 @@ struct SubstepsReport {
 /// sweeps and update (step_on_team: a parallel Gauss-Seidel solver, no Chebyshev acceleration, no user type, volume,
 /// collider, force callback, free body or plastic flow, and a model whose sweeps would form a team anyway); otherwise sub-step by
 /// sub-step with loops that fork (run_range), where solve() may still hold a team for its sweeps. The bits are the
-/// same on both. A force callback's error propagates with the state half-stepped: the caller rolls back.
+/// same on both. An error (the force callback's, an allocation's) propagates with the state half-stepped: the caller
+/// puts it back (step_undo.hpp).
 template <class Real> SubstepsReport run_substeps(StepContext<Real>& context);
 
 /// Whether a step may run on one team (run_substeps), from what the step and the model hold.

@@ -7,7 +7,9 @@
 #include "solve/hierarchy.hpp"
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
+#include "fault_injection.hpp"
 #include "fibers.hpp"
+#include "step_undo.hpp"
 #include "substep.hpp"
 
 #include <chrono>
@@ -91,28 +93,43 @@ void follow_pins(std::vector<TetherConstraint<Real>>& tethers, const Matrix3X<Re
     if (t.pin < Index(w.size()) && w[t.pin] == Real(0)) t.target = x.col(t.pin);  // kNoPin is out of range
 }
 
+// The first particle whose position or velocity in s is not finite: (index, "position" or "velocity"), or (-1, "").
+template <class Real> std::pair<Index, const char*> first_non_finite(const detail::State<Real>& s) {
+  if (s.x.allFinite() && s.v.allFinite()) return {Index(-1), ""};
+  for (Index i = 0; i < Index(s.x.cols()); ++i) {
+    if (!s.x.col(i).allFinite()) return {i, "position"};
+    if (!s.v.col(i).allFinite()) return {i, "velocity"};
+  }
+  return {Index(-1), ""};
+}
+
+template <class Real> std::string non_finite_value(const detail::State<Real>& s, Index i, const char* what) {
+  const auto c = (what[0] == 'p' ? s.x : s.v).col(i);
+  return detail::message("(", c[0], ", ", c[1], ", ", c[2], ")");
+}
+
 }  // namespace
 
 template <class Real> void World<Real>::check_state_finite() const {
-  if (state_.x.allFinite() && state_.v.allFinite()) return;
-  for (Index i = 0; i < num_particles(); ++i)
-    for (const auto* what : {&state_.x, &state_.v})
-      if (!what->col(i).allFinite()) {
-        const auto c = what->col(i);
-        throw Error(detail::message("step: particle ", i, " has a non-finite ", what == &state_.x ? "position" : "velocity",
-                                    " (", c[0], ", ", c[1], ", ", c[2], "), written between steps"));
-      }
+  const auto [i, what] = first_non_finite(state_);
+  if (i == Index(-1)) return;
+  throw Error(detail::message("step: particle ", i, " has a non-finite ", what, " ", non_finite_value(state_, i, what),
+                              ", written between steps"));
 }
 
-template <class Real> void World<Real>::advance(const Real* forces) {
-  if (host_wrote_) {  // the host held a mutable map: check what it may have written, before anything changes
-    check_state_finite();
-    host_wrote_ = false;
-  }
-  const auto t0 = clock::now();
-  follow_pins(model_.template store<TetherConstraint<Real>>().items, state_.x, model_.inverse_mass);
-  stats_ = StepStats{};
-  detail::Scratch<Real>& k = scratch();
+// A step that made some position or velocity non-finite (in-range inputs that blow up: a huge velocity, gravity,
+// compliance) fails there, naming the first such particle, and is undone: nothing keeps or writes a non-finite state.
+template <class Real> void World<Real>::check_stepped_state(long long step) const {
+  const auto [i, what] = first_non_finite(state_);
+  if (i == Index(-1)) return;
+  throw Error(detail::message("step ", step, " (t = ", state_.time + double(params_.dt), " s): particle ", i,
+                              " got a non-finite ", what, " ", non_finite_value(state_, i, what),
+                              "; the step was undone"));
+}
+
+// A step's caches, cooked from the model before anything changes (a failure here changes no state): the sub-step
+// coefficients, the colors or blocks, the hierarchy.
+template <class Real> void World<Real>::cook_for_step(detail::Scratch<Real>& k) {
   const Real h = params_.dt / Real(params_.substeps);
   k.coeff.resize(model_.sets.size());
   for (std::size_t s = 0; s < k.coeff.size(); ++s)
@@ -124,39 +141,57 @@ template <class Real> void World<Real>::advance(const Real* forces) {
     stats_.colors = num_colors();
   }
   if (params_.hierarchy.enabled) detail::ensure_hierarchy(model_, params_.hierarchy);  // cooked once per edit
-  // A force callback may fail at a later sub-step: keep the state it started from so nothing is half-stepped.
-  const bool rollback = force_callback_ && params_.substeps > 1;
-  if (rollback) {
-    k.rollback_x = state_.x;
-    k.rollback_v = state_.v;
+}
+
+template <class Real> void World<Real>::advance(const Real* forces) {
+  if (host_wrote_) {  // the host held a mutable map: check what it may have written, before anything changes
+    check_state_finite();
+    host_wrote_ = false;
   }
+  const auto t0 = clock::now();
+  detail::Scratch<Real>& k = scratch();
+  // Whatever fails below (the host's callback, an allocation, a non-finite state, a break's edit), the world is put
+  // back as it was: step_undo.hpp.
+  const StepStats stats_before = stats_;
+  const std::vector<FiberBreak> breaks_before = breaks_;
+  const std::vector<TornParticle> copies_before = copies_;
+  stats_ = StepStats{};
+  cook_for_step(k);
+  detail::StepUndo<Real> undo(model_, state_, k.before);
+  Real* const x_storage = state_.x.data();
+  try {
+    take_step(k, forces, undo);
+  } catch (...) {
+    // Each sub-step swaps x with the predicted positions k.p: a failure at an odd one leaves x in k.p's storage.
+    if (state_.x.data() != x_storage) state_.x.swap(k.p);
+    undo.restore(model_, state_);
+    stats_ = stats_before;
+    breaks_ = breaks_before;
+    copies_ = copies_before;
+    throw;
+  }
+  stats_.seconds = seconds_since(t0);
+}
+
+template <class Real>
+void World<Real>::take_step(detail::Scratch<Real>& k, const Real* forces, detail::StepUndo<Real>& undo) {
+  follow_pins(model_.template store<TetherConstraint<Real>>().items, state_.x, model_.inverse_mass);
+  const Real h = params_.dt / Real(params_.substeps);
   // Each sub-step swaps x with the predicted positions k.p, so an odd count would leave x in the other buffer: put
   // the result back into x's own storage (one copy) so that maps of positions() stay valid across steps.
   Real* const x_storage = state_.x.data();
-  auto keep_storage = [&] {
-    if (state_.x.data() == x_storage) return;
-    state_.x.swap(k.p);
-    state_.x = k.p;  // same size: copied into x_storage, no allocation
-  };
   detail::update_free_bodies(model_, k.free_bodies);
   // The sub-steps (solver.hpp: run_substeps), on the runner it chooses.
-  const long long first_substep = std::llround(state_.time / double(params_.dt)) * params_.substeps;
-  detail::StepContext<Real> context{model_, state_, k, params_, parallel_, forces, &force_callback_, h, first_substep};
+  const long long step = std::llround(state_.time / double(params_.dt));
+  detail::StepContext<Real> context{model_, state_, k, params_, parallel_, forces, &force_callback_, h,
+                                    step * params_.substeps};
   context.flow = detail::fibers_flow(model_);
-  // Plastic flow changes the plastic strains during the sub-steps: kept too, when a later sub-step may fail.
-  detail::PlasticRollback<Real> rollback_plastic(model_, rollback && context.flow);
-  detail::SubstepsReport run;
-  try {
-    run = detail::run_substeps(context);
-  } catch (...) {
-    if (rollback) {
-      state_.x = k.rollback_x;  // copied back, not swapped: maps the host holds on positions() stay valid
-      state_.v = k.rollback_v;
-      rollback_plastic.restore(model_);
-    }
-    keep_storage();
-    throw;
+  const detail::SubstepsReport run = detail::run_substeps(context);
+  if (state_.x.data() != x_storage) {
+    state_.x.swap(k.p);
+    state_.x = k.p;  // same size: copied into x_storage, no allocation
   }
+  check_stepped_state(step + 1);  // before anything reads or keeps a non-finite state
   stats_.seconds_integrate = run.seconds_integrate;
   stats_.seconds_collisions = run.seconds_collisions;
   stats_.seconds_solve = run.seconds_solve;
@@ -164,17 +199,16 @@ template <class Real> void World<Real>::advance(const Real* forces) {
   stats_.seconds_hierarchy = run.seconds_hierarchy;
   stats_.solve_threads = run.threads;
   stats_.chebyshev_fallbacks = run.chebyshev_fallbacks;
-  keep_storage();
   state_.time += double(params_.dt);
   state_.lambda_h2 = double(h) * double(h);
-  break_fibers();
+  break_fibers(undo);
   stats_.substeps = params_.substeps;
   stats_.sweeps = params_.substeps * params_.iterations;
   stats_.collisions = k.collisions.size() + k.particle_contacts.size();
   const Real rho = params_.chebyshev.rho != Real(0) ? params_.chebyshev.rho : state_.chebyshev_rho;  // given or measured
   stats_.chebyshev_rho = params_.chebyshev.enabled ? double(rho) : 0.0;
   if (measure_violation_) stats_.violation = constraint_violations(*this);
-  stats_.seconds = seconds_since(t0);
+  detail::fault_point(detail::FaultPhase::step_end);
 }
 
 template <class Real> template <class C> std::vector<FiberReading> World<Real>::material_readings() const {

@@ -33,6 +33,7 @@ namespace pbd {
 
 namespace detail {
 template <class Real> struct Scratch;
+template <class Real> class StepUndo;
 /// Deletes a Scratch (defined where Scratch is complete).
 template <class Real> struct ScratchDeleter {
   void operator()(Scratch<Real>* s) const;  ///< deletes s
@@ -267,9 +268,13 @@ private:
   // caller, which lays them out once after several removals (break_fibers).
   template <class C> void remove(std::span<const Index> indices, const char* what, bool lay_out = true);
   void ensure_colored();
-  void break_fibers();
-  void advance(const Real* forces);
+  void break_fibers(detail::StepUndo<Real>& undo);  // the breaks and tears after a step (the model kept in undo)
+  void apply_breaks();  // break_fibers' edits of the model, for the breaks it found
+  void advance(const Real* forces);                        // a step, undone if it fails (step_undo.hpp)
+  void cook_for_step(detail::Scratch<Real>& k);             // the caches a step reads, before it changes anything
+  void take_step(detail::Scratch<Real>& k, const Real* forces, detail::StepUndo<Real>& undo);  // the step itself
   void check_state_finite() const;  // throws naming the first particle with a non-finite position or velocity
+  void check_stepped_state(long long step) const;  // the same after step number `step`
   detail::Scratch<Real>& scratch();
 
   detail::Model<Real> model_;   // cooked model: particles' inverse masses, constraints with their colors, colliders

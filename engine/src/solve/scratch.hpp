@@ -6,6 +6,7 @@
 #include "pbd/constraints/particle_contact.hpp"
 #include "pbd/constraints/volume.hpp"
 #include "pbd/detail/constraint_store.hpp"
+#include "pbd/detail/model.hpp"
 #include "free_bodies.hpp"
 #include "pbd/stiffness.hpp"
 
@@ -108,7 +109,7 @@ template <class Real> struct Scratch {
   PartitionerPool cheb_partitioners;                // Chebyshev: its three particle passes
   HierarchyScratch<Real> hierarchy;                 // the hierarchy's pass (hierarchy.hpp)
   Matrix3X<Real> callback_forces;                   // filled by the force callback
-  Matrix3X<Real> rollback_x, rollback_v;            // state at the start of a step with a callback and sub-steps
+  State<Real> before;                               // the state a step started from (step_undo.hpp)
 };
 
 }  // namespace pbd::detail
