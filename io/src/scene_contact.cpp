@@ -63,10 +63,11 @@ void read_contact_body(const JsonObject& o, const Body& body, DescriptionBuilder
 
 namespace {
 
-// How far particle i's centre is inside collider surface at distance `height` above it (its radius counted), m,
-// and whether that is more than rounding (lengths up to `scale` m).
-bool inside(double height, double radius, double scale, double& depth) {
-  depth = radius - height;
+// How far a particle's centre is behind a collider surface at distance `height` above it, m, and whether that is
+// more than rounding (lengths up to `scale` m). A centre on the surface or above it (a contact radius overlapping)
+// is a resting contact the first sub-step settles, as the built-in scenes place their bodies.
+bool inside(double height, double scale, double& depth) {
+  depth = -height;
   return depth > 1e-6 * (1.0 + scale);
 }
 
@@ -76,18 +77,12 @@ void check_starts_outside(const WorldDescription& d, const std::vector<std::pair
                           const std::vector<std::string>& plane_paths, const std::vector<std::string>& sphere_paths,
                           const std::string& file) {
   if (d.planes.empty() && d.spheres.empty()) return;
-  std::vector<double> radius(std::size_t(d.num_particles()), 0.0);
-  for (const ContactBody<double>& b : d.contact_bodies) {
-    for (Index i = b.first; i < b.first + b.count; ++i) radius[i] = b.radius;
-    for (Index i : b.interior) radius[i] = 0.0;  // points, as the engine treats them
-  }
   auto fail = [&](Index i, double depth, const std::string& collider) {
     std::size_t b = 0;
     while (b + 1 < bodies.size() && i >= bodies[b + 1].first) ++b;
     json_fail(file, message("/bodies/", b),
               message("particle ", i - bodies[b].first, " of this body starts ", depth, " m inside the collider at ",
-                      collider, " (its centre must be at least its contact radius, ", radius[i],
-                      " m, outside): the first sub-step would push it out at once and keep the push as velocity; "
+                      collider, ": the first sub-step would push it out at once and keep the push as velocity; "
                       "place the body outside the collider"));
   };
   for (Index i = 0; i < d.num_particles(); ++i) {
@@ -96,12 +91,12 @@ void check_starts_outside(const WorldDescription& d, const std::vector<std::pair
     double depth = 0;
     for (std::size_t k = 0; k < d.planes.size(); ++k) {
       const PlaneDescription& pl = d.planes[k];
-      if (inside(pl.normal.dot(x) - pl.offset, radius[i], std::abs(pl.offset) + x.norm() + radius[i], depth))
+      if (inside(pl.normal.dot(x) - pl.offset, std::abs(pl.offset) + x.norm(), depth))
         fail(i, depth, plane_paths[k]);
     }
     for (std::size_t k = 0; k < d.spheres.size(); ++k) {
       const SphereDescription& s = d.spheres[k];
-      if (inside((x - s.center).norm() - s.radius, radius[i], s.radius + s.center.norm() + x.norm() + radius[i], depth))
+      if (inside((x - s.center).norm() - s.radius, s.radius + s.center.norm() + x.norm(), depth))
         fail(i, depth, sphere_paths[k]);
     }
   }

@@ -30,12 +30,11 @@ std::vector<Index> interior_particles(const Body& body);
 /// nothing is added.
 void read_contact_body(const JsonObject& o, const Body& body, DescriptionBuilder& world);
 
-/// Throws pbd::Error naming `file`, the body (its path "/bodies/<b>") and the particle when a movable particle starts
-/// inside a collider: its centre nearer than its contact radius to a plane or a sphere (or behind it), by more than
-/// a micrometre or a millionth of the lengths involved (rounding of a particle placed on the surface). The first
-/// sub-step would push it out in one go and keep that push as velocity, which a scene is refused rather than given.
-/// `bodies` are the scene's bodies in order (each a run from first_particle); `collider_paths` the JSON path of each
-/// plane and then each sphere of `d`, in the order added.
+/// Throws pbd::Error naming `file`, the body (its path "/bodies/<b>") and the particle when a movable particle's
+/// centre starts behind a collider's surface (inside a plane's half-space or a sphere) by more than a micrometre or a
+/// millionth of the lengths involved (rounding). The first sub-step would push it out in one go and keep that push as
+/// velocity. `bodies` are the scene's bodies in order (first particle, count); `plane_paths` and `sphere_paths` the
+/// JSON path of each plane and each sphere of `d`, in the order added.
 void check_starts_outside(const WorldDescription& d, const std::vector<std::pair<Index, Index>>& bodies,
                           const std::vector<std::string>& plane_paths, const std::vector<std::string>& sphere_paths,
                           const std::string& file);
