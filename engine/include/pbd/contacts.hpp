@@ -40,9 +40,9 @@ inline constexpr double kMaxContactLength = 1e6;
 /// Contact pairs a sub-step may find per particle with a radius, at most (the run stops with a pbd::Error beyond it).
 /// Counting each pair at its smaller particle: spheres that do not overlap put at most (3 + margin / radius)³
 /// partners of its radius or larger within its reach (a ball of its radius fits inside each, and all of those fit
-/// in a ball three radii and a margin wide), which is 64 with a margin as large as the radius. A pile at rest has
-/// about six per particle.
-inline constexpr std::size_t kMaxContactsPerParticle = 64;
+/// in a ball three radii and a margin wide), which is 64 with a margin as large as the radius. This allows four times
+/// that, for spheres pressed into one another and paths swept in one sub-step; a pile at rest has about six.
+inline constexpr std::size_t kMaxContactsPerParticle = 256;
 
 /// Mean number of reach spheres (each particle's contact radius plus half the margin) that cover a point of the
 /// body's box, at most: check_contact_reach. Non-overlapping spheres cover each point at most once; a cloth whose
