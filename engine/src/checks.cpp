@@ -85,8 +85,9 @@ template <class Real> void check_params(const StepParams<Real>& p) {
   if (!p.gravity.allFinite()) throw Error("set_params: gravity is not finite");
   if (!std::isfinite(p.damping) || p.damping < Real(0))
     throw Error(detail::message("set_params: damping must be finite and >= 0, got ", p.damping));
-  if (!std::isfinite(p.collision_margin) || p.collision_margin < Real(0))
-    throw Error(detail::message("set_params: collision_margin must be finite and >= 0, got ", p.collision_margin));
+  if (!std::isfinite(p.collision_margin) || p.collision_margin < Real(0) || double(p.collision_margin) > kMaxContactLength)
+    throw Error(detail::message("set_params: collision_margin must be finite and >= 0 and at most ", kMaxContactLength,
+                                " m, got ", p.collision_margin));
   if (!(p.jacobi_omega > Real(0) && p.jacobi_omega < Real(2)))
     throw Error(detail::message("set_params: jacobi_omega must be in (0, 2), got ", p.jacobi_omega));
   if (name(p.solver) == "?") throw Error("set_params: unknown solver");
@@ -123,6 +124,9 @@ Real check_plane(const Vec3<Real>& normal, Real offset, const ContactMaterial<Re
   if (!normal.allFinite() || !std::isfinite(offset)) throw Error(what + ": normal and offset must be finite");
   const Real len = normal.norm();
   if (!(len > Real(0))) throw Error(what + ": normal has zero length");
+  if (!(std::abs(offset / len) <= max_collider_length<Real>()))
+    throw Error(detail::message(what, ": offset must be at most ", max_collider_length<Real>(),
+                                " m from the origin (a contact's arithmetic squares it), got ", offset / len));
   check_contact_material(material, what);
   return len;
 }
@@ -130,8 +134,12 @@ Real check_plane(const Vec3<Real>& normal, Real offset, const ContactMaterial<Re
 template <class Real>
 void check_sphere(const Vec3<Real>& center, Real radius, const ContactMaterial<Real>& material, const std::string& what) {
   if (!center.allFinite()) throw Error(what + ": center is not finite");
-  if (!std::isfinite(radius) || !(radius > Real(0)))
-    throw Error(detail::message(what, ": radius must be finite and > 0, got ", radius));
+  if (!(center.cwiseAbs().maxCoeff() <= max_collider_length<Real>()))
+    throw Error(detail::message(what, ": center must be at most ", max_collider_length<Real>(),
+                                " m from the origin along each axis (a contact's arithmetic squares it)"));
+  if (!std::isfinite(radius) || !(radius > Real(0)) || !(radius <= max_collider_length<Real>()))
+    throw Error(detail::message(what, ": radius must be finite and > 0 and at most ", max_collider_length<Real>(),
+                                " m (a contact's arithmetic squares it), got ", radius));
   check_contact_material(material, what);
 }
 

@@ -293,6 +293,7 @@ template <class Real> Index World<Real>::add_contact_body(const ContactBody<Real
   auto& bodies = model_.contact.bodies;
   const std::string what = detail::message("add_contact_body: body ", bodies.size());
   check_contact_body<Real>(body, num_particles(), bodies, what);
+  check_contact_reach<Real>(body, state_.x, params_.collision_margin, what);
   bodies.push_back(body);
   model_.contact.cooked = false;
   return Index(bodies.size() - 1);
@@ -302,6 +303,10 @@ template <class Real> Index World<Real>::add_contact_body(const ContactBody<Real
 
 template <class Real> void World<Real>::set_params(const StepParams<Real>& p) {
   check_params(p);
+  if (p.collision_margin != params_.collision_margin)  // the bodies' reach grows with the margin
+    for (std::size_t b = 0; b < model_.contact.bodies.size(); ++b)
+      check_contact_reach<Real>(model_.contact.bodies[b], state_.x, p.collision_margin,
+                                detail::message("set_params: contact body ", b));
   if (!(p.chebyshev == params_.chebyshev)) state_.chebyshev_rho = Real(0);  // a measured ρ holds for its settings
   params_ = p;
 }

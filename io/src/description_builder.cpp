@@ -90,12 +90,16 @@ Index DescriptionBuilder::add_contact_body(const ContactBody<double>& body) {
   auto& bodies = d_.contact_bodies;
   const std::string what = detail::message("add_contact_body: body ", bodies.size());
   check_contact_body<double>(body, num_particles(), bodies, what);
+  check_contact_reach<double>(body, d_.positions, d_.params.collision_margin, what);
   bodies.push_back(body);
   return Index(bodies.size() - 1);
 }
 
 void DescriptionBuilder::set_params(const StepParams<double>& p) {
   check_params(p);
+  for (std::size_t b = 0; b < d_.contact_bodies.size(); ++b)
+    check_contact_reach<double>(d_.contact_bodies[b], d_.positions, p.collision_margin,
+                                detail::message("set_params: contact body ", b));
   d_.params = p;
 }
 

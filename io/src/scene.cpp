@@ -4,6 +4,7 @@
 #include "scene_contact.hpp"
 #include "scene_size.hpp"
 #include "pbd/detail/message.hpp"
+#include "pbd/checks.hpp"
 #include "pbd/closed_mesh.hpp"
 #include "pbd/io/description_builder.hpp"
 #include "pbd/io/frame_series.hpp"
@@ -483,6 +484,9 @@ Body read_particles(const JsonObject& o, DescriptionBuilder& world) {
   return b;
 }
 
+// The largest length of a collider in a scene: the engine's for float (checks.hpp), as a scene runs in either.
+const double kMaxColliderLength = double(max_collider_length<float>());
+
 // {"type": "plane", "normal", "offset"} or {"type": "sphere", "center", "radius"}, each with the optional surface
 // keys "friction" and "restitution" (scene_contact.hpp).
 void read_collider(const nlohmann::json& v, const std::string& file, const std::string& path, DescriptionBuilder& world) {
@@ -493,10 +497,16 @@ void read_collider(const nlohmann::json& v, const std::string& file, const std::
     const double offset = c.number("offset", -kInf, kInf, 0.0) * n.norm();  // n·x >= d with n not yet normalized
     if (!(std::abs(offset) <= double(std::numeric_limits<float>::max())))
       c.fail("offset", "offset × |normal| is beyond the range of float (the plane is stored with a unit normal)");
+    if (!(std::abs(offset) <= kMaxColliderLength * n.norm()))  // a scene runs in float too
+      c.fail("offset", message("must be at most ", kMaxColliderLength, " m from the origin (a contact's arithmetic "
+                               "squares it, in float too), got ", offset / n.norm()));
     world.add_plane(n, offset, detail::read_contact_material(c));
   } else if (type == "sphere") {
     const Eigen::Vector3d center = vec(c.vec3("center"));
-    const double radius = c.number("radius", 1e-9, kMaxSafe);
+    if (!(center.cwiseAbs().maxCoeff() <= kMaxColliderLength))
+      c.fail("center", message("each coordinate must be at most ", kMaxColliderLength,
+                               " m from the origin (a contact's arithmetic squares it, in float too)"));
+    const double radius = c.number("radius", 1e-9, kMaxColliderLength);
     world.add_sphere(center, radius, detail::read_contact_material(c));
   } else {
     c.fail("type", message("unknown collider type ", detail::quoted(type), " (expected \"plane\" or \"sphere\")"));
@@ -769,10 +779,17 @@ Scene parse_scene(const std::string& text, const std::string& source) {
                               world.description().surfaces.size() > surfaces ? Index(surfaces) : SceneBody::kNoSurface});
     });
   }
+  std::vector<std::string> plane_paths, sphere_paths;
   if (o.has("colliders"))
-    for (const auto& [v, path] : o.array("colliders"))
+    for (const auto& [v, path] : o.array("colliders")) {
+      const std::size_t planes = world.description().planes.size();
       at_path(f, path, [&, &v = v, &path = path] { read_collider(*v, f, path, world); });
+      (world.description().planes.size() > planes ? plane_paths : sphere_paths).push_back(path);
+    }
   o.reject_unknown_keys();
+  std::vector<std::pair<Index, Index>> runs;
+  for (const SceneBody& b : scene.bodies) runs.push_back({b.first_particle, b.num_particles});
+  detail::check_starts_outside(world.description(), runs, plane_paths, sphere_paths, f);
   scene.world = std::move(world).description();
   check_masses(o, scene);
   if (!scene.primary_error.empty())

@@ -2,6 +2,8 @@
 
 #include "pbd/detail/message.hpp"
 
+#include <cmath>
+
 namespace pbd::detail {
 
 ContactMaterial<double> read_contact_material(const JsonObject& o) {
@@ -58,6 +60,47 @@ void read_contact_body(const JsonObject& o, const Body& body, DescriptionBuilder
     world.add_contact_body(b);  // every value is checked above; this refuses only an empty or overlapping run
   } catch (const Error& e) {
     o.fail("contact", e.what());
+  }
+}
+
+namespace {
+
+// How far a particle's centre is behind a collider surface at distance `height` above it, m, and whether that is
+// more than rounding (lengths up to `scale` m). A centre on the surface or above it (a contact radius overlapping)
+// is a resting contact the first sub-step settles, as the built-in scenes place their bodies.
+bool inside(double height, double scale, double& depth) {
+  depth = -height;
+  return depth > 1e-6 * (1.0 + scale);
+}
+
+}  // namespace
+
+void check_starts_outside(const WorldDescription& d, const std::vector<std::pair<Index, Index>>& bodies,
+                          const std::vector<std::string>& plane_paths, const std::vector<std::string>& sphere_paths,
+                          const std::string& file) {
+  if (d.planes.empty() && d.spheres.empty()) return;
+  auto fail = [&](Index i, double depth, const std::string& collider) {
+    std::size_t b = 0;
+    while (b + 1 < bodies.size() && i >= bodies[b + 1].first) ++b;
+    json_fail(file, message("/bodies/", b),
+              message("particle ", i - bodies[b].first, " of this body starts ", depth, " m inside the collider at ",
+                      collider, ": the first sub-step would push it out at once and keep the push as velocity; "
+                      "place the body outside the collider"));
+  };
+  for (Index i = 0; i < d.num_particles(); ++i) {
+    if (d.inverse_masses[i] == 0.0) continue;  // pinned: never moved, never pushed
+    const Eigen::Vector3d x = d.positions.col(i);
+    double depth = 0;
+    for (std::size_t k = 0; k < d.planes.size(); ++k) {
+      const PlaneDescription& pl = d.planes[k];
+      if (inside(pl.normal.dot(x) - pl.offset, std::abs(pl.offset) + x.norm(), depth))
+        fail(i, depth, plane_paths[k]);
+    }
+    for (std::size_t k = 0; k < d.spheres.size(); ++k) {
+      const SphereDescription& s = d.spheres[k];
+      if (inside((x - s.center).norm() - s.radius, s.radius + s.center.norm() + x.norm(), depth))
+        fail(i, depth, sphere_paths[k]);
+    }
   }
 }
 

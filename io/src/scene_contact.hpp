@@ -5,6 +5,11 @@
 #include "pbd/constraints/contact_material.hpp"
 #include "pbd/io/description_builder.hpp"
 #include "pbd/io/generators.hpp"
+#include "pbd/io/world_description.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace pbd::detail {
 
@@ -24,5 +29,14 @@ std::vector<Index> interior_particles(const Body& body);
 /// "self_collision": bool (false)}. When present, `body`'s particles become a contact body of `world`; absent,
 /// nothing is added.
 void read_contact_body(const JsonObject& o, const Body& body, DescriptionBuilder& world);
+
+/// Throws pbd::Error naming `file`, the body (its path "/bodies/<b>") and the particle when a movable particle's
+/// centre starts behind a collider's surface (inside a plane's half-space or a sphere) by more than a micrometre or a
+/// millionth of the lengths involved (rounding). The first sub-step would push it out in one go and keep that push as
+/// velocity. `bodies` are the scene's bodies in order (first particle, count); `plane_paths` and `sphere_paths` the
+/// JSON path of each plane and each sphere of `d`, in the order added.
+void check_starts_outside(const WorldDescription& d, const std::vector<std::pair<Index, Index>>& bodies,
+                          const std::vector<std::string>& plane_paths, const std::vector<std::string>& sphere_paths,
+                          const std::string& file);
 
 }  // namespace pbd::detail

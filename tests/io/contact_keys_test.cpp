@@ -195,6 +195,42 @@ TEST(SceneContactErrors, OutOfRangeValuesNameTheFileAndTheKey) {
                {"out of range [0, 1]"});
 }
 
+// A 20×20×20 lattice of grains 40 mm apart (8,000 particles) with the contact radius and margin given.
+std::string grain_scene(const std::string& radius, const std::string& margin) {
+  return R"({"name": "g", "dt": 0.01, "collision_margin": )" + margin + R"(,
+    "bodies": [{"type": "grains", "count": [20, 20, 20], "spacing": 0.04, "origin": [0, 0, 1],
+                "contact": {"radius": )" + radius + R"(, "self_collision": true}}]})";
+}
+
+TEST(SceneContactErrors, ARadiusOrMarginFarBeyondTheSpacingIsRefusedBeforeTheRun) {
+  // Each would make every grain touch every other (n²/2 pairs: gigabytes); a pile's values load.
+  EXPECT_NO_THROW(parse_scene(grain_scene("0.015", "0.003"), "ok.json"));
+  expect_error(grain_scene("1e6", "0.003"), "/bodies/0/contact", {"radius 1000000", "cover", "spacing"});
+  expect_error(grain_scene("0.5", "0.003"), "/bodies/0/contact", {"cover"});
+  expect_error(grain_scene("0.015", "1e6"), "/bodies/0/contact", {"collision_margin 1000000", "cover"});
+}
+
+TEST(SceneContactErrors, ColliderLengthsWhoseSquaresOverflowFloatNameTheKey) {
+  const std::string sphere = R"({"type": "sphere", "center": [0, 0, -1], "radius": 0.5, "friction": {"kinetic": 0.25}})";
+  expect_error(replaced(kContacts, sphere, R"({"type": "sphere", "center": [0, 0, -1], "radius": 3e38})"),
+               "/colliders/1/radius", {"out of range"});
+  expect_error(replaced(kContacts, sphere, R"({"type": "sphere", "center": [0, 0, -3e38], "radius": 1})"),
+               "/colliders/1/center", {"at most"});
+  expect_error(replaced(kContacts, "\"offset\": -10", "\"offset\": -3e38"), "/colliders/3/offset", {"at most"});
+}
+
+TEST(SceneContactErrors, ABodyStartingInsideAColliderIsRefusedNamingTheBodyAndTheParticle) {
+  // A dodecahedron half inside the ground: its first step would push it out at once and keep the push as velocity.
+  const std::string half_in = replaced(kContacts, R"("origin": [0, 0, 4], "contact": {})", R"("origin": [0, 0, 0.05], "contact": {})");
+  const std::string msg = test::error_of([&] { parse_scene(half_in, "bad.json"); });
+  EXPECT_EQ(msg.rfind("bad.json: /bodies/3: particle ", 0), 0u) << msg;
+  test::expect_words(msg, {"inside the collider at /colliders/0", "place the body outside"});
+  // Resting on it loads, its contact radius overlapping the ground (a resting contact the first sub-step settles).
+  const std::string on = replaced(kContacts, R"("origin": [0, 0, 4], "contact": {})",
+                                  R"("origin": [0, 0, 0.2], "contact": {"radius": 0.05})");
+  EXPECT_NO_THROW(parse_scene(on, "ok.json"));
+}
+
 TEST(SceneContactErrors, NonFiniteFrictionNamesTheKey) {
   // JSON has no NaN or infinity: the one non-finite number it can carry is one beyond double range.
   expect_error(replaced(kContacts, "\"friction\": 0.3", "\"friction\": 1e400"), "/bodies/2/contact/friction",

@@ -138,6 +138,26 @@ def test_bad_mass_and_colliders(world_type):
         w.add_contact_body(0, 5, 0.1)
 
 
+def test_contact_and_collider_lengths_are_bounded(world_type):
+    # issue 48: a radius of 1e30 used to give NaN positions with no exception; a sphere of 3e38 to overflow.
+    w = cloth(world_type, n=6)
+    with pytest.raises(pbd.Error, match=r"add_contact_body: body 0: radius must be finite and >= 0 and at most 1000000 m"):
+        w.add_contact_body(0, 36, 1e30)
+    with pytest.raises(pbd.Error, match=r"add_contact_body: body 0: .*cover"):
+        w.add_contact_body(0, 36, 1e5)  # 36 particles 0.2 m apart, each touching every other
+    assert w.add_contact_body(0, 36, 0.05) == 0  # the refused calls added nothing
+    p = w.params
+    p.collision_margin = 1e5
+    with pytest.raises(pbd.Error, match=r"set_params: contact body 0: .*cover"):
+        w.params = p
+    with pytest.raises(pbd.Error, match="add_sphere: sphere 0: radius must be finite and > 0 and at most"):
+        w.add_sphere((0, 0, 0), 1e200 if world_type is pbd.WorldDouble else 3e38)
+    with pytest.raises(pbd.Error, match="add_plane: plane 0: offset must be at most"):
+        w.add_plane((0, 0, 1), -1e200 if world_type is pbd.WorldDouble else -3e38)
+    w.step()
+    assert np.isfinite(w.positions).all()
+
+
 def test_bad_volume_mesh(world_type):
     w = cloth(world_type, n=3)
     s = w.add_constraint_set(pbd.Stiffness.pbd_k(1.0))

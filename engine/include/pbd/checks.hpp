@@ -16,6 +16,7 @@
 #include <cmath>
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <string>
 
@@ -42,12 +43,18 @@ template <class Real> void check_params(const StepParams<Real>& p);
 /// runs it too, whether or not the hierarchy is enabled).
 void check_hierarchy(const Hierarchy& h);
 
-/// Throws "<what>: ..." unless a plane's normal and offset are finite and the normal is not zero, and its material
-/// is valid; returns |normal|.
+/// Largest length a collider may have in a world of `Real`, m (a plane's offset, a sphere's radius and each coordinate
+/// of its centre): a contact squares distances to a sphere and adds radii and margins to them, which must stay finite,
+/// so it is a sixteenth of the square root of Real's largest value (1.15e18 m in float).
+template <class Real> Real max_collider_length() { return std::sqrt(std::numeric_limits<Real>::max()) / Real(16); }
+
+/// Throws "<what>: ..." unless a plane's normal and offset are finite, the normal is not zero, the offset at most
+/// max_collider_length from the origin, and its material is valid; returns |normal|.
 template <class Real>
 Real check_plane(const Vec3<Real>& normal, Real offset, const ContactMaterial<Real>& material, const std::string& what);
 
-/// Throws "<what>: ..." unless a sphere's centre is finite, its radius finite and > 0, and its material valid.
+/// Throws "<what>: ..." unless a sphere's centre is finite, its radius > 0, both within max_collider_length, and its
+/// material valid.
 template <class Real>
 void check_sphere(const Vec3<Real>& center, Real radius, const ContactMaterial<Real>& material, const std::string& what);
 

@@ -9,7 +9,9 @@
 #include "pbd/types.hpp"
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -31,6 +33,22 @@ template <class Real> struct ContactBody {
   std::vector<Index> interior{};
 };
 
+/// Largest contact radius and collision margin, m (the largest length a scene key takes): their squares and sums stay
+/// finite in float, and a longer reach is no contact a simulation in metres needs.
+inline constexpr double kMaxContactLength = 1e6;
+
+/// Contact pairs a sub-step may find per particle with a radius, at most (the run stops with a pbd::Error beyond it).
+/// Counting each pair at its smaller particle: spheres that do not overlap put at most (3 + margin / radius)³
+/// partners of its radius or larger within its reach (a ball of its radius fits inside each, and all of those fit
+/// in a ball three radii and a margin wide), which is 64 with a margin as large as the radius. This allows four times
+/// that, for spheres pressed into one another and paths swept in one sub-step; a pile at rest has about six.
+inline constexpr std::size_t kMaxContactsPerParticle = 256;
+
+/// Mean number of reach spheres (each particle's contact radius plus half the margin) that cover a point of the
+/// body's box, at most: check_contact_reach. Non-overlapping spheres cover each point at most once; a cloth whose
+/// radius is half its rest edge, or a soft ball whose particles overlap their neighbours, stays well under it.
+inline constexpr double kMaxContactCover = 8;
+
 /// Throws pbd::Error, its message starting with `what`, unless both frictions are finite and ≥ 0 and the
 /// restitution is in [0, 1].
 template <class Real> void check_contact_material(const ContactMaterial<Real>& m, const std::string& what) {
@@ -50,8 +68,9 @@ void check_contact_body(const ContactBody<Real>& body, Index n, std::span<const 
   if (body.count == 0 || body.first >= n || body.count > n - body.first)
     throw Error(detail::message(what, ": particles [", body.first, ", ", std::uint64_t(body.first) + body.count,
                                 ") are not a non-empty range of the ", n, " particles"));
-  if (!std::isfinite(body.radius) || body.radius < Real(0))
-    throw Error(detail::message(what, ": radius must be finite and >= 0, got ", body.radius));
+  if (!std::isfinite(body.radius) || body.radius < Real(0) || double(body.radius) > kMaxContactLength)
+    throw Error(detail::message(what, ": radius must be finite and >= 0 and at most ", kMaxContactLength, " m, got ",
+                                body.radius));
   check_contact_material(body.material, what);
   for (std::size_t k = 0; k < body.interior.size(); ++k) {
     const Index i = body.interior[k];
@@ -63,6 +82,38 @@ void check_contact_body(const ContactBody<Real>& body, Index n, std::span<const 
     if (body.first < others[b].first + others[b].count && others[b].first < body.first + body.count)
       throw Error(detail::message(what, ": particles [", body.first, ", ", body.first + body.count,
                                   ") overlap those of contact body ", b));
+}
+
+/// Throws pbd::Error, its message starting with `what`, when the particles of `body` that have a radius (not its
+/// interior) would touch more than a bounded number of others: the spheres of radius + margin / 2 around them
+/// (their reach) must cover each point of the body's bounding box (grown by the reach) at most kMaxContactCover
+/// times on average. A body of grains or a cloth with a radius far beyond its spacing fails; one particle never does.
+/// Linear in the body's particles; World and pbd::io's DescriptionBuilder run it when a body is added and when the
+/// margin is set (against the positions then).
+template <class Real>
+void check_contact_reach(const ContactBody<Real>& body, const Matrix3X<Real>& x, Real margin, const std::string& what) {
+  if (!(body.radius > Real(0))) return;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  double active = 0;
+  std::size_t k = 0;  // the next interior particle
+  for (Index i = body.first; i < body.first + body.count; ++i) {
+    if (k < body.interior.size() && body.interior[k] == i) {
+      ++k;
+      continue;
+    }
+    const Eigen::Vector3d xi = x.col(i).template cast<double>();
+    lo = lo.cwiseMin(xi);
+    hi = hi.cwiseMax(xi);
+    active += 1;
+  }
+  const double reach = double(body.radius) + 0.5 * double(margin);
+  const double spheres = active * (4.0 / 3.0) * 3.14159265358979323846 * reach * reach * reach;
+  const Eigen::Vector3d box = (hi - lo).array() + 2.0 * reach;
+  if (active < 2 || !(spheres > kMaxContactCover * box.prod())) return;
+  throw Error(detail::message(what, ": radius ", body.radius, " m and collision_margin ", margin, " m make its ",
+                              active, " particles' contact spheres cover their box ", spheres / box.prod(),
+                              " times over (at most ", kMaxContactCover,
+                              "): each would touch many others; use a radius near half the particle spacing"));
 }
 
 /// Every contact body of a world, and what is cooked from them per particle.

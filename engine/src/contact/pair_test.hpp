@@ -3,6 +3,7 @@
 // candidates gathered for it, four at a time with SSE2 (eight with AVX2: near_avx2.hpp), one at a time otherwise, all
 // giving the same bits; then the near pairs joined by a constraint are masked out, and a contact is made of each pair
 // that is kept. The walk (walk.cpp) gathers the candidates.
+#include "budget.hpp"
 #include "near_avx2.hpp"
 #include "particle_contacts.hpp"
 #include "phases.hpp"
@@ -11,8 +12,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <type_traits>
 #include <vector>
 
@@ -146,6 +149,8 @@ template <class Real> struct PairTest {
   Real margin;
   bool any_self;                  // some rows of joined particles
   bool avx2;
+  std::atomic<std::size_t>* found;  // the call's pairs so far, and the most it may find (budget.hpp)
+  std::size_t limit;
 
   // A particle's body when that does not collide with itself, else kNone: two particles of one such group never touch.
   Index group_of(Index i) const {
@@ -166,6 +171,10 @@ template <class Real> struct PairTest {
     const Vec3<Real> nrm = first_contact_normal(d0, d1, R);
     mine.push_back({{i, j}, nrm, R, d0, nrm.dot(Vec3<Real>(v.col(i) - v.col(j))),
                     mix_materials(c.material[i], c.material[j])});
+    if (mine.size() % kCountEvery == 0) {
+      const std::size_t now = found->fetch_add(kCountEvery, std::memory_order_relaxed) + kCountEvery;
+      if (now > limit) fail_too_many_contacts<Real>(c, std::span(&mine, 1), now, limit, margin);
+    }
   }
   // o.a against its candidates gathered so far; then none are left.
   void flush(Others& o, std::vector<ParticleContact<Real>>& mine) const {
@@ -184,7 +193,8 @@ template <class Real> struct PairTest {
 
 // The pair test of a call's movers, bodies and margin.
 template <class Real> PairTest<Real> pair_test(const Call<Real>& call) {
-  return {call.g.movers.data(), call.m.contact, call.v, call.g, call.margin, call.any_self, call.avx2};
+  return {call.g.movers.data(), call.m.contact, call.v, call.g, call.margin, call.any_self, call.avx2, &call.found,
+          call.limit};
 }
 
 }  // namespace pbd::detail::contact

@@ -2,6 +2,7 @@
 // runs the broad phase's phases (phases.hpp) in their order.
 #include "particle_contacts.hpp"
 
+#include "budget.hpp"
 #include "phases.hpp"
 #include "simd/cpu.hpp"
 
@@ -49,6 +50,7 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     build_exclusions(m, x, g);
   const Index count = Index(c.active.size());
   if (count == 0) return;
+  call.limit = contact::contact_limit(std::size_t(count));
   // 2. swept boxes in a frame that moves with a mean path: the last sub-step's when there was one with as many
   // particles, else this one's, from a pass of its own. With the last sub-step's cell widths known as well, level 0's
   // cells are found in the same pass. The frame and the widths change only which pairs are tested, never the result.
@@ -80,6 +82,11 @@ void generate_particle_contacts(const Model<Real>& m, const Matrix3X<Real>& x, c
     width = (2.0 * width).cwiseMax(kCellScale * sum / double(large));
     g.levels[level + 1].members.swap(lv.large);
   }
+  // the budget (budget.hpp): every list's pairs, repeats included, whatever the threads
+  std::size_t found = 0;
+  for (std::size_t l = 0; l < call.lists; ++l) found += g.lists[l].size();
+  if (found > call.limit)
+    fail_too_many_contacts<Real>(c, std::span(g.lists.data(), call.lists), found, call.limit, margin);
   // 5. in the order of the pairs
   order_contacts(call, out);
 }

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -61,6 +62,8 @@ template <class Real> struct Call {
   bool avx2 = false;      // the AVX2 builds may run (simd/cpu.hpp)
   bool repeats = false;   // a box was entered in pieces: a pair may have been found more than once
   std::size_t lists = 0;  // contact lists used so far
+  std::size_t limit = 0;  // the most pairs the call may find (budget.hpp)
+  mutable std::atomic<std::size_t> found{0};  // pairs the lists have found so far, in whole kCountEvery (budget.hpp)
 
   bool fork(Index items) const { return parallel && items >= kParallelContactsFrom; }
   // k more contact lists, emptied: the index of the first

@@ -4,13 +4,15 @@
 //   0. per row: p_i − o (stored, turned for elementwise cross products);
 //   A. per row: ∇_i C = Σ_ring (p_j − o) × (p_k − o) (stored), and per block the partial sums
 //      Σ (p_i − o)·∇_i C (= 3 · 6V), Σ w_i|∇_i C|², Σ w_i|p_i − o|⁴ (for the collapse guard);
-//   then, on one thread, the block sums in block order, C = Σ(p − o)·∇C / 3 − target and Δλ;
+//   then, on one thread, the block sums in block order, C = Σ(p − o)·∇C / 3 − target (the target within a factor
+//   kVolumeStep of the volume) and Δλ;
 //   B. per row: out_i += w_i ∇_i C Δλ (pinned rows never written).
 // o is the constraint's first particle, read before any write. `run(begin, end, body)` runs body over a block
 // range, serially or in parallel: the arithmetic per block and the order of the final sum do not depend on it.
 #include "pbd/constraints/degenerate.hpp"
 #include "pbd/constraints/volume.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 namespace pbd::detail {
@@ -24,6 +26,9 @@ template <> struct Lanes4<float> {
 template <> struct Lanes4<double> {
   typedef double type __attribute__((vector_size(32)));
 };
+
+/// The largest ratio between the volume and the target one projection aims at (see project_volume).
+inline constexpr int kVolumeStep = 2;
 
 template <class Real, class Run>
 void project_volume(const VolumeConstraints<Real>& v, Index index, const Real* p, Real* out, const Real* w,
@@ -97,7 +102,13 @@ void project_volume(const VolumeConstraints<Real>& v, Index index, const Real* p
   const Real sine = parallel_sine<Real>();
   if (!(wgg > sine * sine * wr4)) return;
   const Real denom = wgg + coeff.alpha_tilde;
-  const Real C = pg / Real(3) - target;
+  // A target far from the volume (a pressure jump, a rest volume given far from the mesh's) is approached at most
+  // kVolumeStep-fold per projection: the step is linear in the volume, which is cubic in the positions, so one
+  // step of a hundredfold would overshoot by the cube and the next could turn the mesh inside out. Within the ratio
+  // (every gradual schedule) the target is used as it is, to the bit. An inverted mesh is pushed to its target.
+  const Real volume = pg / Real(3);
+  const Real aim = volume > Real(0) ? std::clamp(target, volume / kVolumeStep, volume * kVolumeStep) : target;
+  const Real C = volume - aim;
   const Real dlambda = (-coeff.k * C - coeff.alpha_tilde * lambda) / denom;
   if (!std::isfinite(dlambda)) return;
   if (coeff.alpha_tilde != Real(0)) lambda += dlambda;  // λ is kept only where it enters (projection.hpp)
