@@ -3,7 +3,7 @@
 #include "bindings.hpp"
 #include "signature.hpp"
 
-#include "fault_injection.hpp"
+#include "pbd/detail/fault_injection.hpp"
 
 #include <string>
 

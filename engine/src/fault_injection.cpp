@@ -1,5 +1,5 @@
 // Fault injection (fault_injection.hpp): one armed fault at a time.
-#include "fault_injection.hpp"
+#include "pbd/detail/fault_injection.hpp"
 
 #include "pbd/error.hpp"
 

@@ -10,7 +10,7 @@
 // Both give the same bits: every pass gives the same bits however its loop is cut (tested).
 #include "substep.hpp"
 
-#include "fault_injection.hpp"
+#include "pbd/detail/fault_injection.hpp"
 #include "fibers.hpp"
 #include "contact/particle_contacts.hpp"
 #include "contact/scratch.hpp"

@@ -7,7 +7,7 @@
 #include "solve/hierarchy.hpp"
 #include "solve/schedule.hpp"
 #include "solve/solver.hpp"
-#include "fault_injection.hpp"
+#include "pbd/detail/fault_injection.hpp"
 #include "fibers.hpp"
 #include "step_undo.hpp"
 #include "substep.hpp"
@@ -127,6 +127,26 @@ template <class Real> void World<Real>::check_stepped_state(long long step) cons
                               "; the step was undone"));
 }
 
+// A closed mesh whose volume a step took below −0.1% of its target (the sign is the mesh's orientation, the margin
+// keeps a mesh squashed flat at the start, at 0 within rounding, stepping) has turned inside out: a pressure jump
+// larger than the mesh can follow. The volume constraint would push it further out of shape, so the step fails,
+// naming the constraint, and is undone (docs/robustness.md).
+template <class Real> void World<Real>::check_volumes_not_inverted(long long step) const {
+  const VolumeConstraints<Real>& volumes = model_.volume.table;
+  const double t = state_.time + double(params_.dt);
+  for (std::size_t i = 0; i < volumes.items.size(); ++i) {
+    const VolumeConstraint<Real>& c = volumes.items[i];
+    const std::span<const std::array<Index, 3>> tris(volumes.triangles.data() + c.triangle_begin,
+                                                     std::size_t(c.triangle_end - c.triangle_begin));
+    const double six = double(six_volume<Real>(tris, state_.x)), target = c.pressure.at(t) * double(c.rest);
+    if (six < -1e-3 * target)
+      throw Error(detail::message("step ", step, " (t = ", t, " s): volume constraint ", i, " turned its mesh inside ",
+                                  "out (volume ", six / 6, " m^3, target ", target / 6, " m^3): its pressure changed ",
+                                  "faster than the mesh can follow; ramp it (a pressure duration) or give the surface ",
+                                  "stretch; the step was undone"));
+  }
+}
+
 // A step's caches, cooked from the model before anything changes (a failure here changes no state): the sub-step
 // coefficients, the colors or blocks, the hierarchy.
 template <class Real> void World<Real>::cook_for_step(detail::Scratch<Real>& k) {
@@ -192,6 +212,7 @@ void World<Real>::take_step(detail::Scratch<Real>& k, const Real* forces, detail
     state_.x = k.p;  // same size: copied into x_storage, no allocation
   }
   check_stepped_state(step + 1);  // before anything reads or keeps a non-finite state
+  check_volumes_not_inverted(step + 1);
   stats_.seconds_integrate = run.seconds_integrate;
   stats_.seconds_collisions = run.seconds_collisions;
   stats_.seconds_solve = run.seconds_solve;

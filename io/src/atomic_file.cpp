@@ -1,5 +1,6 @@
 #include "pbd/io/atomic_file.hpp"
 
+#include "pbd/detail/fault_injection.hpp"
 #include "pbd/detail/message.hpp"
 #include "pbd/error.hpp"
 
@@ -62,6 +63,18 @@ bool name_unnamed(int fd, const std::string& temporary) {
   return ::linkat(fd, "", AT_FDCWD, temporary.c_str(), AT_EMPTY_PATH) == 0;
 }
 
+// The tests' fault point of frame writing (pbd/detail/fault_injection.hpp), with the content written and not yet
+// named: an injected failure closes `fd` and removes `temporary` (if named), as a failed write does.
+void fault_after_writing(int fd, const char* temporary) {
+  try {
+    detail::fault_point(detail::FaultPhase::frame_write);
+  } catch (...) {
+    ::close(fd);
+    if (temporary) ::unlink(temporary);
+    throw;
+  }
+}
+
 // Renames `temporary` over `file`, removing the temporary if that fails.
 void replace(const std::filesystem::path& file, const std::string& temporary) {
   if (::rename(temporary.c_str(), file.c_str()) != 0) {
@@ -78,6 +91,7 @@ void write_named(const std::filesystem::path& file, std::string_view content) {
   if (fd < 0) fail(file, "cannot open for writing", errno);
   const bool written = write_all(fd, content);
   const int error = errno;
+  fault_after_writing(fd, temporary.c_str());
   const bool closed = ::close(fd) == 0;
   const int close_error = errno;
   if (!written || !closed) {
@@ -102,6 +116,7 @@ bool write_unnamed(const std::filesystem::path& file, std::string_view content) 
     ::close(fd);
     fail(file, "write failed", error);
   }
+  fault_after_writing(fd, nullptr);
   const std::string temporary = temporary_name(file);
   if (!name_unnamed(fd, temporary)) {
     ::close(fd);

@@ -190,12 +190,14 @@ def check_breaks(pbd, out):
 
 
 def check_nonfinite(pbd, out):
-    """Gravity of 3e38 m/s² (in float's range) takes two free particles' velocities past float's range after 113
+    """Gravity of 1e19 m/s² (the largest a scene takes is 1.8e19: g·h² and its square stay in float's range) pulls a
+    particle on a very soft link away from its pin until the link's squared length overflows float, after about 140
     steps. The run stops at the first non-finite state, before writing anything of it, naming the step and the
     particle; every frame before it is finite and listed in the .pvd (it used to list 16 of them, and 886 frames
     after it held nan), the statistics hold every step before it (they used to be lost)."""
-    scene = write_scene(os.path.join(out, "blowup.json"), gravity=[0, 0, -3e38],
-                        bodies=[{"type": "particles", "positions": [[0, 0, 0], [1, 0, 0]]}])
+    scene = write_scene(os.path.join(out, "blowup.json"), gravity=[0, 0, -1e19],
+                        bodies=[{"type": "particles", "positions": [[0, 0, 0], [1, 0, 0]], "pinned": [0],
+                                 "stretch": {"pairs": [[0, 1]], "compliance": 1e6}}])
     for fmt in ("vtu", "obj"):
         frames, stats = os.path.join(out, "blowup_" + fmt), os.path.join(out, f"blowup_{fmt}.csv")
         r = expect_error(pbd, ["run", scene, "--steps", "1000", "--frames", frames, "--format", fmt,

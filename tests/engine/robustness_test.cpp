@@ -183,6 +183,48 @@ TEST(VolumeJump, AVolumeAloneDoesNotTurnInsideOutOnATenfoldJump) {
   EXPECT_GT(lowest, 0.0);
 }
 
+// A volume alone on a capped tube (no surface to keep its shape) whose target jumps a hundredfold at once cannot
+// follow: its projections turned it inside out, and the run went on, exit 0. Now the step that would leave it
+// inside out fails, naming the volume constraint, and is undone; no step ever ends with the mesh inverted.
+TEST(VolumeJump, AStepThatWouldTurnTheMeshInsideOutFailsAndIsUndone) {
+  int failed = 0;
+  for (const Solver solver : {Solver::serial, Solver::colored, Solver::jacobi})
+    for (const double factor : {100.0, 1000.0}) {
+      World<float> w;
+      MeshConstraintSets sets;
+      sets.volume = w.add_constraint_set(Stiffness::pbd_k(1.0));
+      sets.pressure = {1.0, factor, 0.0};
+      MeshBodyOptions at;
+      at.origin = {0.0, 0.0, 1.0};
+      add_mesh(w, tube_mesh(16, 8, 0.1, 1.0, true), at, sets);
+      w.add_plane(Vec3<float>(0, 0, 1), 0.0f);
+      StepParams<float> p;
+      p.solver = solver;
+      p.dt = 1.0f / 60;
+      p.substeps = 4;
+      p.iterations = 5;
+      w.set_params(p);
+      const auto& v = w.volumes();
+      const double target = factor * double(v.items[0].rest);
+      for (int k = 0; k < 300; ++k) {
+        const World<float> before = w;
+        try {
+          w.step();
+        } catch (const Error& e) {
+          ++failed;
+          EXPECT_NE(std::string(e.what()).find("volume constraint 0 turned its mesh inside out"), std::string::npos)
+              << e.what();
+          EXPECT_TRUE(w.positions() == before.positions());
+          EXPECT_EQ(w.time(), before.time());
+          break;
+        }
+        const double six = double(six_volume<float>(v.triangles, Matrix3X<float>(w.positions())));
+        ASSERT_GT(six, -1e-3 * target) << "inside out after step " << k + 1 << ", " << name(solver) << ", " << factor;
+      }
+    }
+  EXPECT_GT(failed, 0) << "no jump turned the tube inside out: the test no longer reaches the check";
+}
+
 TEST(VolumeJump, ARestVolumeGivenFarFromTheMeshsIsReachedToo) {
   // add_volume with an explicit rest 100 times the mesh's: the same jump through another key.
   World<double> w;

@@ -3,7 +3,7 @@
 // built-in scenes that take each path a step has (colliders and particle contacts, free bodies, volumes, tethers,
 // fibers that yield, break and tear, soft bodies). The failed world must equal a copy taken before the step, and
 // step on to the same bits as that copy.
-#include "fault_injection.hpp"
+#include "pbd/detail/fault_injection.hpp"
 #include "pbd/io/build_world.hpp"
 #include "pbd/io/scene.hpp"
 #include "pbd/world.hpp"

@@ -4,6 +4,7 @@
 // (step × dt), and failed writes that leave nothing behind: no frame of a non-finite state, no frame written into
 // a FIFO or device that took a frame's name, no temporary of a killed run left once the next one prepares.
 #include "error_checks.hpp"
+#include "pbd/detail/fault_injection.hpp"
 #include "pbd/io/build_world.hpp"
 #include "pbd/io/frame_series.hpp"
 #include "pbd/io/scene.hpp"
@@ -24,6 +25,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <new>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -343,6 +345,46 @@ TEST(FrameSeries, AFailedWriteLeavesNoHalfFrameAndNoTemporary) {
   }
   test::expect_words(message, {"big_00000.vtu", "write failed"});
   EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << "no frame, no .pvd, no temporary";
+}
+
+// A write that fails at any file of any frame (an injected fault after the content is written and before it is
+// named: fault_injection.hpp) leaves no temporary and no frame of its own; once the series finishes, its .pvd lists
+// exactly the frames on disk, and the world it wrote is unchanged.
+TEST(FrameSeries, AFaultWhileWritingAnyFileLeavesOnlyCompleteListedFrames) {
+  for (const FrameFormat format : {FrameFormat::vtu, FrameFormat::obj})
+    for (int hit = 1; hit <= 6; ++hit) {
+      SCOPED_TRACE(std::string(name(format)) + " hit " + std::to_string(hit));
+      TwoBodies<double> s;
+      const test::TempDir dir("pbd_frame_series");
+      FrameSeries series(dir.path(), "two", format, s.topology);
+      const World<double> before = s.world;
+      detail::arm_fault(detail::FaultPhase::frame_write, hit % 2 ? detail::FaultKind::error : detail::FaultKind::bad_alloc, hit);
+      int failed = 0;
+      for (int step = 0; step < 3; ++step) {
+        try {
+          series.write(s.world, step);
+        } catch (const Error&) {
+          ++failed;
+        } catch (const std::bad_alloc&) {
+          ++failed;
+        }
+      }
+      const bool fired = detail::disarm_fault();
+      EXPECT_EQ(failed, fired ? 1 : 0);
+      if (format == FrameFormat::vtu) EXPECT_TRUE(fired) << "three frames and their .pvd are six files";
+      series.finish();
+      EXPECT_TRUE(s.world.positions() == before.positions());
+      std::size_t frames = 0;
+      for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+        const std::string file = entry.path().filename().string();
+        EXPECT_EQ(file.find(".tmp"), std::string::npos) << file;
+        if (entry.path().extension() == ".pvd") continue;
+        ++frames;
+        if (format == FrameFormat::vtu) EXPECT_NE(text_of(series.pvd_file()).find(file), std::string::npos) << file;
+      }
+      if (format == FrameFormat::vtu) EXPECT_EQ(count_of(text_of(series.pvd_file()), "<DataSet "), frames);
+      EXPECT_EQ(frames, fired && (format == FrameFormat::obj || hit % 2 == 1) ? 2u : 3u);
+    }
 }
 
 // A state gone non-finite is never written: the error names the frame and the particle, and nothing is left.

@@ -4,6 +4,7 @@ every solver and on threads of the world's own, on scenes with contacts, volumes
 world pickles to the same bytes as before, has the same positions, velocities and time, and steps on to the same bits
 as a copy taken before the failed step; so does one whose force callback raises at a later sub-step."""
 import copy
+import os
 import pickle
 
 import numpy as np
@@ -100,3 +101,22 @@ def test_faults_are_checked_by_name():
         pbd._inject_fault("nowhere")
     with pytest.raises(ValueError, match="kind"):
         pbd._inject_fault("solve", "segfault")
+
+
+@pytest.mark.parametrize("kind", ["error", "bad_alloc"])
+def test_a_fault_while_writing_a_frame_leaves_the_world_and_the_series_whole(tmp_path, kind):
+    scene = pbd.load_scene("rope")
+    w = pbd.build_world_double(scene)
+    series = pbd.FrameSeries(tmp_path, "rope", "vtu", dt=scene.dt)
+    series.write(w, 0, scene=scene)
+    w.step()
+    before = snapshot(w)
+    pbd._inject_fault("frame_write", kind, 1)  # the frame's own file
+    with pytest.raises(MemoryError if kind == "bad_alloc" else pbd.Error):
+        series.write(w, 1, scene=scene)
+    assert pbd._clear_fault()
+    assert_same(w, before)
+    series.write(w, 2, scene=scene)
+    series.finish()
+    assert sorted(os.listdir(tmp_path)) == ["rope.pvd", "rope_00000.vtu", "rope_00002.vtu"]
+    assert (tmp_path / "rope.pvd").read_text().count("<DataSet ") == 2

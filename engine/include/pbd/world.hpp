@@ -275,6 +275,7 @@ private:
   void take_step(detail::Scratch<Real>& k, const Real* forces, detail::StepUndo<Real>& undo);  // the step itself
   void check_state_finite() const;  // throws naming the first particle with a non-finite position or velocity
   void check_stepped_state(long long step) const;  // the same after step number `step`
+  void check_volumes_not_inverted(long long step) const;  // throws naming a volume whose mesh a step turned inside out
   detail::Scratch<Real>& scratch();
 
   detail::Model<Real> model_;   // cooked model: particles' inverse masses, constraints with their colors, colliders

@@ -1,6 +1,7 @@
 #pragma once
-// Fault injection (private; tests only): a test arms one fault, and the step throws it at the named phase, so the
-// tests can check that every way a step can fail leaves the world as it was (World::step's undo, step_undo.hpp).
+// Fault injection (tests only, not host API: the engine's tests, pbd._inject_fault in Python, the io's frame writers):
+// a test arms one fault, and the step throws it at the named phase, so the tests can check that every way a step can
+// fail leaves the world as it was (World::step's undo, engine/src/step_undo.hpp) and every file complete.
 // Unarmed, a fault point costs one relaxed atomic load; the points sit between a sub-step's phases, on the thread
 // that runs the step (never inside a parallel loop or a team), so a fault leaves no thread behind.
 #include <atomic>
