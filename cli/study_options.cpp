@@ -70,7 +70,10 @@ std::vector<StudySolver> solver_list(const std::string& text) {
 std::string all_threads() {
   const int n = machine_threads();
   std::string s;
-  for (int t = 1; t <= n; ++t) s += (t > 1 ? "," : "") + std::to_string(t);
+  for (int t = 1; t <= n; ++t) {
+    if (t > 1) s += ',';
+    s += std::to_string(t);
+  }
   return n == 1 ? "1" : s;
 }
 

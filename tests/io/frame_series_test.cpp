@@ -371,7 +371,9 @@ TEST(FrameSeries, AFaultWhileWritingAnyFileLeavesOnlyCompleteListedFrames) {
       }
       const bool fired = detail::disarm_fault();
       EXPECT_EQ(failed, fired ? 1 : 0);
-      if (format == FrameFormat::vtu) EXPECT_TRUE(fired) << "three frames and their .pvd are six files";
+      if (format == FrameFormat::vtu) {
+        EXPECT_TRUE(fired) << "three frames and their .pvd are six files";
+      }
       series.finish();
       EXPECT_TRUE(s.world.positions() == before.positions());
       std::size_t frames = 0;
@@ -380,9 +382,13 @@ TEST(FrameSeries, AFaultWhileWritingAnyFileLeavesOnlyCompleteListedFrames) {
         EXPECT_EQ(file.find(".tmp"), std::string::npos) << file;
         if (entry.path().extension() == ".pvd") continue;
         ++frames;
-        if (format == FrameFormat::vtu) EXPECT_NE(text_of(series.pvd_file()).find(file), std::string::npos) << file;
+        if (format == FrameFormat::vtu) {
+          EXPECT_NE(text_of(series.pvd_file()).find(file), std::string::npos) << file;
+        }
       }
-      if (format == FrameFormat::vtu) EXPECT_EQ(count_of(text_of(series.pvd_file()), "<DataSet "), frames);
+      if (format == FrameFormat::vtu) {
+        EXPECT_EQ(count_of(text_of(series.pvd_file()), "<DataSet "), frames);
+      }
       EXPECT_EQ(frames, fired && (format == FrameFormat::obj || hit % 2 == 1) ? 2u : 3u);
     }
 }

@@ -184,10 +184,10 @@ TEST(FrameWriter, IndicesOutOfRangeAreErrorsAndWriteNothing) {
                      {"frame_topology", "triangle 0", "particle index 13", "13 particles"});
   const test::TempDir dir("pbd_frame_writer");
   FrameTopology t;
-  t.bodies = {{"all", 0, 13, {}, {{0, 1}, {12, 99}}, {0, 1}, {}, {}}};
+  t.bodies = {{"all", 0, 13, {}, {{0, 1}, {12, 99}}, {0, 1}, {}, {}, {}, {}, {}}};
   test::expect_words(test::error_of([&] { write_obj_frame(dir / "f.obj", s.world, t); }),
                      {"f.obj", "body all", "line 1", "particle index 99"});
-  t.bodies = {{"some", 0, 12, {}, {}, {}, {}, {}}};
+  t.bodies = {{"some", 0, 12, {}, {}, {}, {}, {}, {}, {}, {}}};
   test::expect_words(test::error_of([&] { write_obj_frame(dir / "f.obj", s.world, t); }),
                      {"f.obj", "bodies hold 12 particles", "13"});
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
