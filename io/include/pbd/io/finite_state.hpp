@@ -1,7 +1,8 @@
 #pragma once
 /// \file finite_state.hpp
-/// The check every frame writer makes before it writes, and `pbd run` after every step: a frame holds only finite
-/// values (a NaN written as "-nan" is a file pbd's own OBJ loader refuses).
+/// The check every frame writer makes before it writes: a frame holds only finite values (a NaN written as "-nan" is
+/// a file pbd's own OBJ loader refuses). A step never leaves a non-finite state (World::step), but a host may write
+/// one through positions() or velocities() between steps.
 #include "pbd/world.hpp"
 
 #include <string>
