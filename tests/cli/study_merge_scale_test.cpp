@@ -44,8 +44,8 @@ Report shard(int index, int shards, int records, int scenes, const char* mode) {
     c.substeps = 1 + k % 7;
     c.iterations = 1 + k % 5;
     c.ms = {1.0 + k % 13, 2.0};
-    c.ms_per_step = 1.0 + (k * 7919) % 97;
-    c.primary_error = k % 101 == 0 ? INFINITY : k % 103 == 0 ? NAN : double((k * 104729) % 89);
+    c.ms_per_step = 1.0 + double((std::int64_t(k) * 7919) % 97);
+    c.primary_error = k % 101 == 0 ? INFINITY : k % 103 == 0 ? NAN : double((std::int64_t(k) * 104729) % 89);
     c.state_hash = std::uint64_t(k);
     r.records.push_back(c);
   }
