@@ -13,6 +13,7 @@
 #include "pbd/detail/fault_injection.hpp"
 #include "fibers.hpp"
 #include "contact/particle_contacts.hpp"
+#include "contact/prestabilize.hpp"
 #include "contact/scratch.hpp"
 #include "solve/hierarchy.hpp"
 #include "solve/integrate.hpp"
@@ -123,6 +124,9 @@ template <class Real> void generate_contacts(StepContext<Real>& c, bool parallel
     if (with_colliders) colliders();
     if (with_contacts) contacts();
   }
+  // A particle that starts the sub-step behind a collider's surface leaves it with no gain in speed.
+  if (with_colliders) prestabilize(k.collisions.items, k.particle_contacts.items, st.x, k.p, k.contact->moved,
+                                   k.contact->moved_marks);
 }
 
 // Step 5's free bodies: each gives back the momentum and angular momentum the solve changed (free_bodies.hpp).

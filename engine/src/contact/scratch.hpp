@@ -6,11 +6,16 @@
 #include "colliders.hpp"
 #include "particle_contacts.hpp"
 
+#include <cstdint>
+#include <vector>
+
 namespace pbd::detail {
 
 template <class Real> struct ContactScratch {
   CollisionChunks<Real> collision_chunks;  // the collider contacts' per-chunk lists (colliders.hpp)
   ParticleGrid<Real> grid;                 // the particle contacts' broad phase (particle_contacts.hpp)
+  std::vector<Index> moved;                // the particles pre-stabilization moved (prestabilize.hpp)
+  std::vector<std::uint8_t> moved_marks;   // and a mark per particle, 0 between sub-steps
 };
 
 }  // namespace pbd::detail

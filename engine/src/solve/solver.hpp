@@ -17,7 +17,9 @@
 //                           within their radii and the margin (contact/particle_contacts.hpp: a grid of swept
 //                           boxes); each records its material and approach speed; colored for the colored solvers.
 //                           A parallel solver generates the two kinds at once (apart outputs): the colliders' chunks
-//                           fill the other threads while the broad phase runs its serial passes
+//                           fill the other threads while the broad phase runs its serial passes. Then a
+//                           particle whose x is already behind a collider's surface moves out to it, x and p alike
+//                           (contact/prestabilize.hpp: a push the solve made would stay in v = (p − x)/h as speed)
 //   4. solve                `iterations` sweeps (sweep.hpp): each visits every constraint type through one loop
 //                           (for_each_type: the built-in types in list order, constraint_types.hpp, then the
 //                           user-defined ones in the order first added), then the volume constraints, then the
