@@ -193,6 +193,49 @@ template <class Real> RunOutputs open_outputs(const Scene& scene, const RunOptio
   return out;
 }
 
+// What a run prints at its end: time per step, the errors (final and averaged over the steps taken), the volumes,
+// the files written, the fibers broken and the state hash (returned).
+template <class Real>
+std::string print_summary(const World<Real>& world, const RunOptions& o, const std::vector<double>& ms,
+                          const RunErrors& errors, const RunOutputs& out, std::size_t broken) {
+  const VolumeConstraints<Real>& volumes = world.volumes();
+  std::vector<double> sorted = ms;
+  std::sort(sorted.begin(), sorted.end());
+  const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / double(std::max<std::size_t>(1, ms.size()));
+  std::printf("time per step: median %.4f ms, mean %.4f ms, min %.4f ms\n", sorted.empty() ? 0.0 : sorted[sorted.size() / 2],
+              mean, sorted.empty() ? 0.0 : sorted.front());
+  const Violation v = stretch_violation(world);
+  if (v.count) std::printf("stretch error: rms %.3e, max %.3e (relative)\n", v.rms, v.max);
+  errors.print();
+  const Matrix3X<Real> x = world.positions();
+  for (std::size_t i = 0; i < volumes.size(); ++i) {
+    const auto& vc = volumes.items[i];
+    const std::span<const std::array<Index, 3>> tris(volumes.triangles.data() + vc.triangle_begin,
+                                                     vc.triangle_end - vc.triangle_begin);
+    const double target = double(vc.rest) * vc.pressure.at(world.time());
+    const double now = double(six_volume<Real>(tris, x));
+    std::printf("volume %zu: %.6g m^3, target %.6g m^3 (%.2fx rest), error %+.3f%%\n", i, now / 6, target / 6,
+                vc.pressure.at(world.time()), 100.0 * (now / target - 1.0));
+  }
+  const std::optional<FrameSeries>& series = out.series;
+  if (series && series->frames_written())
+    std::printf("wrote %zu frames to %s%s\n", series->frames_written(), o.frames.c_str(),
+                series->format() == FrameFormat::vtu ? (" (series: " + series->pvd_file().string() + ")").c_str() : "");
+  if (!o.stats.empty()) std::printf("wrote per-step statistics to %s\n", o.stats.c_str());
+  if (broken) {  // of the fibers and tet fibers there were
+    std::size_t left = 0;
+    for_each_type<BuiltinConstraintTypes<Real>>([&](auto type, auto) {
+      using C = typename decltype(type)::type;
+      if constexpr (takes_material<C>()) left += world.template constraints<C>().size();
+    });
+    std::printf("fibers broken: %zu of %zu\n", broken, broken + left);
+  }
+  if (!o.breaks.empty()) std::printf("wrote the %zu breaks to %s\n", broken, o.breaks.c_str());
+  const std::string hash = hex(position_hash(world));
+  std::printf("state hash: %s\n", hash.c_str());
+  return hash;
+}
+
 template <class Real> void run(const Scene& scene, const RunOptions& o, int steps, int threads) {
   const StopSignals signals;
   World<Real> world = build_world<Real>(scene.world);
@@ -215,7 +258,6 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     torn = false;
     out.series->write(world, step);
   };
-  const VolumeConstraints<Real>& volumes = world.volumes();
   std::printf("# scene %s: %u particles; constraints: %s\n", scene.name.c_str(), world.num_particles(),
               constraint_counts(world).c_str());
   std::printf("# solver %s on %d threads, %s, dt %.6g s, %d substeps x %d iterations, %d steps\n", o.solver.c_str(),
@@ -252,44 +294,13 @@ template <class Real> void run(const Scene& scene, const RunOptions& o, int step
     throw;
   }
   out.finish();  // the .pvd lists every frame
-  if (const int number = signals.received())
+  // A run stopped by a signal reports the steps it took, as a whole run does, then exits 130 or 143 (main.cpp).
+  const std::string hash = print_summary(world, o, ms, errors, out, broken);
+  const int number = signals.received();
+  if (number)
     throw Interrupted(number, "stopped by " + std::string(number == SIGINT ? "SIGINT" : "SIGTERM") + " after step " +
                                   std::to_string(done) + " of " + std::to_string(steps) +
-                                  "; the outputs written are complete");
-  std::vector<double> sorted = ms;
-  std::sort(sorted.begin(), sorted.end());
-  const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / double(std::max<std::size_t>(1, ms.size()));
-  std::printf("time per step: median %.4f ms, mean %.4f ms, min %.4f ms\n", sorted.empty() ? 0.0 : sorted[sorted.size() / 2],
-              mean, sorted.empty() ? 0.0 : sorted.front());
-  const Violation v = stretch_violation(world);
-  if (v.count) std::printf("stretch error: rms %.3e, max %.3e (relative)\n", v.rms, v.max);
-  errors.print();
-  const Matrix3X<Real> x = world.positions();
-  for (std::size_t i = 0; i < volumes.size(); ++i) {
-    const auto& vc = volumes.items[i];
-    const std::span<const std::array<Index, 3>> tris(volumes.triangles.data() + vc.triangle_begin,
-                                                     vc.triangle_end - vc.triangle_begin);
-    const double target = double(vc.rest) * vc.pressure.at(world.time());
-    const double now = double(six_volume<Real>(tris, x));
-    std::printf("volume %zu: %.6g m^3, target %.6g m^3 (%.2fx rest), error %+.3f%%\n", i, now / 6, target / 6,
-                vc.pressure.at(world.time()), 100.0 * (now / target - 1.0));
-  }
-  const std::optional<FrameSeries>& series = out.series;
-  if (series && series->frames_written())
-    std::printf("wrote %zu frames to %s%s\n", series->frames_written(), o.frames.c_str(),
-                series->format() == FrameFormat::vtu ? (" (series: " + series->pvd_file().string() + ")").c_str() : "");
-  if (!o.stats.empty()) std::printf("wrote per-step statistics to %s\n", o.stats.c_str());
-  if (broken) {  // of the fibers and tet fibers there were
-    std::size_t left = 0;
-    for_each_type<BuiltinConstraintTypes<Real>>([&](auto type, auto) {
-      using C = typename decltype(type)::type;
-      if constexpr (takes_material<C>()) left += world.template constraints<C>().size();
-    });
-    std::printf("fibers broken: %zu of %zu\n", broken, broken + left);
-  }
-  if (!o.breaks.empty()) std::printf("wrote the %zu breaks to %s\n", broken, o.breaks.c_str());
-  const std::string hash = hex(position_hash(world));
-  std::printf("state hash: %s\n", hash.c_str());
+                                  "; the outputs written are complete, and the summary above is of those steps");
   if (!o.expect_hash.empty() && hash != o.expect_hash)
     throw Error("--expect-hash: the final state hash is " + hash + ", expected " + o.expect_hash);
 }

@@ -43,7 +43,7 @@ def frames_on_disk(folder):
 def start(pbd, scene, folder, stats, fmt):
     shutil.rmtree(folder, ignore_errors=True)
     cmd = [pbd, "run", scene, "--steps", "100000000", "--frames", folder, "--format", fmt, "--stats", stats]
-    return subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=default_signals)
 
 
@@ -66,13 +66,17 @@ def interrupt(pbd, scene, out, sig, fmt, frames, offset):
     time.sleep(offset)
     p.send_signal(sig)
     try:
-        _, err = p.communicate(timeout=WAIT)
+        summary, err = p.communicate(timeout=WAIT)
     except subprocess.TimeoutExpired:
         p.kill()
         fail(f"{sig.name}: pbd did not stop within {WAIT} s")
     where = f"{sig.name} after {frames} frames (+{offset} s), {fmt}"
     if p.returncode != 128 + sig.value or f"stopped by {sig.name}" not in err:
         fail(f"{where}: status {p.returncode} (expected {128 + sig.value}), stderr {err!r}")
+    # The summary of the steps taken, as a whole run prints it.
+    for line in ("time per step:", "errors (RMS at the final frame | averaged over the", "wrote ", "state hash: "):
+        if line not in summary:
+            fail(f"{where}: no {line!r} in the summary on stdout: {summary!r}")
     try:
         steps = check_frames(folder, STEM, fmt)
         rows = check_stats(stats)
