@@ -327,7 +327,7 @@ def check_quick_study(pbd, out):
 def main(pbd, out, sanitized):
     os.makedirs(out, exist_ok=True)
     # Under the sanitizers, parts 2-6 only: they take the study's code (runs, references, shards, merge, scaling,
-    # formats) on small scenes; the every-scene study, 9 minutes there, runs in Release, where it takes the same code.
+    # formats) on small scenes; the every-scene study, the longest test there, runs in Release on the same code.
     records = [] if sanitized else check_quick_study(pbd, out)
     merged = check_shards(pbd, out)
     check_scaling(pbd, out)
